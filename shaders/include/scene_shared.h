@@ -1,0 +1,94 @@
+// Scene data as the GPU reads it (std430 SSBOs), shared by C++ and GLSL.
+// C++ sees glm types; GLSL its own. Every struct is built from vec4 / 32-bit
+// scalars and padded by hand; sizes and offsets are asserted in C++ and checked
+// against the linked program in tests/render/scene_layout_gltest.cpp.
+#ifndef VOXGI_SCENE_SHARED_H
+#define VOXGI_SCENE_SHARED_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+namespace voxgi::gpu {
+using vec4 = glm::vec4;
+using uint = uint32_t;
+#define VOXGI_CONST constexpr
+#else
+#define VOXGI_CONST const
+#endif
+
+// Binding points.
+VOXGI_CONST uint kMaterialBinding = 0u;
+VOXGI_CONST uint kLightBinding = 1u;
+VOXGI_CONST uint kEmitterBinding = 2u;
+VOXGI_CONST uint kFrameBinding = 0u;  // uniform block
+VOXGI_CONST uint kBaseColorUnit = 0u;
+VOXGI_CONST uint kHdrInputUnit = 0u;  // tonemap input
+
+// Uniform locations.
+VOXGI_CONST int kMaterialIndexLocation = 0;
+VOXGI_CONST int kExposureLocation = 1;
+VOXGI_CONST int kTonemapLocation = 2;
+
+// Material flags.
+VOXGI_CONST uint kMaterialHasTexture = 1u;
+VOXGI_CONST uint kMaterialDoubleSided = 2u;
+VOXGI_CONST uint kMaterialAlphaMask = 4u;
+
+// Light types (KHR_lights_punctual).
+VOXGI_CONST uint kLightDirectional = 0u;
+VOXGI_CONST uint kLightPoint = 1u;
+VOXGI_CONST uint kLightSpot = 2u;
+
+// Emitter kinds (emissive surfaces as area lights).
+VOXGI_CONST uint kEmitterTriangle = 0u;  // one triangle, integrated exactly
+VOXGI_CONST uint kEmitterCluster = 1u;   // many small facets with one normal, as a disk
+
+// Tonemap operators.
+VOXGI_CONST int kTonemapClamp = 0;
+VOXGI_CONST int kTonemapAces = 1;
+
+struct GpuMaterial {
+  vec4 baseColor;          // linear rgba
+  vec4 emission;           // rgb radiance, a: unused
+  vec4 params;             // x metallic, y roughness, z alpha cutoff, w unused
+  uint flags;
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+
+struct GpuLight {
+  vec4 positionType;       // xyz world position, w type (kLight*)
+  vec4 directionRange;     // xyz direction light travels, w range (0: infinite)
+  vec4 radiance;           // rgb color x intensity (W/sr, or W/m^2 for directional)
+  vec4 cone;               // x cos(inner), y cos(outer)
+};
+
+struct GpuEmitter {
+  vec4 a;         // triangle: vertex 0, w kind | cluster: center, w kind
+  vec4 b;         // triangle: vertex 1        | cluster: unit normal, w projected area
+  vec4 c;         // triangle: vertex 2        | cluster: unused
+  vec4 radiance;  // rgb radiance, w 1 if two-sided
+};
+
+struct GpuFrame {
+  vec4 viewProj[4];  // column-major mat4, as columns
+  vec4 cameraPosition;
+  vec4 counts;       // x lights, y emitters
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(GpuMaterial) == 64);
+static_assert(offsetof(GpuMaterial, params) == 32);
+static_assert(offsetof(GpuMaterial, flags) == 48);
+static_assert(sizeof(GpuLight) == 64);
+static_assert(sizeof(GpuEmitter) == 64);
+static_assert(sizeof(GpuFrame) == 96);
+static_assert(offsetof(GpuFrame, cameraPosition) == 64);
+}  // namespace voxgi::gpu
+#endif
+#undef VOXGI_CONST
+
+#endif  // VOXGI_SCENE_SHARED_H

@@ -1,0 +1,9 @@
+#version 450 core
+// One triangle covering the viewport; no vertex buffer.
+layout(location = 0) out vec2 vUv;
+
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  vUv = p;
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}

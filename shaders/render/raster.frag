@@ -1,0 +1,45 @@
+#version 450 core
+// Raster baseline: emission plus unshadowed direct light from punctual lights and
+// emissive surfaces, in linear HDR radiance.
+#include "scene_shared.h"
+#include "lighting.glsl"
+
+layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
+layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kEmitterBinding) readonly buffer Emitters { GpuEmitter emitters[]; };
+
+layout(location = kMaterialIndexLocation) uniform int materialIndex;
+layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+
+layout(location = 0) in vec3 vPosition;
+layout(location = 1) in vec3 vNormal;
+layout(location = 2) in vec2 vUv;
+
+layout(location = 0) out vec4 outRadiance;
+
+void main() {
+  GpuMaterial m = materials[materialIndex];
+  vec4 base = m.baseColor;
+  if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+
+  Surface s;
+  s.p = vPosition;
+  s.v = normalize(frame.cameraPosition.xyz - vPosition);
+  s.n = normalize(vNormal);
+  // Two-sided surfaces are lit on the side the viewer sees.
+  if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) s.n = -s.n;
+  float metallic = m.params.x;
+  float roughness = m.params.y;
+  s.diffuse = base.rgb * (1.0 - metallic);
+  s.f0 = mix(vec3(0.04), base.rgb, metallic);
+  s.alpha = roughness * roughness;
+
+  vec3 radiance = m.emission.rgb;
+  int lightCount = int(frame.counts.x);
+  for (int i = 0; i < lightCount; ++i) radiance += punctualLight(lights[i], s);
+  int emitterCount = int(frame.counts.y);
+  for (int i = 0; i < emitterCount; ++i) radiance += areaLight(emitters[i], s);
+  outRadiance = vec4(radiance, 1.0);
+}

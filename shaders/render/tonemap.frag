@@ -1,0 +1,26 @@
+#version 450 core
+// Linear HDR radiance -> display: exposure, an operator, then the sRGB transfer
+// function (written by hand, so the 8-bit output is exactly what gets saved).
+#include "scene_shared.h"
+
+layout(binding = kHdrInputUnit) uniform sampler2D hdr;
+layout(location = kExposureLocation) uniform float exposure;
+layout(location = kTonemapLocation) uniform int op;
+
+layout(location = 0) out vec4 outColor;
+
+vec3 acesFitted(vec3 x) {  // Narkowicz 2015, ACES filmic curve fit
+  return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+vec3 srgbEncode(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
+
+void main() {
+  vec3 c = texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb * exposure;
+  if (any(isnan(c)) || any(isinf(c))) c = vec3(1.0, 0.0, 1.0);  // make bad pixels loud
+  if (op == kTonemapAces) c = acesFitted(c);
+  outColor = vec4(srgbEncode(c), 1.0);
+}

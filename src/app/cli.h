@@ -1,0 +1,52 @@
+// Command line of the voxgi executable. Parsing never exits; it throws
+// UsageError (exit 2) and app/main.cpp decides what to print and return.
+#ifndef VOXGI_APP_CLI_H
+#define VOXGI_APP_CLI_H
+
+#include <string>
+#include <vector>
+
+#include "core/log.h"
+#include "gl/context.h"
+#include "render/renderer.h"
+
+namespace voxgi::app {
+
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct RenderOptions {
+  std::string scene;  // empty: the built-in Cornell room
+  render::RenderSettings render;
+  gl::Backend backend = gl::Backend::kEgl;
+  std::vector<std::string> outputs;  // .png and/or .exr
+  std::string stats;                 // .json
+  int frames = 1;
+  bool verbose = false;
+  bool quiet = false;
+};
+
+enum class Command { kHelp, kVersion, kRender };
+
+struct Invocation {
+  Command command = Command::kHelp;
+  RenderOptions render;
+  std::string helpTopic;  // "" or "render"
+};
+
+Invocation parseCommandLine(const std::vector<std::string>& args);
+
+std::string mainHelp();
+std::string renderHelp();
+std::string versionText();
+
+// The built-in default scene (scenes/cornell_room/cornell_room.gltf).
+std::string defaultScenePath();
+
+int runRender(const RenderOptions& options);
+
+}  // namespace voxgi::app
+
+#endif  // VOXGI_APP_CLI_H

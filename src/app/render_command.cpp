@@ -1,0 +1,143 @@
+// `voxgi render`: context, scene, frames, images, stats.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli.h"
+#include "gl/debug.h"
+#include "image/image.h"
+#include "scene/gltf_loader.h"
+
+namespace voxgi::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string shaderRoot() {
+  if (const char* env = std::getenv("VOXGI_SHADER_DIR")) return env;
+  return VOXGI_SHADER_DIR;
+}
+
+}  // namespace
+
+int runRender(const RenderOptions& o) {
+  if (o.verbose) setLogLevel(LogLevel::kDebug);
+  if (o.quiet) setLogLevel(LogLevel::kError);
+  const auto start = Clock::now();
+
+  // Everything that can be refused without GL is refused before any work.
+  for (const std::string& out : o.outputs) {
+    image::formatForPath(out);
+    image::checkWritable(out);
+  }
+  if (!o.stats.empty()) image::checkWritable(o.stats);
+  const std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
+
+  gl::ContextOptions co;
+  co.backend = o.backend;
+  co.width = o.render.width;
+  co.height = o.render.height;
+  auto context = gl::Context::create(co);
+  render::checkImageSize(o.render.width, o.render.height);
+
+  const auto loadStart = Clock::now();
+  scene::Scene scene = scene::loadGltf(scenePath);
+  const double loadMs = msSince(loadStart);
+
+  gl::ProgramCache programs(shaderRoot());
+  render::Renderer renderer(programs, scene, o.render);
+  // One untimed frame: drivers compile shader variants at first draw (llvmpipe
+  // JIT-compiles them), which is start-up cost, not frame cost.
+  renderer.renderFrame();
+  const double startupMs = msSince(start);
+
+  std::vector<double> frameMs;
+  std::map<std::string, std::vector<double>> stageMs;
+  std::vector<std::string> stageOrder;
+  for (int f = 0; f < o.frames; ++f) {
+    const auto t = Clock::now();
+    renderer.renderFrame();
+    frameMs.push_back(msSince(t));
+    for (const gl::StageTime& s : renderer.lastStages()) {
+      if (!stageMs.count(s.name)) stageOrder.push_back(s.name);
+      stageMs[s.name].push_back(s.gpuMs);
+    }
+  }
+  const double totalMs = msSince(start) - startupMs;
+
+  for (const std::string& out : o.outputs) {
+    if (image::formatForPath(out) == image::Format::kPng) {
+      const auto px = renderer.readDisplay();
+      image::writePng(out, o.render.width, o.render.height, px.data());
+    } else {
+      const auto px = renderer.readLinear();
+      image::writeExr(out, o.render.width, o.render.height, px.data());
+    }
+  }
+
+  const int glErrors = gl::debugErrorCount();
+  const auto& gs = renderer.gpuScene();
+  nlohmann::ordered_json stats;
+  stats["voxgi_version"] = VOXGI_VERSION;
+  stats["scene"] = scenePath;
+  stats["mode"] = render::modeName(o.render.mode);
+  stats["size"] = {{"width", o.render.width}, {"height", o.render.height}};
+  stats["backend"] = gl::backendName(context->backend());
+  stats["renderer"] = context->renderer();
+  stats["gl_version"] = context->version();
+  stats["frames"] = o.frames;
+  stats["frame_ms"] = median(frameMs);
+  stats["total_ms"] = totalMs;
+  stats["startup_ms"] = startupMs;
+  stats["load_ms"] = loadMs;
+  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+  for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);
+  stats["stages"] = stages;
+  stats["triangles"] = scene.triangleCount();
+  stats["materials"] = scene.materials.size();
+  stats["textures"] = scene.textures.size();
+  stats["lights"] = scene.lights.size();
+  stats["emitters"] = gs.emitterCount();
+  stats["default_light"] = scene.defaultLight;
+  stats["scene_warnings"] = scene.warnings;
+  stats["gpu_scene_bytes"] = gs.bytes();
+  stats["gl_errors"] = glErrors;
+  if (!o.stats.empty()) image::writeText(o.stats, stats.dump(2) + "\n");
+
+  if (!o.quiet) {
+    std::printf("%s: %zu triangles, %zu materials, %zu lights%s, %d emitter groups\n",
+                scenePath.c_str(), scene.triangleCount(), scene.materials.size(), scene.lights.size(),
+                scene.defaultLight ? " (default light added)" : "", gs.emitterCount());
+    std::printf("%s %dx%d on %s (%s)\n", render::modeName(o.render.mode), o.render.width,
+                o.render.height, gl::backendName(context->backend()), context->renderer().c_str());
+    std::printf("  %-10s %10s\n", "stage", "gpu ms");
+    for (const std::string& name : stageOrder) std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
+    std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs), o.frames);
+    std::printf("  load %.1f ms, start-up %.1f ms\n", loadMs, startupMs);
+    for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
+    if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
+    if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");
+  }
+  if (glErrors > 0) {
+    logError(strf("%d GL error(s) during the render; first: %s", glErrors, gl::lastDebugError().c_str()));
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace voxgi::app

@@ -1,0 +1,104 @@
+#include "render/gpu_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace voxgi::render {
+
+std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const scene::Scene& s) {
+  std::vector<gpu::GpuMaterial> out;
+  for (const scene::Material& m : s.materials) {
+    gpu::GpuMaterial g{};
+    g.baseColor = m.baseColor;
+    g.emission = glm::vec4(m.emission, 0.0f);
+    g.params = glm::vec4(m.metallic, m.roughness, m.alphaCutoff, 0.0f);
+    g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
+              (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
+              (m.alphaMode == scene::AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u);
+    out.push_back(g);
+  }
+  return out;
+}
+
+std::vector<gpu::GpuLight> GpuScene::packLights(const scene::Scene& s) {
+  std::vector<gpu::GpuLight> out;
+  for (const scene::Light& l : s.lights) {
+    gpu::GpuLight g{};
+    const uint32_t type = l.type == scene::LightType::kDirectional ? gpu::kLightDirectional
+                          : l.type == scene::LightType::kPoint     ? gpu::kLightPoint
+                                                                   : gpu::kLightSpot;
+    g.positionType = glm::vec4(l.position, static_cast<float>(type));
+    g.directionRange = glm::vec4(l.direction, l.range);
+    g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
+    g.cone = glm::vec4(std::cos(l.innerConeAngle), std::cos(l.outerConeAngle), 0.0f, 0.0f);
+    out.push_back(g);
+  }
+  return out;
+}
+
+std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<scene::Emitter>& emitters) {
+  std::vector<gpu::GpuEmitter> out;
+  for (const scene::Emitter& e : emitters) {
+    gpu::GpuEmitter g{};
+    const float two = e.twoSided ? 1.0f : 0.0f;
+    if (e.kind == scene::Emitter::Kind::kCluster) {
+      g.a = glm::vec4(e.v0, static_cast<float>(gpu::kEmitterCluster));
+      g.b = glm::vec4(e.normal, e.area);
+    } else {
+      g.a = glm::vec4(e.v0, static_cast<float>(gpu::kEmitterTriangle));
+      g.b = glm::vec4(e.v1, 0.0f);
+      g.c = glm::vec4(e.v2, 0.0f);
+    }
+    g.radiance = glm::vec4(e.radiance, two);
+    out.push_back(g);
+  }
+  return out;
+}
+
+GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
+  const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(scene::Vertex));
+  const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
+  vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data());
+  indices_ = gl::createBuffer(ibytes, s.indices.empty() ? nullptr : s.indices.data());
+  vao_ = gl::createVertexArray();
+  const GLuint vao = vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(scene::Vertex));
+  glVertexArrayElementBuffer(vao, indices_.id());
+  const GLuint offsets[3] = {offsetof(scene::Vertex, position), offsetof(scene::Vertex, normal),
+                             offsetof(scene::Vertex, uv)};
+  const GLint sizes[3] = {3, 3, 2};
+  for (GLuint a = 0; a < 3; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  const auto mats = packMaterials(s);
+  const auto lights = packLights(s);
+  const auto emitters = packEmitters(scene::buildEmitters(s));
+  materials_ = gl::createBuffer(static_cast<GLsizeiptr>(mats.size() * sizeof(gpu::GpuMaterial)), mats.data());
+  lights_ = gl::createBuffer(static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
+                             lights.empty() ? nullptr : lights.data());
+  emitters_ = gl::createBuffer(static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
+                               emitters.empty() ? nullptr : emitters.data());
+  lightCount_ = static_cast<int>(lights.size());
+  emitterCount_ = static_cast<int>(emitters.size());
+  bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
+           lights.size() * sizeof(gpu::GpuLight) + emitters.size() * sizeof(gpu::GpuEmitter);
+
+  for (const scene::Texture& t : s.textures) {
+    gl::Texture tex = gl::createTexture(GL_TEXTURE_2D);
+    const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(t.width, t.height))));
+    glTextureStorage2D(tex.id(), levels, GL_SRGB8_ALPHA8, t.width, t.height);
+    glTextureSubImage2D(tex.id(), 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba8.data());
+    glGenerateTextureMipmap(tex.id());
+    bytes_ += t.rgba8.size() * 4 / 3;
+    textures_.push_back(std::move(tex));
+  }
+  sampler_ = gl::createSampler();
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+}  // namespace voxgi::render

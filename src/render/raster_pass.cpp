@@ -1,0 +1,46 @@
+#include "render/raster_pass.h"
+
+namespace voxgi::render {
+
+RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
+    : settings_(settings), program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
+
+void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
+  gl::StageScope stage(ctx.timer, "raster");
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, ctx.width, ctx.height);
+  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, &settings_.clearColor.x);
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glUseProgram(program_.id());
+  glBindVertexArray(gs.vertexArray());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
+  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  const scene::Scene& s = gs.scene();
+  for (const scene::Draw& d : s.draws) {
+    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
+    if (m.doubleSided) {
+      glDisable(GL_CULL_FACE);
+    } else {
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+    }
+    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    glUniform1i(gpu::kMaterialIndexLocation, d.material);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
+  }
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glBindTextureUnit(gpu::kBaseColorUnit, 0);
+  glBindSampler(gpu::kBaseColorUnit, 0);
+}
+
+}  // namespace voxgi::render

@@ -1,0 +1,32 @@
+// Raster baseline ("baseline standard render" of the voxel GI thesis).
+// Reads: the GpuScene. Writes: linear HDR radiance (RGBA32F) and depth into the
+// given target at the frame size. Lighting: emission plus unshadowed direct light
+// from punctual lights and emissive surfaces (shaders/include/lighting.glsl).
+// Tested by tests/render/raster_gltest.cpp (backends agree, golden image).
+#ifndef VOXGI_RENDER_RASTER_PASS_H
+#define VOXGI_RENDER_RASTER_PASS_H
+
+#include "gl/handles.h"
+#include "render/frame_context.h"
+#include "render/gpu_scene.h"
+
+namespace voxgi::render {
+
+class RasterPass {
+ public:
+  struct Settings {
+    glm::vec4 clearColor{0.0f, 0.0f, 0.0f, 1.0f};  // the background emits nothing
+  };
+
+  RasterPass(gl::ProgramCache& programs, const Settings& settings);
+  // Draws into `framebuffer` (HDR colour + depth of size ctx.width x ctx.height).
+  void execute(FrameContext& ctx, const GpuScene& scene, GLuint framebuffer);
+
+ private:
+  Settings settings_;
+  const gl::Program& program_;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_RASTER_PASS_H

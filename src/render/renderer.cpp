@@ -1,0 +1,128 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/log.h"
+#include "gl/debug.h"
+
+namespace voxgi::render {
+
+std::optional<Mode> parseMode(const std::string& name) {
+  if (name == "raster") return Mode::kRaster;
+  return std::nullopt;
+}
+
+const char* modeName(Mode m) {
+  switch (m) {
+    case Mode::kRaster:
+      return "raster";
+  }
+  return "?";
+}
+
+std::string availableModes() { return "raster"; }
+
+void checkImageSize(int width, int height) {
+  if (width < 1 || height < 1) throw Error(strf("image size %dx%d: must be at least 1x1", width, height));
+  GLint maxTex = 0, maxRb = 0, maxVp[2] = {0, 0};
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRb);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxVp);
+  const int limit = std::min({maxTex, maxRb, maxVp[0], maxVp[1]});
+  if (width > limit || height > limit)
+    throw Error(strf("image size %dx%d: larger than this GL's limit of %dx%d", width, height, limit, limit));
+  // HDR RGBA32F + depth + RGBA8 on the GPU, and the same again for readback.
+  const double bytes = static_cast<double>(width) * height * (16 + 4 + 4) * 2.0;
+  constexpr double kBudget = 8.0 * 1024 * 1024 * 1024;
+  if (bytes > kBudget)
+    throw Error(strf("image size %dx%d: needs %.1f GiB of image memory, more than the %.0f GiB budget",
+                     width, height, bytes / (1 << 30), kBudget / (1 << 30)));
+}
+
+Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene, const RenderSettings& settings)
+    : programs_(programs),
+      scene_(scene),
+      settings_(settings),
+      gpuScene_(scene),
+      raster_(programs, {}),
+      tonemap_(programs, settings.tonemap) {
+  checkImageSize(settings.width, settings.height);
+  const int w = settings.width, h = settings.height;
+  hdr_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(hdr_.id(), 1, GL_RGBA32F, w, h);
+  depth_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(depth_.id(), 1, GL_DEPTH_COMPONENT32F, w, h);
+  ldr_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(ldr_.id(), 1, GL_RGBA8, w, h);
+  for (GLuint t : {hdr_.id(), depth_.id(), ldr_.id()}) {
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  hdrFbo_ = gl::createFramebuffer();
+  glNamedFramebufferTexture(hdrFbo_.id(), GL_COLOR_ATTACHMENT0, hdr_.id(), 0);
+  glNamedFramebufferTexture(hdrFbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  ldrFbo_ = gl::createFramebuffer();
+  glNamedFramebufferTexture(ldrFbo_.id(), GL_COLOR_ATTACHMENT0, ldr_.id(), 0);
+  for (GLuint f : {hdrFbo_.id(), ldrFbo_.id()}) {
+    const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      throw Error(strf("image size %dx%d: framebuffer incomplete (0x%x)", w, h, status));
+  }
+  frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+void Renderer::renderFrame() {
+  gpu::GpuFrame frame{};
+  const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
+  const glm::mat4 vp = scene_.camera.projection(aspect) * scene_.camera.view();
+  for (int i = 0; i < 4; ++i) frame.viewProj[i] = vp[i];
+  frame.cameraPosition = glm::vec4(scene_.camera.position, 1.0f);
+  frame.counts = glm::vec4(static_cast<float>(gpuScene_.lightCount()),
+                           static_cast<float>(gpuScene_.emitterCount()), 0.0f, 0.0f);
+  glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
+
+  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  switch (settings_.mode) {
+    case Mode::kRaster:
+      raster_.execute(ctx, gpuScene_, hdrFbo_.id());
+      break;
+  }
+  tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  stages_ = timer_.resolve();
+}
+
+namespace {
+template <typename T>
+void flipRows(std::vector<T>& px, int width, int height, int channels) {
+  const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+  std::vector<T> tmp(row);
+  for (int y = 0; y < height / 2; ++y) {
+    T* a = px.data() + static_cast<size_t>(y) * row;
+    T* b = px.data() + static_cast<size_t>(height - 1 - y) * row;
+    std::memcpy(tmp.data(), a, row * sizeof(T));
+    std::memcpy(a, b, row * sizeof(T));
+    std::memcpy(b, tmp.data(), row * sizeof(T));
+  }
+}
+}  // namespace
+
+std::vector<float> Renderer::readLinear() const {
+  std::vector<float> px(static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(hdr_.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
+  flipRows(px, settings_.width, settings_.height, 4);
+  return px;
+}
+
+std::vector<uint8_t> Renderer::readDisplay() const {
+  std::vector<uint8_t> px(static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(ldr_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(px.size()), px.data());
+  flipRows(px, settings_.width, settings_.height, 4);
+  return px;
+}
+
+}  // namespace voxgi::render

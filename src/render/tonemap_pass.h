@@ -1,0 +1,36 @@
+// Linear HDR radiance -> 8-bit sRGB for display and PNG. Reads an RGBA32F
+// texture; writes RGBA8 (already sRGB-encoded) into the target framebuffer.
+#ifndef VOXGI_RENDER_TONEMAP_PASS_H
+#define VOXGI_RENDER_TONEMAP_PASS_H
+
+#include <optional>
+#include <string>
+
+#include "gl/handles.h"
+#include "render/frame_context.h"
+
+namespace voxgi::render {
+
+enum class Tonemap { kClamp, kAces };
+std::optional<Tonemap> parseTonemap(const std::string& name);
+
+class TonemapPass {
+ public:
+  struct Settings {
+    float exposure = 1.0f;  // linear scale applied before the operator
+    Tonemap op = Tonemap::kClamp;
+  };
+
+  TonemapPass(gl::ProgramCache& programs, const Settings& settings);
+  void execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer);
+  Settings& settings() { return settings_; }
+
+ private:
+  Settings settings_;
+  const gl::Program& program_;
+  gl::VertexArray emptyVao_;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_TONEMAP_PASS_H

@@ -1,0 +1,42 @@
+// Emissive surfaces as area lights for direct lighting without shadows.
+//
+// Small emitters (a few triangles, like a ceiling panel) are kept as triangles and
+// integrated exactly over the receiver's hemisphere (Lambert's polygon formula,
+// clipped to the horizon). Finely tessellated emitters (a UV-sphere lamp of 16k
+// triangles) are grouped into clusters of facets with similar normals and
+// positions; a cluster acts as a disk of the same projected area, whose on-axis
+// irradiance L*A/(d^2 + A/pi) is exact, so nothing blows up near it.
+#ifndef VOXGI_SCENE_EMITTERS_H
+#define VOXGI_SCENE_EMITTERS_H
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace voxgi::scene {
+
+struct Emitter {
+  enum class Kind { kTriangle, kCluster } kind = Kind::kTriangle;
+  glm::vec3 v0{0.0f}, v1{0.0f}, v2{0.0f};  // triangle corners, or v0 = cluster center
+  glm::vec3 normal{0.0f};                   // cluster: unit mean normal
+  float area = 0.0f;                        // triangle area, or cluster projected area
+  glm::vec3 radiance{0.0f};
+  bool twoSided = false;
+};
+
+struct EmitterOptions {
+  int exactTrianglesPerPrimitive = 32;  // primitives up to this size stay exact
+  int maxEmitters = 4096;
+};
+
+std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options = {});
+
+// CPU reference of the GPU evaluation: irradiance (per unit radiance, i.e. the
+// geometric factor) at point p with normal n from one emitter. Used by tests.
+float emitterIrradianceFactor(const Emitter& e, const glm::vec3& p, const glm::vec3& n);
+
+}  // namespace voxgi::scene
+
+#endif  // VOXGI_SCENE_EMITTERS_H

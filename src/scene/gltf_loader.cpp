@@ -1,0 +1,532 @@
+#include "scene/gltf_loader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <stb_image.h>
+#include <tiny_gltf.h>
+
+#include "core/log.h"
+
+namespace voxgi::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
+                                                  "KHR_materials_emissive_strength"};
+
+std::string firstLine(const std::string& s) {
+  size_t b = s.find_first_not_of(" \n\r\t");
+  if (b == std::string::npos) return "";
+  size_t e = s.find('\n', b);
+  std::string l = s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+  while (!l.empty() && (l.back() == '\r' || l.back() == ' ')) l.pop_back();
+  return l;
+}
+
+struct ImageLoaderState {
+  int maxSize;
+};
+
+// Decodes with stb_image into RGBA8, refusing absurd sizes before allocating.
+bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+               const unsigned char* bytes, int size, void* user) {
+  const auto* state = static_cast<const ImageLoaderState*>(user);
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
+    if (err) *err += strf("image %d (%s): not a decodable PNG/JPEG (%s)\n", index, image->uri.c_str(),
+                          stbi_failure_reason());
+    return false;
+  }
+  if (w <= 0 || h <= 0 || w > state->maxSize || h > state->maxSize) {
+    if (err) *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index,
+                          image->uri.c_str(), w, h, state->maxSize, state->maxSize);
+    return false;
+  }
+  unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+  if (!data) {
+    if (err) *err += strf("image %d (%s): decode failed (%s)\n", index, image->uri.c_str(),
+                          stbi_failure_reason());
+    return false;
+  }
+  image->width = w;
+  image->height = h;
+  image->component = 4;
+  image->bits = 8;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(data, data + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+  stbi_image_free(data);
+  return true;
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+class Loader {
+ public:
+  Loader(const std::string& path, const LoadOptions& opt) : path_(path), opt_(opt) {}
+
+  Scene run() {
+    std::error_code ec;
+    if (!fs::exists(path_, ec)) fail("no such file");
+    if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    const std::string ext = fs::path(path_).extension().string();
+    tinygltf::TinyGLTF gltf;
+    ImageLoaderState state{opt_.maxTextureSize};
+    gltf.SetImageLoader(loadImage, &state);
+    std::string err, warn;
+    bool ok = false;
+    std::string lower = ext;
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    if (lower == ".glb") {
+      ok = gltf.LoadBinaryFromFile(&model_, &err, &warn, path_);
+    } else if (lower == ".gltf") {
+      ok = gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    } else {
+      fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
+    }
+    if (!ok) fail(firstLine(err.empty() ? "malformed glTF" : err));
+    if (!warn.empty()) {
+      // tinygltf keeps going when an external image is missing: remember which.
+      logDebug(path_ + ": tinygltf: " + firstLine(warn));
+    }
+
+    for (const std::string& r : model_.extensionsRequired)
+      if (!kSupportedRequired.count(r)) fail("requires the unsupported extension " + r);
+
+    validateBuffers();
+    validateNodeGraph();
+
+    scene_.path = path_;
+    readMaterials();
+    traverse();
+    if (scene_.draws.empty()) warn_("no triangles to draw");
+    scene_.finalize();
+    if (opt_.addDefaultLight) scene_.addDefaultLightIfUnlit();
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
+  void warn_(const std::string& what) {
+    logWarning(path_ + ": " + what);
+    scene_.warnings.push_back(what);
+  }
+
+  void validateBuffers() {
+    for (size_t i = 0; i < model_.bufferViews.size(); ++i) {
+      const auto& bv = model_.bufferViews[i];
+      if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
+        fail(strf("bufferView %zu: buffer %d does not exist", i, bv.buffer));
+      const size_t size = model_.buffers[static_cast<size_t>(bv.buffer)].data.size();
+      if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset)
+        fail(strf("bufferView %zu: bytes [%zu, %zu) exceed buffer %d of %zu bytes", i, bv.byteOffset,
+                  bv.byteOffset + bv.byteLength, bv.buffer, size));
+    }
+  }
+
+  void validateNodeGraph() {
+    const size_t n = model_.nodes.size();
+    std::vector<int> parent(n, -1);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c : model_.nodes[i].children) {
+        if (c < 0 || static_cast<size_t>(c) >= n) fail(strf("node %zu: child %d does not exist", i, c));
+        if (static_cast<size_t>(c) == i) fail(strf("node %zu: is its own child (cycle)", i));
+        if (parent[static_cast<size_t>(c)] >= 0)
+          fail(strf("node %d: has two parents (%d and %zu); the node graph must be a forest", c,
+                    parent[static_cast<size_t>(c)], i));
+        parent[static_cast<size_t>(c)] = static_cast<int>(i);
+      }
+    }
+    // With one parent each, a cycle is a loop of parent links.
+    for (size_t i = 0; i < n; ++i) {
+      size_t steps = 0;
+      for (int p = parent[i]; p >= 0; p = parent[static_cast<size_t>(p)]) {
+        if (static_cast<size_t>(p) == i || ++steps > n) fail(strf("node %zu: cycle in the node graph", i));
+      }
+    }
+    for (size_t s = 0; s < model_.scenes.size(); ++s)
+      for (int r : model_.scenes[s].nodes)
+        if (r < 0 || static_cast<size_t>(r) >= n) fail(strf("scene %zu: node %d does not exist", s, r));
+  }
+
+  glm::mat4 localMatrix(const tinygltf::Node& node, int index) const {
+    glm::mat4 m(1.0f);
+    if (!node.matrix.empty()) {
+      if (node.matrix.size() != 16) fail(strf("node %d: matrix must have 16 numbers", index));
+      for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<size_t>(i)]);
+    } else {
+      if (node.translation.size() == 3)
+        m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+      if (node.rotation.size() == 4) {
+        glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                    static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
+        m = m * glm::mat4_cast(glm::normalize(q));
+      }
+      if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+    }
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(m[c][r])) fail(strf("node %d: transform has NaN or Inf", index));
+    return m;
+  }
+
+  // Checked view of an accessor: element i is at data + i * stride.
+  struct View {
+    const unsigned char* data = nullptr;
+    size_t count = 0;
+    size_t stride = 0;
+    int componentType = 0;
+    int type = 0;
+    bool normalized = false;
+  };
+
+  View accessor(int index, const char* what, std::initializer_list<int> types,
+                std::initializer_list<int> componentTypes) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+      fail(strf("%s: accessor %d does not exist", what, index));
+    const auto& a = model_.accessors[static_cast<size_t>(index)];
+    if (a.sparse.isSparse) fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
+    if (std::find(types.begin(), types.end(), a.type) == types.end())
+      fail(strf("accessor %d (%s): wrong element type", index, what));
+    if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) == componentTypes.end())
+      fail(strf("accessor %d (%s): wrong component type %d", index, what, a.componentType));
+    if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model_.bufferViews.size())
+      fail(strf("accessor %d (%s): bufferView %d does not exist", index, what, a.bufferView));
+    if (a.count == 0 || a.count > (size_t{1} << 31))
+      fail(strf("accessor %d (%s): count %zu out of range", index, what, a.count));
+    const auto& bv = model_.bufferViews[static_cast<size_t>(a.bufferView)];
+    const int compSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    const int nComp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    if (compSize <= 0 || nComp <= 0) fail(strf("accessor %d (%s): invalid type", index, what));
+    const size_t elem = static_cast<size_t>(compSize) * static_cast<size_t>(nComp);
+    const size_t stride = bv.byteStride ? bv.byteStride : elem;
+    if (stride < elem) fail(strf("accessor %d (%s): byteStride %zu is smaller than an element (%zu)", index, what, stride, elem));
+    const size_t need = a.byteOffset + stride * (a.count - 1) + elem;
+    if (a.byteOffset > bv.byteLength || need > bv.byteLength)
+      fail(strf("accessor %d (%s): needs %zu bytes, bufferView %d has %zu", index, what, need,
+                a.bufferView, bv.byteLength));
+    const auto& buf = model_.buffers[static_cast<size_t>(bv.buffer)];
+    View v;
+    v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
+    v.count = a.count;
+    v.stride = stride;
+    v.componentType = a.componentType;
+    v.type = a.type;
+    v.normalized = a.normalized;
+    return v;
+  }
+
+  static float readComponent(const unsigned char* p, int componentType, bool normalized) {
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? static_cast<float>(*p) / 255.0f : static_cast<float>(*p);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t u;
+        std::memcpy(&u, p, 2);
+        return normalized ? static_cast<float>(u) / 65535.0f : static_cast<float>(u);
+      }
+      default:
+        return 0.0f;
+    }
+  }
+
+  void readMaterials() {
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const auto& m = model_.materials[i];
+      Material mat;
+      mat.name = m.name;
+      const auto& pbr = m.pbrMetallicRoughness;
+      if (pbr.baseColorFactor.size() == 4)
+        mat.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
+                                  pbr.baseColorFactor[3]);
+      mat.metallic = static_cast<float>(pbr.metallicFactor);
+      mat.roughness = static_cast<float>(pbr.roughnessFactor);
+      if (m.emissiveFactor.size() == 3)
+        mat.emission = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+      auto it = m.extensions.find("KHR_materials_emissive_strength");
+      if (it != m.extensions.end() && it->second.Has("emissiveStrength"))
+        mat.emission *= static_cast<float>(it->second.Get("emissiveStrength").GetNumberAsDouble());
+      mat.doubleSided = m.doubleSided;
+      mat.alphaMode = m.alphaMode == "MASK" ? AlphaMode::kMask
+                      : m.alphaMode == "BLEND" ? AlphaMode::kBlend
+                                               : AlphaMode::kOpaque;
+      mat.alphaCutoff = static_cast<float>(m.alphaCutoff);
+      const glm::vec4 bc = mat.baseColor;
+      if (!finite(glm::vec3(bc)) || !std::isfinite(bc.w) || !finite(mat.emission) ||
+          !std::isfinite(mat.metallic) || !std::isfinite(mat.roughness))
+        fail(strf("material %zu: NaN or Inf factor", i));
+      mat.baseColor = glm::clamp(mat.baseColor, 0.0f, 1.0f);
+      mat.metallic = std::clamp(mat.metallic, 0.0f, 1.0f);
+      mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
+      mat.emission = glm::max(mat.emission, 0.0f);
+      if (pbr.baseColorTexture.index >= 0) mat.baseColorTexture = texture(pbr.baseColorTexture.index, i);
+      scene_.materials.push_back(mat);
+    }
+    // The glTF default material, for primitives without one.
+    defaultMaterial_ = static_cast<int>(scene_.materials.size());
+    Material d;
+    d.name = "default";
+    scene_.materials.push_back(d);
+  }
+
+  int texture(int index, size_t material) {
+    if (static_cast<size_t>(index) >= model_.textures.size())
+      fail(strf("material %zu: texture %d does not exist", material, index));
+    auto found = textureMap_.find(index);
+    if (found != textureMap_.end()) return found->second;
+    const int source = model_.textures[static_cast<size_t>(index)].source;
+    if (source < 0 || static_cast<size_t>(source) >= model_.images.size())
+      fail(strf("texture %d: image %d does not exist", index, source));
+    const auto& img = model_.images[static_cast<size_t>(source)];
+    if (img.image.empty() || img.width <= 0 || img.height <= 0)
+      fail(strf("image %d: missing or unreadable image '%s'", source, img.uri.c_str()));
+    Texture t;
+    t.name = img.uri.empty() ? img.name : img.uri;
+    t.width = img.width;
+    t.height = img.height;
+    t.rgba8 = img.image;  // decoded to RGBA8 by loadImage
+    scene_.textures.push_back(std::move(t));
+    const int id = static_cast<int>(scene_.textures.size() - 1);
+    textureMap_[index] = id;
+    return id;
+  }
+
+  void traverse() {
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      const size_t s = model_.defaultScene >= 0 && static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
+                           ? static_cast<size_t>(model_.defaultScene)
+                           : 0;
+      roots = model_.scenes[s].nodes;
+    } else {
+      std::vector<bool> child(model_.nodes.size(), false);
+      for (const auto& n : model_.nodes)
+        for (int c : n.children) child[static_cast<size_t>(c)] = true;
+      for (size_t i = 0; i < model_.nodes.size(); ++i)
+        if (!child[i]) roots.push_back(static_cast<int>(i));
+    }
+    std::function<void(int, const glm::mat4&)> visit = [&](int index, const glm::mat4& parent) {
+      const auto& node = model_.nodes[static_cast<size_t>(index)];
+      const glm::mat4 world = parent * localMatrix(node, index);
+      if (node.mesh >= 0) {
+        if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
+          fail(strf("node %d: mesh %d does not exist", index, node.mesh));
+        addMesh(node.mesh, index, world);
+      }
+      if (node.camera >= 0) addCamera(node.camera, index, world);
+      auto le = node.extensions.find("KHR_lights_punctual");
+      if (le != node.extensions.end() && le->second.Has("light"))
+        addLight(le->second.Get("light").GetNumberAsInt(), index, world);
+      for (int c : node.children) visit(c, world);
+    };
+    for (int r : roots) visit(r, glm::mat4(1.0f));
+  }
+
+  void addCamera(int index, int node, const glm::mat4& world) {
+    if (static_cast<size_t>(index) >= model_.cameras.size())
+      fail(strf("node %d: camera %d does not exist", node, index));
+    if (scene_.camera.fromFile) return;  // the first camera wins
+    const auto& c = model_.cameras[static_cast<size_t>(index)];
+    if (c.type != "perspective") {
+      warn_(strf("camera %d: only perspective cameras are used; framing the scene instead", index));
+      return;
+    }
+    Camera cam;
+    cam.position = glm::vec3(world[3]);
+    cam.forward = glm::normalize(-glm::vec3(world[2]));
+    cam.up = glm::normalize(glm::vec3(world[1]));
+    cam.yfov = static_cast<float>(c.perspective.yfov);
+    if (!finite(cam.forward) || !finite(cam.up) || !(cam.yfov > 1e-4f && cam.yfov < 3.1f))
+      fail(strf("camera %d: degenerate transform or yfov", index));
+    cam.fromFile = true;
+    scene_.camera = cam;
+  }
+
+  void addLight(int index, int node, const glm::mat4& world) {
+    if (index < 0 || static_cast<size_t>(index) >= model_.lights.size())
+      fail(strf("node %d: light %d does not exist", node, index));
+    const auto& l = model_.lights[static_cast<size_t>(index)];
+    Light light;
+    light.name = l.name;
+    if (l.type == "directional") light.type = LightType::kDirectional;
+    else if (l.type == "point") light.type = LightType::kPoint;
+    else if (l.type == "spot") light.type = LightType::kSpot;
+    else fail(strf("light %d: unknown type '%s'", index, l.type.c_str()));
+    if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+    light.intensity = static_cast<float>(l.intensity);
+    light.range = static_cast<float>(l.range);
+    light.position = glm::vec3(world[3]);
+    light.direction = glm::normalize(-glm::vec3(world[2]));
+    light.innerConeAngle = static_cast<float>(l.spot.innerConeAngle);
+    light.outerConeAngle = static_cast<float>(l.spot.outerConeAngle);
+    if (!finite(light.color) || !std::isfinite(light.intensity) || !finite(light.direction))
+      fail(strf("light %d: NaN or Inf parameter", index));
+    if (light.outerConeAngle <= light.innerConeAngle) light.outerConeAngle = light.innerConeAngle + 1e-3f;
+    scene_.lights.push_back(light);
+  }
+
+  void addMesh(int meshIndex, int nodeIndex, const glm::mat4& world) {
+    const auto& mesh = model_.meshes[static_cast<size_t>(meshIndex)];
+    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
+    const bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
+    for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+      const auto& prim = mesh.primitives[pi];
+      const std::string where = strf("mesh %d primitive %zu", meshIndex, pi);
+      int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        warn_(where + ": points and lines are not rendered; skipped");
+        continue;
+      }
+      auto pos = prim.attributes.find("POSITION");
+      if (pos == prim.attributes.end()) fail(where + ": no POSITION attribute");
+      const View p = accessor(pos->second, "POSITION", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+      View n, t;
+      bool hasNormals = false, hasUv = false;
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+        n = accessor(it->second, "NORMAL", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        if (n.count != p.count) fail(where + ": NORMAL and POSITION counts differ");
+        hasNormals = true;
+      }
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+        t = accessor(it->second, "TEXCOORD_0", {TINYGLTF_TYPE_VEC2},
+                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        if (t.count != p.count) fail(where + ": TEXCOORD_0 and POSITION counts differ");
+        hasUv = true;
+      }
+      std::vector<uint32_t> idx;
+      if (prim.indices >= 0) {
+        const View iv = accessor(prim.indices, "indices", {TINYGLTF_TYPE_SCALAR},
+                                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+        idx.resize(iv.count);
+        for (size_t i = 0; i < iv.count; ++i) {
+          const unsigned char* q = iv.data + i * iv.stride;
+          uint32_t v = 0;
+          if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) v = *q;
+          else if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) { uint16_t s; std::memcpy(&s, q, 2); v = s; }
+          else std::memcpy(&v, q, 4);
+          if (v >= p.count) fail(strf("%s: index %u at %zu is out of range (%zu vertices)", where.c_str(), v, i, p.count));
+          idx[i] = v;
+        }
+      } else {
+        idx.resize(p.count);
+        for (size_t i = 0; i < p.count; ++i) idx[i] = static_cast<uint32_t>(i);
+      }
+      // Strips and fans to a list.
+      if (mode != TINYGLTF_MODE_TRIANGLES) {
+        std::vector<uint32_t> list;
+        for (size_t i = 2; i < idx.size(); ++i) {
+          if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            if (i % 2 == 0) list.insert(list.end(), {idx[i - 2], idx[i - 1], idx[i]});
+            else list.insert(list.end(), {idx[i - 1], idx[i - 2], idx[i]});
+          } else {
+            list.insert(list.end(), {idx[0], idx[i - 1], idx[i]});
+          }
+        }
+        idx.swap(list);
+      }
+      idx.resize(idx.size() / 3 * 3);
+      const size_t base = scene_.vertices.size();
+      scene_.vertices.resize(base + p.count);
+      for (size_t i = 0; i < p.count; ++i) {
+        Vertex& v = scene_.vertices[base + i];
+        glm::vec3 lp(readComponent(p.data + i * p.stride, p.componentType, false),
+                     readComponent(p.data + i * p.stride + 4, p.componentType, false),
+                     readComponent(p.data + i * p.stride + 8, p.componentType, false));
+        if (!finite(lp)) fail(strf("%s: vertex %zu has a NaN or Inf position", where.c_str(), i));
+        v.position = glm::vec3(world * glm::vec4(lp, 1.0f));
+        if (!finite(v.position)) fail(strf("%s: vertex %zu overflows after the node transform", where.c_str(), i));
+        v.normal = glm::vec3(0.0f);
+        if (hasNormals) {
+          glm::vec3 ln(readComponent(n.data + i * n.stride, n.componentType, false),
+                       readComponent(n.data + i * n.stride + 4, n.componentType, false),
+                       readComponent(n.data + i * n.stride + 8, n.componentType, false));
+          v.normal = normalMatrix * ln;
+        }
+        v.uv = glm::vec2(0.0f);
+        if (hasUv) {
+          const size_t cs = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(t.componentType)));
+          v.uv = glm::vec2(readComponent(t.data + i * t.stride, t.componentType, t.normalized),
+                           readComponent(t.data + i * t.stride + cs, t.componentType, t.normalized));
+          if (!std::isfinite(v.uv.x) || !std::isfinite(v.uv.y)) v.uv = glm::vec2(0.0f);
+        }
+      }
+      // Drop zero-area triangles; repair normals that are missing, zero or NaN
+      // with the area-weighted average of the faces around the vertex.
+      std::vector<uint32_t> kept;
+      kept.reserve(idx.size());
+      std::vector<glm::vec3> faceSum(p.count, glm::vec3(0.0f));
+      size_t degenerate = 0;
+      for (size_t i = 0; i < idx.size(); i += 3) {
+        uint32_t a = idx[i], b = idx[i + 1], c = idx[i + 2];
+        if (mirrored) std::swap(b, c);
+        const glm::vec3 e = glm::cross(scene_.vertices[base + b].position - scene_.vertices[base + a].position,
+                                       scene_.vertices[base + c].position - scene_.vertices[base + a].position);
+        if (!(glm::dot(e, e) > 0.0f) || !finite(e)) {
+          ++degenerate;
+          continue;
+        }
+        kept.insert(kept.end(), {a, b, c});
+        for (uint32_t k : {a, b, c}) faceSum[k] += e;
+      }
+      if (degenerate) warn_(strf("%s: dropped %zu zero-area triangles", where.c_str(), degenerate));
+      size_t repaired = 0;
+      for (size_t i = 0; i < p.count; ++i) {
+        Vertex& v = scene_.vertices[base + i];
+        const float len2 = glm::dot(v.normal, v.normal);
+        if (len2 > 0.0f && std::isfinite(len2)) {
+          v.normal = glm::normalize(v.normal);
+        } else {
+          if (hasNormals) ++repaired;
+          const float f2 = glm::dot(faceSum[i], faceSum[i]);
+          v.normal = f2 > 0.0f && std::isfinite(f2) ? glm::normalize(faceSum[i]) : glm::vec3(0, 1, 0);
+        }
+      }
+      if (repaired) warn_(strf("%s: repaired %zu zero or NaN normals", where.c_str(), repaired));
+      if (kept.empty()) continue;
+      Draw d;
+      d.firstIndex = static_cast<uint32_t>(scene_.indices.size());
+      d.indexCount = static_cast<uint32_t>(kept.size());
+      d.node = nodeIndex;
+      d.mesh = meshIndex;
+      if (prim.material >= 0) {
+        if (static_cast<size_t>(prim.material) >= model_.materials.size())
+          fail(strf("%s: material %d does not exist", where.c_str(), prim.material));
+        d.material = prim.material;
+      } else {
+        d.material = defaultMaterial_;
+      }
+      for (uint32_t k : kept) scene_.indices.push_back(static_cast<uint32_t>(base) + k);
+      scene_.draws.push_back(d);
+    }
+  }
+
+  std::string path_;
+  LoadOptions opt_;
+  tinygltf::Model model_;
+  Scene scene_;
+  int defaultMaterial_ = 0;
+  std::map<int, int> textureMap_;
+};
+
+}  // namespace
+
+Scene loadGltf(const std::string& path, const LoadOptions& options) { return Loader(path, options).run(); }
+
+}  // namespace voxgi::scene

@@ -1,0 +1,28 @@
+// glTF 2.0 (.gltf and .glb) through tinygltf, validated, baked to world space.
+//
+// Reads: node hierarchy (matrix or TRS), indexed and non-indexed triangles (strips
+// and fans converted), normals (generated when missing or broken), TEXCOORD_0,
+// metallic-roughness materials with base-colour textures, emission with
+// KHR_materials_emissive_strength, KHR_lights_punctual, perspective cameras.
+// Bad input throws voxgi::Error with one line "FILE: problem". Unsupported
+// primitive modes (points, lines) are skipped with a warning.
+#ifndef VOXGI_SCENE_GLTF_LOADER_H
+#define VOXGI_SCENE_GLTF_LOADER_H
+
+#include <string>
+
+#include "scene/scene.h"
+
+namespace voxgi::scene {
+
+struct LoadOptions {
+  // Largest texture side accepted; larger images are refused before decoding.
+  int maxTextureSize = 16384;
+  bool addDefaultLight = true;
+};
+
+Scene loadGltf(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace voxgi::scene
+
+#endif  // VOXGI_SCENE_GLTF_LOADER_H

@@ -1,0 +1,133 @@
+// The scene as every stage sees it: world-space triangles, materials, textures,
+// lights and a camera, plus bounds and the quantities auto-scaled from them.
+//
+// Geometry is baked to world space at load (node transforms applied, normals
+// transformed by the inverse transpose); each Draw keeps its node so that later
+// stages can tell what moves. Units are whatever the file uses: nothing here
+// assumes metres (see Scene::scale()).
+#ifndef VOXGI_SCENE_SCENE_H
+#define VOXGI_SCENE_SCENE_H
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace voxgi::scene {
+
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+
+enum class AlphaMode { kOpaque, kMask, kBlend };
+
+struct Material {
+  std::string name;
+  glm::vec4 baseColor{1.0f};  // linear
+  float metallic = 1.0f;      // glTF defaults
+  float roughness = 1.0f;
+  glm::vec3 emission{0.0f};   // emissiveFactor x KHR_materials_emissive_strength (radiance)
+  int baseColorTexture = -1;  // index into Scene::textures
+  bool doubleSided = false;
+  AlphaMode alphaMode = AlphaMode::kOpaque;
+  float alphaCutoff = 0.5f;
+  bool isEmissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+};
+
+struct Texture {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba8;  // sRGB-encoded base colour, 4 channels
+};
+
+enum class LightType { kDirectional, kPoint, kSpot };
+
+// KHR_lights_punctual, read radiometrically: intensity is W/sr for point and spot
+// (candela in the file) and W/m^2 for directional (lux in the file).
+struct Light {
+  LightType type = LightType::kPoint;
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;  // 0: infinite
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // the way light travels
+  float innerConeAngle = 0.0f;
+  float outerConeAngle = 0.7853981634f;
+  std::string name;
+};
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float yfov = 0.6981317f;  // 40 degrees
+  float znear = 0.01f;
+  float zfar = 100.0f;
+  bool fromFile = false;
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;
+};
+
+struct Bounds {
+  glm::vec3 min{1e30f};
+  glm::vec3 max{-1e30f};
+  bool empty() const { return min.x > max.x; }
+  void extend(const glm::vec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+  glm::vec3 center() const { return 0.5f * (min + max); }
+  glm::vec3 extent() const { return max - min; }
+  float diagonal() const;
+};
+
+// A contiguous run of indices drawn with one material.
+struct Draw {
+  uint32_t firstIndex = 0;
+  uint32_t indexCount = 0;
+  int material = 0;
+  int node = -1;
+  int mesh = -1;
+};
+
+// Quantities derived from the bounds so that nothing assumes a unit.
+struct AutoScale {
+  float cameraSpeed = 1.0f;  // units per second for the fly camera
+  glm::vec3 gridOrigin{0.0f};  // voxel grid: a cube fitted to the bounds with a margin
+  float gridSize = 1.0f;
+};
+
+struct Scene {
+  std::string path;
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<Draw> draws;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Light> lights;
+  Camera camera;
+  Bounds bounds;
+  AutoScale scale;
+  bool defaultLight = false;  // no light in the file: one was added (see addDefaultLightIfUnlit)
+  std::vector<std::string> warnings;
+
+  size_t triangleCount() const { return indices.size() / 3; }
+  bool hasEmission() const;
+
+  // Recomputes bounds, auto-scale and (unless the file had one) the framing camera.
+  void finalize();
+  // Sets near/far planes from the camera position and the bounds.
+  void fitClipPlanes();
+  // Adds a directional light when there is no punctual light and no emissive
+  // material, so an unlit file never renders black by surprise.
+  void addDefaultLightIfUnlit();
+  // Frames the bounds from the front (+z side), looking along -z.
+  void autoFrameCamera();
+};
+
+}  // namespace voxgi::scene
+
+#endif  // VOXGI_SCENE_SCENE_H
