@@ -42,8 +42,8 @@ int runRender(const RenderOptions& o) {
 
   // Everything that can be refused without GL is refused before any work.
   for (const std::string& out : o.outputs) {
-    image::formatForPath(out);
     image::checkWritable(out);
+    image::formatForPath(out);
   }
   if (!o.stats.empty()) image::checkWritable(o.stats);
   const std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;

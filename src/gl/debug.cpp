@@ -25,9 +25,14 @@ const char* typeName(GLenum type) {
 
 void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity,
                                GLsizei length, const GLchar* message, const void*) {
-  (void)source;
   if (type == GL_DEBUG_TYPE_PUSH_GROUP || type == GL_DEBUG_TYPE_POP_GROUP) return;
   std::string msg(message, length >= 0 ? static_cast<size_t>(length) : std::strlen(message));
+  // Shader compile errors come back through the program cache, mapped to file:line
+  // (a failed hot reload is an expected path, not a GL error).
+  if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) {
+    logDebug("GL shader compiler: " + msg);
+    return;
+  }
   const bool error = type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH;
   const std::string line = strf("GL %s (id %u): %s", typeName(type), id, msg.c_str());
   if (error) {

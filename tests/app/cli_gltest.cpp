@@ -1,0 +1,132 @@
+// The voxgi executable end to end: bad input gets one line naming the file and the
+// problem, a non-zero exit, no crash and no partial file; good input writes what
+// was asked for.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "image/image.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+namespace {
+namespace fs = std::filesystem;
+
+std::string voxgi(const std::string& args) { return voxgiBinary() + " " + args; }
+
+// Error output is one line starting "voxgi: error: ".
+void expectOneLineError(const CommandResult& r, int code, const std::string& needle) {
+  EXPECT_EQ(r.exitCode, code) << r.output;
+  EXPECT_EQ(r.output.rfind("voxgi: error: ", 0), 0u) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find(needle), std::string::npos) << "missing '" << needle << "' in: " << r.output;
+}
+
+TEST(Cli, HelpAndVersion) {
+  auto r = runCommand(voxgi("--help"));
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_NE(r.output.find("render"), std::string::npos);
+  r = runCommand(voxgi("render --help"));
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--size"), std::string::npos);
+  EXPECT_NE(r.output.find("--backend"), std::string::npos);
+  r = runCommand(voxgi("--version"));
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_EQ(r.output.rfind("voxgi ", 0), 0u);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  expectOneLineError(runCommand(voxgi("render --frobnicate")), 2, "--frobnicate");
+  expectOneLineError(runCommand(voxgi("paint")), 2, "paint");
+  expectOneLineError(runCommand(voxgi("render --size 64")), 2, "WxH");
+  expectOneLineError(runCommand(voxgi("render --size -5x10")), 2, "--size");
+  expectOneLineError(runCommand(voxgi("render --mode teleport")), 2, "teleport");
+  expectOneLineError(runCommand(voxgi("render --backend vulkan")), 2, "vulkan");
+  expectOneLineError(runCommand(voxgi("render --frames")), 2, "needs a value");
+}
+
+TEST(Cli, MissingAndMalformedScenes) {
+  const std::string dir = scratchDir();
+  expectOneLineError(runCommand(voxgi("render " + dir + "/nope.gltf --size 8x8")), 1, dir + "/nope.gltf: no such file");
+  std::ofstream(dir + "/broken.gltf") << "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [";
+  expectOneLineError(runCommand(voxgi("render " + dir + "/broken.gltf --size 8x8")), 1, dir + "/broken.gltf");
+  std::ofstream(dir + "/scene.obj") << "v 0 0 0\n";
+  expectOneLineError(runCommand(voxgi("render " + dir + "/scene.obj --size 8x8")), 1, "scene.obj");
+}
+
+TEST(Cli, AbsurdSizeIsRefused) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(voxgi("render --size 100000x100000 --out " + dir + "/big.png"));
+  expectOneLineError(r, 1, "100000x100000");
+  EXPECT_FALSE(fs::exists(dir + "/big.png"));
+  EXPECT_TRUE(fs::is_empty(dir));  // no partial or temporary file either
+}
+
+TEST(Cli, UnwritableOutputsAreRefusedBeforeRendering) {
+  const std::string dir = scratchDir();
+  expectOneLineError(runCommand(voxgi("render --size 8x8 --out " + dir + "/no/such/dir/x.png")), 1,
+                     "does not exist");
+  expectOneLineError(runCommand(voxgi("render --size 8x8 --out " + dir + "/x.jpg")), 1, "x.jpg");
+  expectOneLineError(runCommand(voxgi("render --size 8x8 --out " + dir)), 1, "is a directory");
+  expectOneLineError(runCommand(voxgi("render --size 8x8 --stats " + dir + "/no/such/s.json")), 1,
+                     "does not exist");
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(Cli, FailedRenderLeavesExistingOutputAlone) {
+  const std::string dir = scratchDir();
+  const std::string out = dir + "/keep.png";
+  std::ofstream(out) << "the user's file";
+  const auto r = runCommand(voxgi("render " + dir + "/missing.gltf --size 8x8 --out " + out));
+  EXPECT_EQ(r.exitCode, 1);
+  std::ifstream in(out);
+  std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(content, "the user's file");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST(Cli, RendersPngExrAndStats) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " + dir +
+                                  "/a.exr --stats " + dir + "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("raster"), std::string::npos);
+  const image::Image png = image::readImage(dir + "/a.png");
+  EXPECT_EQ(png.width, 64);
+  EXPECT_EQ(png.height, 48);
+  const image::Image exr = image::readImage(dir + "/a.exr");
+  EXPECT_EQ(exr.width, 64);
+  // The EXR holds linear radiance: the light (L = 15) shows unclamped.
+  float maxValue = 0.0f;
+  for (float v : exr.pixels) maxValue = std::max(maxValue, v);
+  EXPECT_NEAR(maxValue, 15.0f, 0.01f);
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::json::parse(in);
+  for (const char* key : {"frame_ms", "stages", "triangles", "backend", "renderer", "size"})
+    EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(stats["triangles"], 32268);
+  EXPECT_EQ(stats["backend"], "egl");
+  EXPECT_EQ(stats["size"]["width"], 64);
+  EXPECT_EQ(stats["gl_errors"], 0);
+  EXPECT_TRUE(stats["stages"].contains("raster"));
+  EXPECT_TRUE(stats["stages"].contains("tonemap"));
+  EXPECT_GT(stats["frame_ms"].get<double>(), 0.0);
+  EXPECT_LT(stats["stages"]["raster"].get<double>(), 60000.0);  // a sane timer, not a stale clock
+  // Nothing but the three outputs in the folder.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
+}
+
+TEST(Cli, OsMesaBackendRenders) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(voxgi("render --size 32x32 --backend osmesa --stats " + dir + "/s.json"));
+  if (r.exitCode != 0 && !std::getenv("VOXGI_REQUIRE_OSMESA")) GTEST_SKIP() << r.output;
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(dir + "/s.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["backend"], "osmesa");
+}
+
+}  // namespace
+}  // namespace voxgi::test

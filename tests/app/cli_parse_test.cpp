@@ -1,0 +1,71 @@
+// Command-line parsing, without a GL context.
+#include <gtest/gtest.h>
+
+#include "app/cli.h"
+
+namespace voxgi::app {
+namespace {
+
+Invocation parse(std::vector<std::string> args) { return parseCommandLine(args); }
+
+TEST(CliParse, Defaults) {
+  const Invocation inv = parse({"render"});
+  EXPECT_EQ(inv.command, Command::kRender);
+  EXPECT_TRUE(inv.render.scene.empty());
+  EXPECT_EQ(inv.render.render.width, 512);
+  EXPECT_EQ(inv.render.render.height, 512);
+  EXPECT_EQ(inv.render.backend, gl::Backend::kEgl);
+  EXPECT_EQ(inv.render.frames, 1);
+  EXPECT_TRUE(inv.render.outputs.empty());
+}
+
+TEST(CliParse, AllOptions) {
+  const Invocation inv = parse({"render", "s.gltf", "--size", "640x360", "--out", "a.png", "--out", "a.exr",
+                                "--stats", "s.json", "--frames", "7", "--backend", "osmesa", "--exposure",
+                                "0.5", "--tonemap", "aces", "--mode", "raster"});
+  const RenderOptions& o = inv.render;
+  EXPECT_EQ(o.scene, "s.gltf");
+  EXPECT_EQ(o.render.width, 640);
+  EXPECT_EQ(o.render.height, 360);
+  EXPECT_EQ(o.outputs, (std::vector<std::string>{"a.png", "a.exr"}));
+  EXPECT_EQ(o.stats, "s.json");
+  EXPECT_EQ(o.frames, 7);
+  EXPECT_EQ(o.backend, gl::Backend::kOsMesa);
+  EXPECT_FLOAT_EQ(o.render.tonemap.exposure, 0.5f);
+  EXPECT_EQ(o.render.tonemap.op, render::Tonemap::kAces);
+}
+
+TEST(CliParse, HelpAndVersion) {
+  EXPECT_EQ(parse({}).command, Command::kHelp);
+  EXPECT_EQ(parse({"--help"}).command, Command::kHelp);
+  EXPECT_EQ(parse({"--version"}).command, Command::kVersion);
+  const Invocation inv = parse({"render", "--size", "5x5", "--help"});
+  EXPECT_EQ(inv.command, Command::kHelp);
+  EXPECT_EQ(inv.helpTopic, "render");
+}
+
+TEST(CliParse, Rejects) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"render", "--size", "10"},
+           {"render", "--size", "0x10"},
+           {"render", "--size", "10x"},
+           {"render", "--size", "axb"},
+           {"render", "--size", "10x10x10"},
+           {"render", "--frames", "0"},
+           {"render", "--frames", "1e3"},
+           {"render", "--exposure", "nan"},
+           {"render", "--exposure", "inf"},
+           {"render", "--backend", "d3d"},
+           {"render", "--tonemap", "filmic"},
+           {"render", "--mode", "magic"},
+           {"render", "a.gltf", "b.gltf"},
+           {"render", "--out"},
+           {"render", "--bogus"},
+           {"frobnicate"},
+       }) {
+    EXPECT_THROW(parse(args), UsageError) << args.back();
+  }
+}
+
+}  // namespace
+}  // namespace voxgi::app

@@ -1,0 +1,75 @@
+// Image files and differences, without a GL context.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/log.h"
+#include "image/image.h"
+#include "image/metrics.h"
+#include "support/test_paths.h"
+
+namespace voxgi::image {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(ImageIo, PngRoundTripsBytesAndOrientation) {
+  const std::string dir = test::scratchDir();
+  std::vector<uint8_t> px(3 * 2 * 4);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<uint8_t>(i * 10);
+  writePng(dir + "/a.png", 3, 2, px.data());
+  const Image img = readImage(dir + "/a.png");
+  ASSERT_EQ(img.width, 3);
+  ASSERT_EQ(img.height, 2);
+  ASSERT_EQ(img.channels, 4);
+  for (size_t i = 0; i < px.size(); ++i) EXPECT_NEAR(img.pixels[i] * 255.0f, px[i], 1e-3) << i;
+}
+
+TEST(ImageIo, ExrKeepsLinearFloats) {
+  const std::string dir = test::scratchDir();
+  std::vector<float> px = {0.0f, 1.5f, 100.0f, 1.0f, 1e-4f, 0.25f, 15.0f, 1.0f};
+  writeExr(dir + "/a.exr", 2, 1, px.data());
+  const Image img = readImage(dir + "/a.exr");
+  ASSERT_EQ(img.width, 2);
+  for (size_t i = 0; i < px.size(); ++i) EXPECT_FLOAT_EQ(img.pixels[i], px[i]);
+}
+
+TEST(ImageIo, RefusesBadPathsWithoutTouchingFiles) {
+  const std::string dir = test::scratchDir();
+  std::vector<uint8_t> px(4, 255);
+  EXPECT_THROW(writePng(dir + "/missing/a.png", 1, 1, px.data()), Error);
+  EXPECT_THROW(formatForPath(dir + "/a.tga"), Error);
+  EXPECT_THROW(checkWritable(dir), Error);
+  EXPECT_TRUE(fs::is_empty(dir));
+  EXPECT_THROW(readImage(dir + "/none.png"), Error);
+}
+
+TEST(ImageIo, ReplacesAnExistingFileOnlyWhenComplete) {
+  const std::string dir = test::scratchDir();
+  std::vector<uint8_t> px(4, 7);
+  writePng(dir + "/a.png", 1, 1, px.data());
+  px.assign(4, 9);
+  writePng(dir + "/a.png", 1, 1, px.data());
+  EXPECT_NEAR(readImage(dir + "/a.png").pixels[0] * 255.0f, 9.0f, 1e-3);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);  // no temp left
+}
+
+TEST(Metrics, CompareKnownDifferences) {
+  Image a, b;
+  a.width = b.width = 2;
+  a.height = b.height = 1;
+  a.channels = b.channels = 3;
+  a.pixels = {0, 0, 0, 1, 1, 1};
+  b.pixels = {0, 0, 0, 1, 1, 0.5f};
+  const Difference d = compare(a, b, 0.1);
+  EXPECT_DOUBLE_EQ(d.maxAbs, 0.5);
+  EXPECT_NEAR(d.meanAbs, 0.5 / 6.0, 1e-12);
+  EXPECT_NEAR(d.rmse, std::sqrt(0.25 / 6.0), 1e-12);
+  EXPECT_DOUBLE_EQ(d.fractionAbove, 0.5);
+  b.width = 1;
+  EXPECT_THROW(compare(a, b, 0.1), Error);
+}
+
+}  // namespace
+}  // namespace voxgi::image
