@@ -50,9 +50,9 @@ VOXGI_CONST int kTonemapClamp = 0;
 VOXGI_CONST int kTonemapAces = 1;
 
 struct GpuMaterial {
-  vec4 baseColor;          // linear rgba
-  vec4 emission;           // rgb radiance, a: unused
-  vec4 params;             // x metallic, y roughness, z alpha cutoff, w unused
+  vec4 baseColor;  // linear rgba
+  vec4 emission;   // rgb radiance, a: unused
+  vec4 params;     // x metallic, y roughness, z alpha cutoff, w unused
   uint flags;
   uint pad0;
   uint pad1;
@@ -60,10 +60,10 @@ struct GpuMaterial {
 };
 
 struct GpuLight {
-  vec4 positionType;       // xyz world position, w type (kLight*)
-  vec4 directionRange;     // xyz direction light travels, w range (0: infinite)
-  vec4 radiance;           // rgb color x intensity (W/sr, or W/m^2 for directional)
-  vec4 cone;               // x cos(inner), y cos(outer)
+  vec4 positionType;    // xyz world position, w type (kLight*)
+  vec4 directionRange;  // xyz direction light travels, w range (0: infinite)
+  vec4 radiance;        // rgb color x intensity (W/sr, or W/m^2 for directional)
+  vec4 cone;            // x cos(inner), y cos(outer)
 };
 
 struct GpuEmitter {
@@ -76,7 +76,7 @@ struct GpuEmitter {
 struct GpuFrame {
   vec4 viewProj[4];  // column-major mat4, as columns
   vec4 cameraPosition;
-  vec4 counts;       // x lights, y emitters
+  vec4 counts;  // x lights, y emitters
 };
 
 #ifdef __cplusplus

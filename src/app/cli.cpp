@@ -13,7 +13,8 @@ int parseInt(const std::string& flag, const std::string& v, int lo, int hi) {
   const auto r = std::from_chars(v.data(), v.data() + v.size(), x);
   if (r.ec != std::errc() || r.ptr != v.data() + v.size())
     throw UsageError(strf("%s: '%s' is not an integer", flag.c_str(), v.c_str()));
-  if (x < lo || x > hi) throw UsageError(strf("%s: %d is outside [%d, %d]", flag.c_str(), x, lo, hi));
+  if (x < lo || x > hi)
+    throw UsageError(strf("%s: %d is outside [%d, %d]", flag.c_str(), x, lo, hi));
   return x;
 }
 
@@ -27,7 +28,8 @@ float parseFloat(const std::string& flag, const std::string& v) {
 
 void parseSize(const std::string& v, int* w, int* h) {
   const size_t x = v.find('x');
-  if (x == std::string::npos) throw UsageError("--size: expected WxH, e.g. 640x360, got '" + v + "'");
+  if (x == std::string::npos)
+    throw UsageError("--size: expected WxH, e.g. 640x360, got '" + v + "'");
   // Up to 10^6 per side parses; what the GL can hold is checked once a context exists.
   *w = parseInt("--size", v.substr(0, x), 1, 1000000);
   *h = parseInt("--size", v.substr(x + 1), 1, 1000000);
@@ -35,7 +37,9 @@ void parseSize(const std::string& v, int* w, int* h) {
 
 }  // namespace
 
-std::string versionText() { return std::string("voxgi ") + VOXGI_VERSION; }
+std::string versionText() {
+  return std::string("voxgi ") + VOXGI_VERSION;
+}
 
 std::string defaultScenePath() {
   if (const char* env = std::getenv("VOXGI_SCENE_DIR"))
@@ -60,7 +64,9 @@ std::string renderHelp() {
          "Renders SCENE (default: the built-in Cornell room) and prints per-stage timings.\n"
          "\n"
          "options:\n"
-         "  --mode M          render mode: " + render::availableModes() + " (default raster)\n"
+         "  --mode M          render mode: " +
+         render::availableModes() +
+         " (default raster)\n"
          "  --size WxH        image size in pixels (default 512x512)\n"
          "  --out FILE        write the image; .png is tonemapped sRGB 8-bit, .exr linear\n"
          "                    float radiance. Repeat to write both. An existing file is\n"
@@ -88,7 +94,8 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     return inv;
   }
   if (cmd != "render") {
-    if (!cmd.empty() && cmd[0] == '-') throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");
+    if (!cmd.empty() && cmd[0] == '-')
+      throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");
     throw UsageError("unknown command '" + cmd + "' (see voxgi --help)");
   }
   inv.command = Command::kRender;
@@ -108,7 +115,9 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     } else if (a == "--mode") {
       const std::string m = value();
       auto mode = render::parseMode(m);
-      if (!mode) throw UsageError("--mode: unknown mode '" + m + "' (available: " + render::availableModes() + ")");
+      if (!mode)
+        throw UsageError("--mode: unknown mode '" + m +
+                         "' (available: " + render::availableModes() + ")");
       o.render.mode = *mode;
     } else if (a == "--size") {
       parseSize(value(), &o.render.width, &o.render.height);

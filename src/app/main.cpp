@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
     const app::Invocation inv = app::parseCommandLine(args);
     switch (inv.command) {
       case app::Command::kHelp:
-        std::fputs(inv.helpTopic == "render" ? app::renderHelp().c_str() : app::mainHelp().c_str(), stdout);
+        std::fputs(inv.helpTopic == "render" ? app::renderHelp().c_str() : app::mainHelp().c_str(),
+                   stdout);
         return 0;
       case app::Command::kVersion:
         std::puts(app::versionText().c_str());

@@ -121,20 +121,24 @@ int runRender(const RenderOptions& o) {
 
   if (!o.quiet) {
     std::printf("%s: %zu triangles, %zu materials, %zu lights%s, %d emitter groups\n",
-                scenePath.c_str(), scene.triangleCount(), scene.materials.size(), scene.lights.size(),
-                scene.defaultLight ? " (default light added)" : "", gs.emitterCount());
+                scenePath.c_str(), scene.triangleCount(), scene.materials.size(),
+                scene.lights.size(), scene.defaultLight ? " (default light added)" : "",
+                gs.emitterCount());
     std::printf("%s %dx%d on %s (%s)\n", render::modeName(o.render.mode), o.render.width,
                 o.render.height, gl::backendName(context->backend()), context->renderer().c_str());
     std::printf("  %-10s %10s\n", "stage", "gpu ms");
-    for (const std::string& name : stageOrder) std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
-    std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs), o.frames);
+    for (const std::string& name : stageOrder)
+      std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
+    std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
+                o.frames);
     std::printf("  load %.1f ms, start-up %.1f ms\n", loadMs, startupMs);
     for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
     if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
     if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");
   }
   if (glErrors > 0) {
-    logError(strf("%d GL error(s) during the render; first: %s", glErrors, gl::lastDebugError().c_str()));
+    logError(strf("%d GL error(s) during the render; first: %s", glErrors,
+                  gl::lastDebugError().c_str()));
     return 1;
   }
   return 0;

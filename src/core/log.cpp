@@ -16,8 +16,12 @@ void emit(LogLevel level, const char* tag, const std::string& msg) {
 }
 }  // namespace
 
-void setLogLevel(LogLevel level) { gLevel = static_cast<int>(level); }
-LogLevel logLevel() { return static_cast<LogLevel>(gLevel.load()); }
+void setLogLevel(LogLevel level) {
+  gLevel = static_cast<int>(level);
+}
+LogLevel logLevel() {
+  return static_cast<LogLevel>(gLevel.load());
+}
 
 std::string strf(const char* fmt, ...) {
   va_list args;
@@ -36,14 +40,22 @@ std::string strf(const char* fmt, ...) {
   return out;
 }
 
-void logDebug(const std::string& msg) { emit(LogLevel::kDebug, "debug: ", msg); }
-void logInfo(const std::string& msg) { emit(LogLevel::kInfo, "", msg); }
+void logDebug(const std::string& msg) {
+  emit(LogLevel::kDebug, "debug: ", msg);
+}
+void logInfo(const std::string& msg) {
+  emit(LogLevel::kInfo, "", msg);
+}
 void logWarning(const std::string& msg) {
   ++gWarnings;
   emit(LogLevel::kWarning, "warning: ", msg);
 }
-void logError(const std::string& msg) { emit(LogLevel::kError, "error: ", msg); }
-int warningCount() { return gWarnings.load(); }
+void logError(const std::string& msg) {
+  emit(LogLevel::kError, "error: ", msg);
+}
+int warningCount() {
+  return gWarnings.load();
+}
 
 void checkFailed(const char* file, int line, const char* expr, const std::string& detail) {
   std::fprintf(stderr, "voxgi: internal check failed at %s:%d: %s %s\n", file, line, expr,

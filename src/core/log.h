@@ -36,7 +36,8 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
 
-[[noreturn]] void checkFailed(const char* file, int line, const char* expr, const std::string& detail);
+[[noreturn]] void checkFailed(const char* file, int line, const char* expr,
+                              const std::string& detail);
 
 namespace detail {
 template <typename A, typename B>
@@ -51,9 +52,9 @@ std::string describeOperands(const A& a, const B& b) {
 
 #define VOXGI_CHECK(cond) \
   ((cond) ? (void)0 : ::voxgi::checkFailed(__FILE__, __LINE__, #cond, std::string()))
-#define VOXGI_CHECK_OP(a, op, b)                                                          \
-  (((a)op(b)) ? (void)0                                                                    \
-              : ::voxgi::checkFailed(__FILE__, __LINE__, #a " " #op " " #b,                \
+#define VOXGI_CHECK_OP(a, op, b)                                            \
+  (((a)op(b)) ? (void)0                                                     \
+              : ::voxgi::checkFailed(__FILE__, __LINE__, #a " " #op " " #b, \
                                      ::voxgi::detail::describeOperands((a), (b))))
 #define VOXGI_CHECK_EQ(a, b) VOXGI_CHECK_OP(a, ==, b)
 #define VOXGI_CHECK_LE(a, b) VOXGI_CHECK_OP(a, <=, b)

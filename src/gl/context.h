@@ -20,10 +20,10 @@ std::optional<Backend> parseBackend(const std::string& name);
 
 struct ContextOptions {
   Backend backend = Backend::kEgl;
-  int width = 640;   // window size (GLFW) or OSMesa's 1-pixel buffer is used otherwise
+  int width = 640;  // window size (GLFW) or OSMesa's 1-pixel buffer is used otherwise
   int height = 360;
-  bool debug = true;         // KHR_debug output routed to the log, synchronous
-  bool visible = false;      // GLFW only: show the window
+  bool debug = true;     // KHR_debug output routed to the log, synchronous
+  bool visible = false;  // GLFW only: show the window
   std::string title = "voxgi";
 };
 

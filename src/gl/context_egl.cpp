@@ -28,17 +28,28 @@ bool hasExtension(const char* list, const char* name) {
 
 const char* eglErrorName(EGLint e) {
   switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return "EGL error";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    default:
+      return "EGL error";
   }
 }
 
@@ -87,8 +98,8 @@ EGLDisplay openDisplay(std::string* how) {
         const char* ext = queryDeviceString(devices[static_cast<size_t>(i)], EGL_EXTENSIONS);
         const bool software = hasExtension(ext, "EGL_MESA_device_software");
         if (forced >= 0 ? i != forced : software) continue;
-        EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(i)],
-                                          nullptr);
+        EGLDisplay d =
+            getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(i)], nullptr);
         if (d != EGL_NO_DISPLAY && eglInitialize(d, nullptr, nullptr)) {
           *how = strf("device platform, device %d", i);
           return d;
@@ -117,8 +128,8 @@ std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
   std::string how;
   EGLDisplay display = openDisplay(&how);
   if (display == EGL_NO_DISPLAY)
-    throw Error(strf("egl: no usable EGL display (%s); try --backend osmesa",
-                     eglErrorName(eglGetError())));
+    throw Error(
+        strf("egl: no usable EGL display (%s); try --backend osmesa", eglErrorName(eglGetError())));
   if (!eglBindAPI(EGL_OPENGL_API)) {
     eglTerminate(display);
     throw Error("egl: the EGL implementation has no desktop OpenGL");

@@ -34,7 +34,8 @@ class GlfwContext final : public Context {
 std::unique_ptr<Context> createGlfwContext(const ContextOptions& options) {
   glfwSetErrorCallback([](int, const char* desc) { logDebug(strf("glfw: %s", desc)); });
   if (!glfwInit())
-    throw Error("glfw: could not initialise (is there a display? set DISPLAY or use --backend egl)");
+    throw Error(
+        "glfw: could not initialise (is there a display? set DISPLAY or use --backend egl)");
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

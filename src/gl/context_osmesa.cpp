@@ -81,13 +81,23 @@ class OsMesaContext final : public Context {
 std::unique_ptr<Context> createOsMesaContext(const ContextOptions& options) {
   const OsMesaLib& lib = library();
   if (!lib.handle)
-    throw Error("osmesa: libOSMesa is not installed (Mesa >= 25.1 no longer ships it); use "
-                "--backend egl");
+    throw Error(
+        "osmesa: libOSMesa is not installed (Mesa >= 25.1 no longer ships it); use "
+        "--backend egl");
   if (!lib.create || !lib.destroy || !lib.makeCurrent || !lib.getProc)
     throw Error("osmesa: libOSMesa lacks OSMesaCreateContextAttribs (too old)");
-  const int attribs[] = {kOsMesaFormat,       kOsMesaRgba,        kOsMesaDepthBits,    24,
-                         kOsMesaStencilBits,  8,                  kOsMesaProfile,      kOsMesaCoreProfile,
-                         kOsMesaContextMajor, 4,                  kOsMesaContextMinor, 5,
+  const int attribs[] = {kOsMesaFormat,
+                         kOsMesaRgba,
+                         kOsMesaDepthBits,
+                         24,
+                         kOsMesaStencilBits,
+                         8,
+                         kOsMesaProfile,
+                         kOsMesaCoreProfile,
+                         kOsMesaContextMajor,
+                         4,
+                         kOsMesaContextMinor,
+                         5,
                          0};
   OsMesaContextHandle ctx = lib.create(attribs, nullptr);
   if (!ctx) throw Error("osmesa: could not create a GL 4.5 core context");

@@ -14,12 +14,18 @@ std::string gLastError;
 
 const char* typeName(GLenum type) {
   switch (type) {
-    case GL_DEBUG_TYPE_ERROR: return "error";
-    case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR: return "deprecated";
-    case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR: return "undefined behaviour";
-    case GL_DEBUG_TYPE_PORTABILITY: return "portability";
-    case GL_DEBUG_TYPE_PERFORMANCE: return "performance";
-    default: return "other";
+    case GL_DEBUG_TYPE_ERROR:
+      return "error";
+    case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR:
+      return "deprecated";
+    case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR:
+      return "undefined behaviour";
+    case GL_DEBUG_TYPE_PORTABILITY:
+      return "portability";
+    case GL_DEBUG_TYPE_PERFORMANCE:
+      return "performance";
+    default:
+      return "other";
   }
 }
 
@@ -55,19 +61,26 @@ void installDebugOutput() {
   glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
   glDebugMessageCallback(onDebugMessage, nullptr);
   glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
-  if (!(flags & GL_CONTEXT_FLAG_DEBUG_BIT)) logDebug("GL context has no debug flag; output may be sparse");
+  if (!(flags & GL_CONTEXT_FLAG_DEBUG_BIT))
+    logDebug("GL context has no debug flag; output may be sparse");
 }
 
-int debugErrorCount() { return gErrors.load(); }
+int debugErrorCount() {
+  return gErrors.load();
+}
 void resetDebugErrorCount() {
   gErrors = 0;
   gLastError.clear();
 }
-const std::string& lastDebugError() { return gLastError; }
+const std::string& lastDebugError() {
+  return gLastError;
+}
 
 DebugGroup::DebugGroup(const char* name) {
   glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, -1, name);
 }
-DebugGroup::~DebugGroup() { glPopDebugGroup(); }
+DebugGroup::~DebugGroup() {
+  glPopDebugGroup();
+}
 
 }  // namespace voxgi::gl

@@ -22,7 +22,8 @@ void primeTimerQueries() {
   glEndQuery(GL_TIME_ELAPSED);
   GLuint64 ns = 0;
   glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &ns);
-  logDebug(strf("workaround llvmpipe-first-timer-query: primed (%.1f ms)", static_cast<double>(ns) * 1e-6));
+  logDebug(strf("workaround llvmpipe-first-timer-query: primed (%.1f ms)",
+                static_cast<double>(ns) * 1e-6));
 }
 
 }  // namespace

@@ -39,8 +39,8 @@ void commit(const std::string& tmp, const std::string& path) {
   }
 }
 
-void writeWithOiio(const std::string& path, int width, int height, OIIO::TypeDesc type, const void* data,
-                   bool srgb) {
+void writeWithOiio(const std::string& path, int width, int height, OIIO::TypeDesc type,
+                   const void* data, bool srgb) {
   checkWritable(path);
   const std::string tmp = tempPathFor(path);
   auto out = OIIO::ImageOutput::create(path);
@@ -75,10 +75,13 @@ Format formatForPath(const std::string& path) {
 void checkWritable(const std::string& path) {
   const fs::path p(path);
   std::error_code ec;
-  if (p.filename().empty() || fs::is_directory(p, ec)) throw Error(path + ": is a directory, not a file");
+  if (p.filename().empty() || fs::is_directory(p, ec))
+    throw Error(path + ": is a directory, not a file");
   const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  if (!fs::is_directory(dir, ec)) throw Error(path + ": directory " + dir.string() + " does not exist");
-  if (access(dir.c_str(), W_OK) != 0) throw Error(path + ": cannot write into " + dir.string() + " (" + std::strerror(errno) + ")");
+  if (!fs::is_directory(dir, ec))
+    throw Error(path + ": directory " + dir.string() + " does not exist");
+  if (access(dir.c_str(), W_OK) != 0)
+    throw Error(path + ": cannot write into " + dir.string() + " (" + std::strerror(errno) + ")");
   if (fs::exists(p, ec) && access(p.c_str(), W_OK) != 0)
     throw Error(path + ": exists and is not writable");
 }

@@ -9,7 +9,8 @@ namespace voxgi::image {
 
 Difference compare(const Image& a, const Image& b, double threshold) {
   if (a.width != b.width || a.height != b.height)
-    throw Error(strf("images differ in size: %dx%d vs %dx%d", a.width, a.height, b.width, b.height));
+    throw Error(
+        strf("images differ in size: %dx%d vs %dx%d", a.width, a.height, b.width, b.height));
   if (a.channels != b.channels)
     throw Error(strf("images differ in channel count: %d vs %d", a.channels, b.channels));
   const int channels = std::min(a.channels, 3);
@@ -32,7 +33,8 @@ Difference compare(const Image& a, const Image& b, double threshold) {
   const double n = static_cast<double>(a.width) * a.height * channels;
   d.rmse = std::sqrt(sum2 / std::max(n, 1.0));
   d.meanAbs = sum / std::max(n, 1.0);
-  d.fractionAbove = static_cast<double>(above) / std::max(1.0, static_cast<double>(a.width) * a.height);
+  d.fractionAbove =
+      static_cast<double>(above) / std::max(1.0, static_cast<double>(a.width) * a.height);
   return d;
 }
 

@@ -7,7 +7,7 @@
 namespace voxgi::image {
 
 struct Difference {
-  double rmse = 0.0;     // over every channel of every pixel
+  double rmse = 0.0;  // over every channel of every pixel
   double meanAbs = 0.0;
   double maxAbs = 0.0;
   // Fraction of pixels where some channel differs by more than `threshold`.

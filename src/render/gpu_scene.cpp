@@ -75,7 +75,8 @@ GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
   const auto mats = packMaterials(s);
   const auto lights = packLights(s);
   const auto emitters = packEmitters(scene::buildEmitters(s));
-  materials_ = gl::createBuffer(static_cast<GLsizeiptr>(mats.size() * sizeof(gpu::GpuMaterial)), mats.data());
+  materials_ = gl::createBuffer(static_cast<GLsizeiptr>(mats.size() * sizeof(gpu::GpuMaterial)),
+                                mats.data());
   lights_ = gl::createBuffer(static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
                              lights.empty() ? nullptr : lights.data());
   emitters_ = gl::createBuffer(static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
@@ -89,7 +90,8 @@ GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
     gl::Texture tex = gl::createTexture(GL_TEXTURE_2D);
     const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(t.width, t.height))));
     glTextureStorage2D(tex.id(), levels, GL_SRGB8_ALPHA8, t.width, t.height);
-    glTextureSubImage2D(tex.id(), 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba8.data());
+    glTextureSubImage2D(tex.id(), 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        t.rgba8.data());
     glGenerateTextureMipmap(tex.id());
     bytes_ += t.rgba8.size() * 4 / 3;
     textures_.push_back(std::move(tex));

@@ -24,7 +24,9 @@ class GpuScene {
   int lightCount() const { return lightCount_; }
   int emitterCount() const { return emitterCount_; }
   // 0 when the material has no texture.
-  GLuint texture(int index) const { return index >= 0 ? textures_[static_cast<size_t>(index)].id() : 0; }
+  GLuint texture(int index) const {
+    return index >= 0 ? textures_[static_cast<size_t>(index)].id() : 0;
+  }
   GLuint sampler() const { return sampler_.id(); }
   size_t bytes() const { return bytes_; }
 

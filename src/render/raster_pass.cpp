@@ -3,7 +3,8 @@
 namespace voxgi::render {
 
 RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
-    : settings_(settings), program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
+    : settings_(settings),
+      program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
 
 void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "raster");

@@ -21,26 +21,32 @@ const char* modeName(Mode m) {
   return "?";
 }
 
-std::string availableModes() { return "raster"; }
+std::string availableModes() {
+  return "raster";
+}
 
 void checkImageSize(int width, int height) {
-  if (width < 1 || height < 1) throw Error(strf("image size %dx%d: must be at least 1x1", width, height));
+  if (width < 1 || height < 1)
+    throw Error(strf("image size %dx%d: must be at least 1x1", width, height));
   GLint maxTex = 0, maxRb = 0, maxVp[2] = {0, 0};
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRb);
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxVp);
   const int limit = std::min({maxTex, maxRb, maxVp[0], maxVp[1]});
   if (width > limit || height > limit)
-    throw Error(strf("image size %dx%d: larger than this GL's limit of %dx%d", width, height, limit, limit));
+    throw Error(strf("image size %dx%d: larger than this GL's limit of %dx%d", width, height, limit,
+                     limit));
   // HDR RGBA32F + depth + RGBA8 on the GPU, and the same again for readback.
   const double bytes = static_cast<double>(width) * height * (16 + 4 + 4) * 2.0;
   constexpr double kBudget = 8.0 * 1024 * 1024 * 1024;
   if (bytes > kBudget)
-    throw Error(strf("image size %dx%d: needs %.1f GiB of image memory, more than the %.0f GiB budget",
-                     width, height, bytes / (1 << 30), kBudget / (1 << 30)));
+    throw Error(
+        strf("image size %dx%d: needs %.1f GiB of image memory, more than the %.0f GiB budget",
+             width, height, bytes / (1 << 30), kBudget / (1 << 30)));
 }
 
-Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene, const RenderSettings& settings)
+Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
+                   const RenderSettings& settings)
     : programs_(programs),
       scene_(scene),
       settings_(settings),
@@ -110,17 +116,21 @@ void flipRows(std::vector<T>& px, int width, int height, int channels) {
 }  // namespace
 
 std::vector<float> Renderer::readLinear() const {
-  std::vector<float> px(static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) * 4);
+  std::vector<float> px(static_cast<size_t>(settings_.width) *
+                        static_cast<size_t>(settings_.height) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(hdr_.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
+  glGetTextureImage(hdr_.id(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
   flipRows(px, settings_.width, settings_.height, 4);
   return px;
 }
 
 std::vector<uint8_t> Renderer::readDisplay() const {
-  std::vector<uint8_t> px(static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) * 4);
+  std::vector<uint8_t> px(static_cast<size_t>(settings_.width) *
+                          static_cast<size_t>(settings_.height) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(ldr_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(px.size()), px.data());
+  glGetTextureImage(ldr_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(px.size()),
+                    px.data());
   flipRows(px, settings_.width, settings_.height, 4);
   return px;
 }

@@ -122,7 +122,8 @@ float emitterIrradianceFactor(const Emitter& e, const glm::vec3& p, const glm::v
     const glm::vec3 a = in[static_cast<size_t>(i)], b = in[static_cast<size_t>((i + 1) % 3)];
     const float da = glm::dot(a, n), db = glm::dot(b, n);
     if (da > 0.0f) poly[static_cast<size_t>(count++)] = a;
-    if ((da > 0.0f) != (db > 0.0f)) poly[static_cast<size_t>(count++)] = a + (b - a) * (da / (da - db));
+    if ((da > 0.0f) != (db > 0.0f))
+      poly[static_cast<size_t>(count++)] = a + (b - a) * (da / (da - db));
   }
   if (count < 3) return 0.0f;
   // Lambert: E/L = 1/2 |sum_i theta_i (gamma_i . n)|.

@@ -20,8 +20,8 @@ namespace voxgi::scene {
 struct Emitter {
   enum class Kind { kTriangle, kCluster } kind = Kind::kTriangle;
   glm::vec3 v0{0.0f}, v1{0.0f}, v2{0.0f};  // triangle corners, or v0 = cluster center
-  glm::vec3 normal{0.0f};                   // cluster: unit mean normal
-  float area = 0.0f;                        // triangle area, or cluster projected area
+  glm::vec3 normal{0.0f};                  // cluster: unit mean normal
+  float area = 0.0f;                       // triangle area, or cluster projected area
   glm::vec3 radiance{0.0f};
   bool twoSided = false;
 };

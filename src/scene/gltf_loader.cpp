@@ -8,11 +8,11 @@
 #include <limits>
 #include <set>
 
+#include <stb_image.h>
+#include <tiny_gltf.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <stb_image.h>
-#include <tiny_gltf.h>
 
 #include "core/log.h"
 
@@ -43,19 +43,22 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
   const auto* state = static_cast<const ImageLoaderState*>(user);
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
-    if (err) *err += strf("image %d (%s): not a decodable PNG/JPEG (%s)\n", index, image->uri.c_str(),
-                          stbi_failure_reason());
+    if (err)
+      *err += strf("image %d (%s): not a decodable PNG/JPEG (%s)\n", index, image->uri.c_str(),
+                   stbi_failure_reason());
     return false;
   }
   if (w <= 0 || h <= 0 || w > state->maxSize || h > state->maxSize) {
-    if (err) *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index,
-                          image->uri.c_str(), w, h, state->maxSize, state->maxSize);
+    if (err)
+      *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index,
+                   image->uri.c_str(), w, h, state->maxSize, state->maxSize);
     return false;
   }
   unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
   if (!data) {
-    if (err) *err += strf("image %d (%s): decode failed (%s)\n", index, image->uri.c_str(),
-                          stbi_failure_reason());
+    if (err)
+      *err += strf("image %d (%s): decode failed (%s)\n", index, image->uri.c_str(),
+                   stbi_failure_reason());
     return false;
   }
   image->width = w;
@@ -68,7 +71,9 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
   return true;
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 class Loader {
  public:
@@ -128,8 +133,8 @@ class Loader {
         fail(strf("bufferView %zu: buffer %d does not exist", i, bv.buffer));
       const size_t size = model_.buffers[static_cast<size_t>(bv.buffer)].data.size();
       if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset)
-        fail(strf("bufferView %zu: bytes [%zu, %zu) exceed buffer %d of %zu bytes", i, bv.byteOffset,
-                  bv.byteOffset + bv.byteLength, bv.buffer, size));
+        fail(strf("bufferView %zu: bytes [%zu, %zu) exceed buffer %d of %zu bytes", i,
+                  bv.byteOffset, bv.byteOffset + bv.byteLength, bv.buffer, size));
     }
   }
 
@@ -138,7 +143,8 @@ class Loader {
     std::vector<int> parent(n, -1);
     for (size_t i = 0; i < n; ++i) {
       for (int c : model_.nodes[i].children) {
-        if (c < 0 || static_cast<size_t>(c) >= n) fail(strf("node %zu: child %d does not exist", i, c));
+        if (c < 0 || static_cast<size_t>(c) >= n)
+          fail(strf("node %zu: child %d does not exist", i, c));
         if (static_cast<size_t>(c) == i) fail(strf("node %zu: is its own child (cycle)", i));
         if (parent[static_cast<size_t>(c)] >= 0)
           fail(strf("node %d: has two parents (%d and %zu); the node graph must be a forest", c,
@@ -150,28 +156,33 @@ class Loader {
     for (size_t i = 0; i < n; ++i) {
       size_t steps = 0;
       for (int p = parent[i]; p >= 0; p = parent[static_cast<size_t>(p)]) {
-        if (static_cast<size_t>(p) == i || ++steps > n) fail(strf("node %zu: cycle in the node graph", i));
+        if (static_cast<size_t>(p) == i || ++steps > n)
+          fail(strf("node %zu: cycle in the node graph", i));
       }
     }
     for (size_t s = 0; s < model_.scenes.size(); ++s)
       for (int r : model_.scenes[s].nodes)
-        if (r < 0 || static_cast<size_t>(r) >= n) fail(strf("scene %zu: node %d does not exist", s, r));
+        if (r < 0 || static_cast<size_t>(r) >= n)
+          fail(strf("scene %zu: node %d does not exist", s, r));
   }
 
   glm::mat4 localMatrix(const tinygltf::Node& node, int index) const {
     glm::mat4 m(1.0f);
     if (!node.matrix.empty()) {
       if (node.matrix.size() != 16) fail(strf("node %d: matrix must have 16 numbers", index));
-      for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<size_t>(i)]);
+      for (int i = 0; i < 16; ++i)
+        glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<size_t>(i)]);
     } else {
       if (node.translation.size() == 3)
-        m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+        m = glm::translate(
+            m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
       if (node.rotation.size() == 4) {
         glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
                     static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
         m = m * glm::mat4_cast(glm::normalize(q));
       }
-      if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+      if (node.scale.size() == 3)
+        m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
     }
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
@@ -194,10 +205,12 @@ class Loader {
     if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
       fail(strf("%s: accessor %d does not exist", what, index));
     const auto& a = model_.accessors[static_cast<size_t>(index)];
-    if (a.sparse.isSparse) fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
+    if (a.sparse.isSparse)
+      fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
     if (std::find(types.begin(), types.end(), a.type) == types.end())
       fail(strf("accessor %d (%s): wrong element type", index, what));
-    if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) == componentTypes.end())
+    if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) ==
+        componentTypes.end())
       fail(strf("accessor %d (%s): wrong component type %d", index, what, a.componentType));
     if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model_.bufferViews.size())
       fail(strf("accessor %d (%s): bufferView %d does not exist", index, what, a.bufferView));
@@ -209,7 +222,9 @@ class Loader {
     if (compSize <= 0 || nComp <= 0) fail(strf("accessor %d (%s): invalid type", index, what));
     const size_t elem = static_cast<size_t>(compSize) * static_cast<size_t>(nComp);
     const size_t stride = bv.byteStride ? bv.byteStride : elem;
-    if (stride < elem) fail(strf("accessor %d (%s): byteStride %zu is smaller than an element (%zu)", index, what, stride, elem));
+    if (stride < elem)
+      fail(strf("accessor %d (%s): byteStride %zu is smaller than an element (%zu)", index, what,
+                stride, elem));
     const size_t need = a.byteOffset + stride * (a.count - 1) + elem;
     if (a.byteOffset > bv.byteLength || need > bv.byteLength)
       fail(strf("accessor %d (%s): needs %zu bytes, bufferView %d has %zu", index, what, need,
@@ -251,8 +266,8 @@ class Loader {
       mat.name = m.name;
       const auto& pbr = m.pbrMetallicRoughness;
       if (pbr.baseColorFactor.size() == 4)
-        mat.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
-                                  pbr.baseColorFactor[3]);
+        mat.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                                  pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
       mat.metallic = static_cast<float>(pbr.metallicFactor);
       mat.roughness = static_cast<float>(pbr.roughnessFactor);
       if (m.emissiveFactor.size() == 3)
@@ -261,7 +276,7 @@ class Loader {
       if (it != m.extensions.end() && it->second.Has("emissiveStrength"))
         mat.emission *= static_cast<float>(it->second.Get("emissiveStrength").GetNumberAsDouble());
       mat.doubleSided = m.doubleSided;
-      mat.alphaMode = m.alphaMode == "MASK" ? AlphaMode::kMask
+      mat.alphaMode = m.alphaMode == "MASK"    ? AlphaMode::kMask
                       : m.alphaMode == "BLEND" ? AlphaMode::kBlend
                                                : AlphaMode::kOpaque;
       mat.alphaCutoff = static_cast<float>(m.alphaCutoff);
@@ -273,7 +288,8 @@ class Loader {
       mat.metallic = std::clamp(mat.metallic, 0.0f, 1.0f);
       mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
       mat.emission = glm::max(mat.emission, 0.0f);
-      if (pbr.baseColorTexture.index >= 0) mat.baseColorTexture = texture(pbr.baseColorTexture.index, i);
+      if (pbr.baseColorTexture.index >= 0)
+        mat.baseColorTexture = texture(pbr.baseColorTexture.index, i);
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -308,7 +324,8 @@ class Loader {
   void traverse() {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
-      const size_t s = model_.defaultScene >= 0 && static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
+      const size_t s = model_.defaultScene >= 0 &&
+                               static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
                            ? static_cast<size_t>(model_.defaultScene)
                            : 0;
       roots = model_.scenes[s].nodes;
@@ -362,10 +379,14 @@ class Loader {
     const auto& l = model_.lights[static_cast<size_t>(index)];
     Light light;
     light.name = l.name;
-    if (l.type == "directional") light.type = LightType::kDirectional;
-    else if (l.type == "point") light.type = LightType::kPoint;
-    else if (l.type == "spot") light.type = LightType::kSpot;
-    else fail(strf("light %d: unknown type '%s'", index, l.type.c_str()));
+    if (l.type == "directional")
+      light.type = LightType::kDirectional;
+    else if (l.type == "point")
+      light.type = LightType::kPoint;
+    else if (l.type == "spot")
+      light.type = LightType::kSpot;
+    else
+      fail(strf("light %d: unknown type '%s'", index, l.type.c_str()));
     if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
     light.intensity = static_cast<float>(l.intensity);
     light.range = static_cast<float>(l.range);
@@ -375,7 +396,8 @@ class Loader {
     light.outerConeAngle = static_cast<float>(l.spot.outerConeAngle);
     if (!finite(light.color) || !std::isfinite(light.intensity) || !finite(light.direction))
       fail(strf("light %d: NaN or Inf parameter", index));
-    if (light.outerConeAngle <= light.innerConeAngle) light.outerConeAngle = light.innerConeAngle + 1e-3f;
+    if (light.outerConeAngle <= light.innerConeAngle)
+      light.outerConeAngle = light.innerConeAngle + 1e-3f;
     scene_.lights.push_back(light);
   }
 
@@ -394,7 +416,8 @@ class Loader {
       }
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(where + ": no POSITION attribute");
-      const View p = accessor(pos->second, "POSITION", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+      const View p =
+          accessor(pos->second, "POSITION", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
       View n, t;
       bool hasNormals = false, hasUv = false;
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
@@ -411,17 +434,25 @@ class Loader {
       }
       std::vector<uint32_t> idx;
       if (prim.indices >= 0) {
-        const View iv = accessor(prim.indices, "indices", {TINYGLTF_TYPE_SCALAR},
-                                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+        const View iv =
+            accessor(prim.indices, "indices", {TINYGLTF_TYPE_SCALAR},
+                     {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
         idx.resize(iv.count);
         for (size_t i = 0; i < iv.count; ++i) {
           const unsigned char* q = iv.data + i * iv.stride;
           uint32_t v = 0;
-          if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) v = *q;
-          else if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) { uint16_t s; std::memcpy(&s, q, 2); v = s; }
-          else std::memcpy(&v, q, 4);
-          if (v >= p.count) fail(strf("%s: index %u at %zu is out of range (%zu vertices)", where.c_str(), v, i, p.count));
+          if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE)
+            v = *q;
+          else if (iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+            uint16_t s;
+            std::memcpy(&s, q, 2);
+            v = s;
+          } else
+            std::memcpy(&v, q, 4);
+          if (v >= p.count)
+            fail(strf("%s: index %u at %zu is out of range (%zu vertices)", where.c_str(), v, i,
+                      p.count));
           idx[i] = v;
         }
       } else {
@@ -433,8 +464,10 @@ class Loader {
         std::vector<uint32_t> list;
         for (size_t i = 2; i < idx.size(); ++i) {
           if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-            if (i % 2 == 0) list.insert(list.end(), {idx[i - 2], idx[i - 1], idx[i]});
-            else list.insert(list.end(), {idx[i - 1], idx[i - 2], idx[i]});
+            if (i % 2 == 0)
+              list.insert(list.end(), {idx[i - 2], idx[i - 1], idx[i]});
+            else
+              list.insert(list.end(), {idx[i - 1], idx[i - 2], idx[i]});
           } else {
             list.insert(list.end(), {idx[0], idx[i - 1], idx[i]});
           }
@@ -451,7 +484,8 @@ class Loader {
                      readComponent(p.data + i * p.stride + 8, p.componentType, false));
         if (!finite(lp)) fail(strf("%s: vertex %zu has a NaN or Inf position", where.c_str(), i));
         v.position = glm::vec3(world * glm::vec4(lp, 1.0f));
-        if (!finite(v.position)) fail(strf("%s: vertex %zu overflows after the node transform", where.c_str(), i));
+        if (!finite(v.position))
+          fail(strf("%s: vertex %zu overflows after the node transform", where.c_str(), i));
         v.normal = glm::vec3(0.0f);
         if (hasNormals) {
           glm::vec3 ln(readComponent(n.data + i * n.stride, n.componentType, false),
@@ -461,9 +495,11 @@ class Loader {
         }
         v.uv = glm::vec2(0.0f);
         if (hasUv) {
-          const size_t cs = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(t.componentType)));
-          v.uv = glm::vec2(readComponent(t.data + i * t.stride, t.componentType, t.normalized),
-                           readComponent(t.data + i * t.stride + cs, t.componentType, t.normalized));
+          const size_t cs = static_cast<size_t>(
+              tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(t.componentType)));
+          v.uv =
+              glm::vec2(readComponent(t.data + i * t.stride, t.componentType, t.normalized),
+                        readComponent(t.data + i * t.stride + cs, t.componentType, t.normalized));
           if (!std::isfinite(v.uv.x) || !std::isfinite(v.uv.y)) v.uv = glm::vec2(0.0f);
         }
       }
@@ -476,8 +512,9 @@ class Loader {
       for (size_t i = 0; i < idx.size(); i += 3) {
         uint32_t a = idx[i], b = idx[i + 1], c = idx[i + 2];
         if (mirrored) std::swap(b, c);
-        const glm::vec3 e = glm::cross(scene_.vertices[base + b].position - scene_.vertices[base + a].position,
-                                       scene_.vertices[base + c].position - scene_.vertices[base + a].position);
+        const glm::vec3 e =
+            glm::cross(scene_.vertices[base + b].position - scene_.vertices[base + a].position,
+                       scene_.vertices[base + c].position - scene_.vertices[base + a].position);
         if (!(glm::dot(e, e) > 0.0f) || !finite(e)) {
           ++degenerate;
           continue;
@@ -495,7 +532,8 @@ class Loader {
         } else {
           if (hasNormals) ++repaired;
           const float f2 = glm::dot(faceSum[i], faceSum[i]);
-          v.normal = f2 > 0.0f && std::isfinite(f2) ? glm::normalize(faceSum[i]) : glm::vec3(0, 1, 0);
+          v.normal =
+              f2 > 0.0f && std::isfinite(f2) ? glm::normalize(faceSum[i]) : glm::vec3(0, 1, 0);
         }
       }
       if (repaired) warn_(strf("%s: repaired %zu zero or NaN normals", where.c_str(), repaired));
@@ -527,6 +565,8 @@ class Loader {
 
 }  // namespace
 
-Scene loadGltf(const std::string& path, const LoadOptions& options) { return Loader(path, options).run(); }
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
+  return Loader(path, options).run();
+}
 
 }  // namespace voxgi::scene

@@ -9,9 +9,13 @@
 
 namespace voxgi::scene {
 
-float Bounds::diagonal() const { return empty() ? 0.0f : glm::length(max - min); }
+float Bounds::diagonal() const {
+  return empty() ? 0.0f : glm::length(max - min);
+}
 
-glm::mat4 Camera::view() const { return glm::lookAt(position, position + forward, up); }
+glm::mat4 Camera::view() const {
+  return glm::lookAt(position, position + forward, up);
+}
 
 glm::mat4 Camera::projection(float aspect) const {
   return glm::perspective(yfov, aspect, znear, zfar);
@@ -32,7 +36,8 @@ void Scene::finalize() {
   }
   const float diag = std::max(bounds.diagonal(), 1e-30f);
   scale.cameraSpeed = 0.25f * diag;
-  const float side = std::max({bounds.extent().x, bounds.extent().y, bounds.extent().z, diag * 1e-3f});
+  const float side =
+      std::max({bounds.extent().x, bounds.extent().y, bounds.extent().z, diag * 1e-3f});
   scale.gridSize = side * 1.02f;  // 1% margin on each side
   scale.gridOrigin = bounds.center() - glm::vec3(0.5f * scale.gridSize);
   if (!camera.fromFile) autoFrameCamera();

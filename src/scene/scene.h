@@ -95,7 +95,7 @@ struct Draw {
 
 // Quantities derived from the bounds so that nothing assumes a unit.
 struct AutoScale {
-  float cameraSpeed = 1.0f;  // units per second for the fly camera
+  float cameraSpeed = 1.0f;    // units per second for the fly camera
   glm::vec3 gridOrigin{0.0f};  // voxel grid: a cube fitted to the bounds with a margin
   float gridSize = 1.0f;
 };

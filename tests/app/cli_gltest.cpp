@@ -15,14 +15,17 @@ namespace voxgi::test {
 namespace {
 namespace fs = std::filesystem;
 
-std::string voxgi(const std::string& args) { return voxgiBinary() + " " + args; }
+std::string voxgi(const std::string& args) {
+  return voxgiBinary() + " " + args;
+}
 
 // Error output is one line starting "voxgi: error: ".
 void expectOneLineError(const CommandResult& r, int code, const std::string& needle) {
   EXPECT_EQ(r.exitCode, code) << r.output;
   EXPECT_EQ(r.output.rfind("voxgi: error: ", 0), 0u) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
-  EXPECT_NE(r.output.find(needle), std::string::npos) << "missing '" << needle << "' in: " << r.output;
+  EXPECT_NE(r.output.find(needle), std::string::npos)
+      << "missing '" << needle << "' in: " << r.output;
 }
 
 TEST(Cli, HelpAndVersion) {
@@ -50,9 +53,11 @@ TEST(Cli, UsageErrorsExitTwo) {
 
 TEST(Cli, MissingAndMalformedScenes) {
   const std::string dir = scratchDir();
-  expectOneLineError(runCommand(voxgi("render " + dir + "/nope.gltf --size 8x8")), 1, dir + "/nope.gltf: no such file");
+  expectOneLineError(runCommand(voxgi("render " + dir + "/nope.gltf --size 8x8")), 1,
+                     dir + "/nope.gltf: no such file");
   std::ofstream(dir + "/broken.gltf") << "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [";
-  expectOneLineError(runCommand(voxgi("render " + dir + "/broken.gltf --size 8x8")), 1, dir + "/broken.gltf");
+  expectOneLineError(runCommand(voxgi("render " + dir + "/broken.gltf --size 8x8")), 1,
+                     dir + "/broken.gltf");
   std::ofstream(dir + "/scene.obj") << "v 0 0 0\n";
   expectOneLineError(runCommand(voxgi("render " + dir + "/scene.obj --size 8x8")), 1, "scene.obj");
 }
@@ -90,8 +95,8 @@ TEST(Cli, FailedRenderLeavesExistingOutputAlone) {
 
 TEST(Cli, RendersPngExrAndStats) {
   const std::string dir = scratchDir();
-  const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " + dir +
-                                  "/a.exr --stats " + dir + "/s.json"));
+  const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " +
+                                  dir + "/a.exr --stats " + dir + "/s.json"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("raster"), std::string::npos);
   const image::Image png = image::readImage(dir + "/a.png");
@@ -121,7 +126,8 @@ TEST(Cli, RendersPngExrAndStats) {
 
 TEST(Cli, OsMesaBackendRenders) {
   const std::string dir = scratchDir();
-  const auto r = runCommand(voxgi("render --size 32x32 --backend osmesa --stats " + dir + "/s.json"));
+  const auto r =
+      runCommand(voxgi("render --size 32x32 --backend osmesa --stats " + dir + "/s.json"));
   if (r.exitCode != 0 && !std::getenv("VOXGI_REQUIRE_OSMESA")) GTEST_SKIP() << r.output;
   ASSERT_EQ(r.exitCode, 0) << r.output;
   std::ifstream in(dir + "/s.json");

@@ -6,7 +6,9 @@
 namespace voxgi::app {
 namespace {
 
-Invocation parse(std::vector<std::string> args) { return parseCommandLine(args); }
+Invocation parse(std::vector<std::string> args) {
+  return parseCommandLine(args);
+}
 
 TEST(CliParse, Defaults) {
   const Invocation inv = parse({"render"});
@@ -20,9 +22,10 @@ TEST(CliParse, Defaults) {
 }
 
 TEST(CliParse, AllOptions) {
-  const Invocation inv = parse({"render", "s.gltf", "--size", "640x360", "--out", "a.png", "--out", "a.exr",
-                                "--stats", "s.json", "--frames", "7", "--backend", "osmesa", "--exposure",
-                                "0.5", "--tonemap", "aces", "--mode", "raster"});
+  const Invocation inv =
+      parse({"render",     "s.gltf",  "--size",    "640x360",  "--out",  "a.png",     "--out",
+             "a.exr",      "--stats", "s.json",    "--frames", "7",      "--backend", "osmesa",
+             "--exposure", "0.5",     "--tonemap", "aces",     "--mode", "raster"});
   const RenderOptions& o = inv.render;
   EXPECT_EQ(o.scene, "s.gltf");
   EXPECT_EQ(o.render.width, 640);

@@ -50,7 +50,8 @@ TEST_P(ContextTest, TimerQueriesGiveSaneTimes) {
   glDeleteTextures(1, &tex);
 }
 
-INSTANTIATE_TEST_SUITE_P(Headless, ContextTest, ::testing::Values(gl::Backend::kEgl, gl::Backend::kOsMesa),
+INSTANTIATE_TEST_SUITE_P(Headless, ContextTest,
+                         ::testing::Values(gl::Backend::kEgl, gl::Backend::kOsMesa),
                          backendParamName);
 
 }  // namespace

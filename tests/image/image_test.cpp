@@ -52,7 +52,8 @@ TEST(ImageIo, ReplacesAnExistingFileOnlyWhenComplete) {
   px.assign(4, 9);
   writePng(dir + "/a.png", 1, 1, px.data());
   EXPECT_NEAR(readImage(dir + "/a.png").pixels[0] * 255.0f, 9.0f, 1e-3);
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);  // no temp left
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()),
+            1);  // no temp left
 }
 
 TEST(Metrics, CompareKnownDifferences) {

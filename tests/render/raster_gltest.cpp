@@ -26,7 +26,9 @@ constexpr double kMeanTolerance = 1.0 / 255.0;
 constexpr double kPixelThreshold = 3.0 / 255.0;
 constexpr double kPixelFraction = 0.01;
 
-std::string goldenPath() { return testDataDir() + "/golden/cornell_room_raster_128.png"; }
+std::string goldenPath() {
+  return testDataDir() + "/golden/cornell_room_raster_128.png";
+}
 
 struct Rendered {
   image::Image display;  // 8-bit sRGB as [0,1]
@@ -63,17 +65,20 @@ TEST_P(RasterTest, CornellRoomMatchesGolden) {
   for (float v : r.linear) ASSERT_TRUE(std::isfinite(v));
   if (std::getenv("VOXGI_UPDATE_GOLDEN")) {
     std::vector<uint8_t> px(r.display.pixels.size());
-    for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<uint8_t>(std::lround(r.display.pixels[i] * 255.0f));
+    for (size_t i = 0; i < px.size(); ++i)
+      px[i] = static_cast<uint8_t>(std::lround(r.display.pixels[i] * 255.0f));
     image::writePng(goldenPath(), kSize, kSize, px.data());
   }
-  ASSERT_TRUE(std::filesystem::exists(goldenPath())) << "run with VOXGI_UPDATE_GOLDEN=1 to create " << goldenPath();
+  ASSERT_TRUE(std::filesystem::exists(goldenPath()))
+      << "run with VOXGI_UPDATE_GOLDEN=1 to create " << goldenPath();
   const image::Image golden = image::readImage(goldenPath());
   const image::Difference d = image::compare(r.display, golden, kPixelThreshold);
   EXPECT_TRUE(withinGolden(d)) << "mean " << d.meanAbs * 255 << " LSB, " << d.fractionAbove * 100
                                << "% pixels over 3 LSB, max " << d.maxAbs * 255 << " LSB";
 }
 
-INSTANTIATE_TEST_SUITE_P(Headless, RasterTest, ::testing::Values(gl::Backend::kEgl, gl::Backend::kOsMesa),
+INSTANTIATE_TEST_SUITE_P(Headless, RasterTest,
+                         ::testing::Values(gl::Backend::kEgl, gl::Backend::kOsMesa),
                          backendParamName);
 
 // Both backends in one process, one after the other: the images agree within 1 LSB.
@@ -106,8 +111,8 @@ class RasterSensitivityTest : public GlTest {
   image::Difference differenceFromGolden(const scene::Scene& s) {
     const image::Image golden = image::readImage(goldenPath());
     const image::Difference d = image::compare(render(s).display, golden, kPixelThreshold);
-    std::printf("difference from golden: mean %.2f LSB, %.2f%% of pixels over 3 LSB\n", d.meanAbs * 255,
-                d.fractionAbove * 100);
+    std::printf("difference from golden: mean %.2f LSB, %.2f%% of pixels over 3 LSB\n",
+                d.meanAbs * 255, d.fractionAbove * 100);
     return d;
   }
 };
@@ -152,7 +157,8 @@ TEST_F(RasterSensitivityTest, DimmerLightBreaksTolerance) {
   scene::Scene s = scene::loadGltf(cornellRoom());
   for (scene::Material& m : s.materials) m.emission *= 0.9f;  // 10% less light
   const image::Difference d = differenceFromGolden(s);
-  EXPECT_FALSE(withinGolden(d)) << "mean " << d.meanAbs * 255 << " LSB, " << d.fractionAbove * 100 << "%";
+  EXPECT_FALSE(withinGolden(d)) << "mean " << d.meanAbs * 255 << " LSB, " << d.fractionAbove * 100
+                                << "%";
 }
 
 }  // namespace

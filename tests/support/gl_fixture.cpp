@@ -37,12 +37,16 @@ void checkErrors() {
 }
 }  // namespace
 
-void GlTest::SetUp() { open(gl::Backend::kEgl, &context_); }
+void GlTest::SetUp() {
+  open(gl::Backend::kEgl, &context_);
+}
 void GlTest::TearDown() {
   if (context_) checkErrors();
   context_.reset();
 }
-void GlBackendTest::SetUp() { open(GetParam(), &context_); }
+void GlBackendTest::SetUp() {
+  open(GetParam(), &context_);
+}
 void GlBackendTest::TearDown() {
   if (context_) checkErrors();
   context_.reset();

@@ -12,16 +12,26 @@
 namespace voxgi::test {
 namespace fs = std::filesystem;
 
-std::string sourceDir() { return VOXGI_SOURCE_DIR; }
+std::string sourceDir() {
+  return VOXGI_SOURCE_DIR;
+}
 std::string samplesDir() {
   if (const char* env = std::getenv("VOXGI_SAMPLES_DIR")) return env;
   return VOXGI_SAMPLES_DIR;
 }
-std::string testDataDir() { return VOXGI_TEST_DATA_DIR; }
-std::string voxgiBinary() { return VOXGI_BINARY; }
-std::string cornellRoom() { return sourceDir() + "/scenes/cornell_room/cornell_room.gltf"; }
+std::string testDataDir() {
+  return VOXGI_TEST_DATA_DIR;
+}
+std::string voxgiBinary() {
+  return VOXGI_BINARY;
+}
+std::string cornellRoom() {
+  return sourceDir() + "/scenes/cornell_room/cornell_room.gltf";
+}
 
-bool samplesPresent() { return fs::exists(fs::path(samplesDir()) / "box" / "Box.gltf"); }
+bool samplesPresent() {
+  return fs::exists(fs::path(samplesDir()) / "box" / "Box.gltf");
+}
 bool samplesRequired() {
   const char* env = std::getenv("VOXGI_REQUIRE_SAMPLES");
   return env && std::string(env) == "1";
@@ -60,7 +70,8 @@ CommandResult runCommand(const std::string& commandLine, int timeoutSeconds) {
   size_t n;
   while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
   const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  r.exitCode =
+      WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   return r;
 }
 
