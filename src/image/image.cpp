@@ -45,7 +45,8 @@ void writeWithOiio(const std::string& path, int width, int height, OIIO::TypeDes
   const std::string tmp = tempPathFor(path);
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error(path + ": no image writer for this format");
-  OIIO::ImageSpec spec(width, height, 4, type);
+  // RGB on disk: alpha carries nothing here, and OIIO would (un)premultiply by it.
+  OIIO::ImageSpec spec(width, height, 3, type);
   spec.attribute("oiio:ColorSpace", srgb ? "sRGB" : "linear");
   spec.attribute("Software", "voxgi");
   if (!out->open(tmp, spec)) {
@@ -53,7 +54,8 @@ void writeWithOiio(const std::string& path, int width, int height, OIIO::TypeDes
     fs::remove(tmp, ec);
     throw Error(path + ": cannot write (" + out->geterror().substr(0, 200) + ")");
   }
-  const bool ok = out->write_image(type, data);
+  const OIIO::stride_t pixelStride = static_cast<OIIO::stride_t>(4 * type.size());
+  const bool ok = out->write_image(type, data, pixelStride, pixelStride * width);
   const bool closed = out->close();
   if (!ok || !closed) {
     std::error_code ec;

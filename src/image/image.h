@@ -20,7 +20,7 @@ Format formatForPath(const std::string& path);
 // there: missing directory, no permission, or the path is a directory.
 void checkWritable(const std::string& path);
 
-// RGBA rows, top-left origin.
+// RGBA rows, top-left origin; the files hold RGB (alpha is dropped).
 void writePng(const std::string& path, int width, int height, const uint8_t* rgba);
 void writeExr(const std::string& path, int width, int height, const float* rgba);
 

@@ -31,7 +31,8 @@ std::string goldenPath() {
 }
 
 struct Rendered {
-  image::Image display;  // 8-bit sRGB as [0,1]
+  std::vector<uint8_t> rgba;  // as read back
+  image::Image display;       // 8-bit sRGB as [0,1], RGB as the PNG stores it
   std::vector<float> linear;
 };
 
@@ -46,10 +47,11 @@ Rendered render(const scene::Scene& s) {
   const auto px = r.readDisplay();
   out.display.width = kSize;
   out.display.height = kSize;
-  out.display.channels = 4;
-  out.display.pixels.assign(px.begin(), px.end());
-  for (float& v : out.display.pixels) v /= 255.0f;
+  out.display.channels = 3;  // as PNGs are stored
+  for (size_t i = 0; i < px.size(); ++i)
+    if (i % 4 != 3) out.display.pixels.push_back(px[i] / 255.0f);
   out.linear = r.readLinear();
+  out.rgba = px;
   return out;
 }
 
@@ -64,10 +66,7 @@ TEST_P(RasterTest, CornellRoomMatchesGolden) {
   const Rendered r = render(s);
   for (float v : r.linear) ASSERT_TRUE(std::isfinite(v));
   if (std::getenv("VOXGI_UPDATE_GOLDEN")) {
-    std::vector<uint8_t> px(r.display.pixels.size());
-    for (size_t i = 0; i < px.size(); ++i)
-      px[i] = static_cast<uint8_t>(std::lround(r.display.pixels[i] * 255.0f));
-    image::writePng(goldenPath(), kSize, kSize, px.data());
+    image::writePng(goldenPath(), kSize, kSize, r.rgba.data());
   }
   ASSERT_TRUE(std::filesystem::exists(goldenPath()))
       << "run with VOXGI_UPDATE_GOLDEN=1 to create " << goldenPath();
