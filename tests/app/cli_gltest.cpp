@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
+#include "image/metrics.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -132,6 +133,26 @@ TEST(Cli, OsMesaBackendRenders) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   std::ifstream in(dir + "/s.json");
   EXPECT_EQ(nlohmann::json::parse(in)["backend"], "osmesa");
+}
+
+// The GLFW backend (a hidden GLX window) under Xvfb renders the same image as EGL.
+TEST(Cli, GlfwBackendUnderXvfbMatchesEgl) {
+  if (runCommand("sh -c 'command -v xvfb-run'").exitCode != 0) {
+    if (std::getenv("VOXGI_REQUIRE_SAMPLES"))
+      FAIL() << "xvfb-run missing (tools/setup installs xvfb)";
+    GTEST_SKIP() << "xvfb-run not installed";
+  }
+  const std::string dir = scratchDir();
+  auto r = runCommand("xvfb-run -a " + voxgi("render --backend glfw --size 64x64 --out " + dir +
+                                             "/glfw.png --stats " + dir + "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = runCommand(voxgi("render --size 64x64 --out " + dir + "/egl.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(dir + "/s.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["backend"], "glfw");
+  const image::Difference d = image::compare(image::readImage(dir + "/glfw.png"),
+                                             image::readImage(dir + "/egl.png"), 1.5 / 255.0);
+  EXPECT_LE(d.maxAbs, 1.5 / 255.0);
 }
 
 }  // namespace
