@@ -38,11 +38,16 @@ float emitterFactor(GpuEmitter e, vec3 p, vec3 n) {
   // Lambert's formula: E/L = 1/2 |sum_i theta_i (gamma_i . n)|.
   float sum = 0.0;
   for (int i = 0; i < count; ++i) {
-    vec3 a = normalize(poly[i]);
-    vec3 b = normalize(poly[(i + 1) % count]);
+    vec3 pa = poly[i];
+    vec3 pb = poly[(i + 1) % count];
+    float la = length(pa);
+    float lb = length(pb);
+    if (!(la > 1e-30) || !(lb > 1e-30)) continue;  // a corner at the receiver itself
+    vec3 a = pa / la;
+    vec3 b = pb / lb;
     vec3 c = cross(a, b);
     float s = length(c);
-    if (s < 1e-12) continue;
+    if (!(s >= 1e-12)) continue;
     sum += atan(s, dot(a, b)) * dot(c / s, n);
   }
   return 0.5 * abs(sum);

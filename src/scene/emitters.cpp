@@ -128,12 +128,17 @@ float emitterIrradianceFactor(const Emitter& e, const glm::vec3& p, const glm::v
   if (count < 3) return 0.0f;
   // Lambert: E/L = 1/2 |sum_i theta_i (gamma_i . n)|.
   float sum = 0.0f;
+  // A corner at the receiver itself (it sits on the emitter's edge or vertex) has no
+  // direction: its edges subtend nothing and are skipped, so the result stays finite.
   for (int i = 0; i < count; ++i) {
-    const glm::vec3 a = glm::normalize(poly[static_cast<size_t>(i)]);
-    const glm::vec3 b = glm::normalize(poly[static_cast<size_t>((i + 1) % count)]);
+    const glm::vec3 pa = poly[static_cast<size_t>(i)];
+    const glm::vec3 pb = poly[static_cast<size_t>((i + 1) % count)];
+    const float la = glm::length(pa), lb = glm::length(pb);
+    if (!(la > 1e-30f) || !(lb > 1e-30f)) continue;
+    const glm::vec3 a = pa / la, b = pb / lb;
     const glm::vec3 c = glm::cross(a, b);
     const float s = glm::length(c);
-    if (s < 1e-12f) continue;
+    if (!(s >= 1e-12f)) continue;
     const float theta = std::atan2(s, glm::dot(a, b));
     sum += theta * glm::dot(c / s, n);
   }

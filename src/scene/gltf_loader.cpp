@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <set>
@@ -35,30 +36,68 @@ std::string firstLine(const std::string& s) {
 
 struct ImageLoaderState {
   int maxSize;
+  const tinygltf::Model* model;  // being filled by tinygltf: buffers and views come first
 };
+
+// Width and height from a PNG's IHDR chunk (stb refuses to even report sizes over
+// 2^24 pixels a side, which would hide the real reason).
+bool pngSize(const unsigned char* b, int size, int* w, int* h) {
+  static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size < 24 || std::memcmp(b, sig, 8) != 0 || std::memcmp(b + 12, "IHDR", 4) != 0) return false;
+  auto be32 = [](const unsigned char* p) {
+    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+  };
+  const uint32_t uw = be32(b + 16), uh = be32(b + 20);
+  *w = uw > 0x7fffffffu ? 0x7fffffff : static_cast<int>(uw);
+  *h = uh > 0x7fffffffu ? 0x7fffffff : static_cast<int>(uh);
+  return true;
+}
 
 // Decodes with stb_image into RGBA8, refusing absurd sizes before allocating.
 bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
                const unsigned char* bytes, int size, void* user) {
   const auto* state = static_cast<const ImageLoaderState*>(user);
+  // tinygltf hands over &buffer[view.byteOffset] without checking the view: check it
+  // here, before anything reads those bytes.
+  if (image->bufferView >= 0) {
+    const auto& views = state->model->bufferViews;
+    const auto& view = views[static_cast<size_t>(image->bufferView)];
+    const size_t have = state->model->buffers[static_cast<size_t>(view.buffer)].data.size();
+    if (view.byteOffset > have || view.byteLength > have - view.byteOffset) {
+      if (err)
+        *err += strf("bufferView %d: bytes [%zu, %zu) of image %d exceed buffer %d of %zu bytes\n",
+                     image->bufferView, view.byteOffset, view.byteOffset + view.byteLength, index,
+                     view.buffer, have);
+      return false;
+    }
+  }
+  const std::string name = !image->uri.empty() && image->uri.rfind("data:", 0) != 0 ? image->uri
+                           : !image->name.empty()                                   ? image->name
+                                                                                    : "embedded";
   int w = 0, h = 0, comp = 0;
+  if (pngSize(bytes, size, &w, &h) && (w > state->maxSize || h > state->maxSize)) {
+    if (err)
+      *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index, name.c_str(), w,
+                   h, state->maxSize, state->maxSize);
+    return false;
+  }
   if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
     if (err)
-      *err += strf("image %d (%s): not a decodable PNG/JPEG (%s)\n", index, image->uri.c_str(),
+      *err += strf("image %d (%s): not a decodable PNG/JPEG (%s)\n", index, name.c_str(),
                    stbi_failure_reason());
     return false;
   }
   if (w <= 0 || h <= 0 || w > state->maxSize || h > state->maxSize) {
     if (err)
-      *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index,
-                   image->uri.c_str(), w, h, state->maxSize, state->maxSize);
+      *err += strf("image %d (%s): %dx%d exceeds the %dx%d texture limit\n", index, name.c_str(), w,
+                   h, state->maxSize, state->maxSize);
     return false;
   }
   unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
   if (!data) {
     if (err)
-      *err += strf("image %d (%s): decode failed (%s)\n", index, image->uri.c_str(),
-                   stbi_failure_reason());
+      *err +=
+          strf("image %d (%s): decode failed (%s)\n", index, name.c_str(), stbi_failure_reason());
     return false;
   }
   image->width = w;
@@ -69,6 +108,27 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
   image->image.assign(data, data + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
   stbi_image_free(data);
   return true;
+}
+
+const char* typeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return "unknown";
+  }
 }
 
 bool finite(const glm::vec3& v) {
@@ -85,20 +145,21 @@ class Loader {
     if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
     const std::string ext = fs::path(path_).extension().string();
     tinygltf::TinyGLTF gltf;
-    ImageLoaderState state{opt_.maxTextureSize};
+    ImageLoaderState state{opt_.maxTextureSize, &model_};
     gltf.SetImageLoader(loadImage, &state);
     std::string err, warn;
     bool ok = false;
     std::string lower = ext;
     std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
     if (lower == ".glb") {
+      checkGlbHeader();
       ok = gltf.LoadBinaryFromFile(&model_, &err, &warn, path_);
     } else if (lower == ".gltf") {
       ok = gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
     } else {
       fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
     }
-    if (!ok) fail(firstLine(err.empty() ? "malformed glTF" : err));
+    if (!ok) fail(explainTinygltfError(err));
     if (!warn.empty()) {
       // tinygltf keeps going when an external image is missing: remember which.
       logDebug(path_ + ": tinygltf: " + firstLine(warn));
@@ -121,9 +182,57 @@ class Loader {
 
  private:
   [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
+
+  // double -> float without undefined behaviour: NaN, Inf and values beyond the
+  // float range are refused with `what` named.
+  float toFloat(double v, const std::string& what) const {
+    if (!std::isfinite(v) || std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+      fail(what + ": NaN or Inf, or beyond the float range");
+    return static_cast<float>(v);
+  }
+  glm::vec3 toVec3(const std::vector<double>& v, const std::string& what) const {
+    return glm::vec3(toFloat(v[0], what), toFloat(v[1], what), toFloat(v[2], what));
+  }
   void warn_(const std::string& what) {
     logWarning(path_ + ": " + what);
     scene_.warnings.push_back(what);
+  }
+
+  // A GLB's 12-byte header: magic "glTF", version 2, total length = file size.
+  void checkGlbHeader() const {
+    std::ifstream in(path_, std::ios::binary);
+    unsigned char h[12] = {};
+    in.read(reinterpret_cast<char*>(h), 12);
+    const auto got = static_cast<size_t>(in.gcount());
+    std::error_code ec;
+    const auto size = static_cast<size_t>(fs::file_size(path_, ec));
+    if (got < 12) fail(strf("truncated GLB: %zu bytes, shorter than the 12-byte header", size));
+    if (std::memcmp(h, "glTF", 4) != 0) fail("not a GLB file (bad magic)");
+    const uint32_t version = h[4] | (h[5] << 8) | (h[6] << 16) | (uint32_t{h[7]} << 24);
+    const uint32_t length = h[8] | (h[9] << 8) | (h[10] << 16) | (uint32_t{h[11]} << 24);
+    if (version != 2) fail(strf("GLB version %u is not supported (expected 2)", version));
+    if (length > size)
+      fail(strf("truncated GLB: header says %u bytes, the file has %zu", length, size));
+  }
+
+  // tinygltf's messages, made one line and specific where they are not.
+  static std::string explainTinygltfError(const std::string& err) {
+    std::string line = firstLine(err.empty() ? "malformed glTF" : err);
+    if (line.find("\"asset\" object not found") != std::string::npos ||
+        line.find("\"version\" not found") != std::string::npos)
+      return "missing \"asset\" or \"asset.version\" (required by glTF 2.0)";
+    if (line.find("Failed to decode 'uri'") != std::string::npos &&
+        line.find(" in Buffer") != std::string::npos)
+      return "a buffer's data URI is not valid base64 or its size differs from byteLength";
+    if (line.find("Invalid glTF binary") != std::string::npos) return "invalid GLB chunk layout";
+    // Embedded data never belongs in a one-line message.
+    const size_t data = line.find("data:");
+    if (data != std::string::npos) {
+      const size_t end = line.find_first_of(" '\"", data);
+      line.replace(data, end == std::string::npos ? std::string::npos : end - data, "data:...");
+    }
+    if (line.size() > 300) line = line.substr(0, 300) + "...";
+    return line;
   }
 
   void validateBuffers() {
@@ -171,18 +280,20 @@ class Loader {
     if (!node.matrix.empty()) {
       if (node.matrix.size() != 16) fail(strf("node %d: matrix must have 16 numbers", index));
       for (int i = 0; i < 16; ++i)
-        glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<size_t>(i)]);
+        glm::value_ptr(m)[i] =
+            toFloat(node.matrix[static_cast<size_t>(i)], strf("node %d: matrix", index));
     } else {
       if (node.translation.size() == 3)
-        m = glm::translate(
-            m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+        m = glm::translate(m, toVec3(node.translation, strf("node %d: translation", index)));
       if (node.rotation.size() == 4) {
-        glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                    static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
+        const std::string what = strf("node %d: rotation", index);
+        glm::quat q(toFloat(node.rotation[3], what), toFloat(node.rotation[0], what),
+                    toFloat(node.rotation[1], what), toFloat(node.rotation[2], what));
+        if (!(glm::length(q) > 0.0f)) fail(what + ": zero quaternion");
         m = m * glm::mat4_cast(glm::normalize(q));
       }
       if (node.scale.size() == 3)
-        m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+        m = glm::scale(m, toVec3(node.scale, strf("node %d: scale", index)));
     }
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
@@ -208,7 +319,8 @@ class Loader {
     if (a.sparse.isSparse)
       fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
     if (std::find(types.begin(), types.end(), a.type) == types.end())
-      fail(strf("accessor %d (%s): wrong element type", index, what));
+      fail(strf("accessor %d (%s): element type %s is not allowed here", index, what,
+                typeName(a.type)));
     if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) ==
         componentTypes.end())
       fail(strf("accessor %d (%s): wrong component type %d", index, what, a.componentType));
@@ -264,22 +376,24 @@ class Loader {
       const auto& m = model_.materials[i];
       Material mat;
       mat.name = m.name;
+      const std::string what = strf("material %zu", i);
       const auto& pbr = m.pbrMetallicRoughness;
       if (pbr.baseColorFactor.size() == 4)
-        mat.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
-                                  pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
-      mat.metallic = static_cast<float>(pbr.metallicFactor);
-      mat.roughness = static_cast<float>(pbr.roughnessFactor);
+        mat.baseColor = glm::vec4(toVec3(pbr.baseColorFactor, what + ": baseColorFactor"),
+                                  toFloat(pbr.baseColorFactor[3], what + ": baseColorFactor"));
+      mat.metallic = toFloat(pbr.metallicFactor, what + ": metallicFactor");
+      mat.roughness = toFloat(pbr.roughnessFactor, what + ": roughnessFactor");
       if (m.emissiveFactor.size() == 3)
-        mat.emission = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+        mat.emission = toVec3(m.emissiveFactor, what + ": emissiveFactor");
       auto it = m.extensions.find("KHR_materials_emissive_strength");
       if (it != m.extensions.end() && it->second.Has("emissiveStrength"))
-        mat.emission *= static_cast<float>(it->second.Get("emissiveStrength").GetNumberAsDouble());
+        mat.emission *= toFloat(it->second.Get("emissiveStrength").GetNumberAsDouble(),
+                                what + ": emissiveStrength");
       mat.doubleSided = m.doubleSided;
       mat.alphaMode = m.alphaMode == "MASK"    ? AlphaMode::kMask
                       : m.alphaMode == "BLEND" ? AlphaMode::kBlend
                                                : AlphaMode::kOpaque;
-      mat.alphaCutoff = static_cast<float>(m.alphaCutoff);
+      mat.alphaCutoff = toFloat(m.alphaCutoff, what + ": alphaCutoff");
       const glm::vec4 bc = mat.baseColor;
       if (!finite(glm::vec3(bc)) || !std::isfinite(bc.w) || !finite(mat.emission) ||
           !std::isfinite(mat.metallic) || !std::isfinite(mat.roughness))
@@ -288,7 +402,7 @@ class Loader {
       mat.metallic = std::clamp(mat.metallic, 0.0f, 1.0f);
       mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
       mat.emission = glm::max(mat.emission, 0.0f);
-      if (pbr.baseColorTexture.index >= 0)
+      if (pbr.baseColorTexture.index != -1)
         mat.baseColorTexture = texture(pbr.baseColorTexture.index, i);
       scene_.materials.push_back(mat);
     }
@@ -300,7 +414,7 @@ class Loader {
   }
 
   int texture(int index, size_t material) {
-    if (static_cast<size_t>(index) >= model_.textures.size())
+    if (index < 0 || static_cast<size_t>(index) >= model_.textures.size())
       fail(strf("material %zu: texture %d does not exist", material, index));
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
@@ -339,12 +453,12 @@ class Loader {
     std::function<void(int, const glm::mat4&)> visit = [&](int index, const glm::mat4& parent) {
       const auto& node = model_.nodes[static_cast<size_t>(index)];
       const glm::mat4 world = parent * localMatrix(node, index);
-      if (node.mesh >= 0) {
-        if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
+      if (node.mesh != -1) {
+        if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= model_.meshes.size())
           fail(strf("node %d: mesh %d does not exist", index, node.mesh));
         addMesh(node.mesh, index, world);
       }
-      if (node.camera >= 0) addCamera(node.camera, index, world);
+      if (node.camera != -1) addCamera(node.camera, index, world);
       auto le = node.extensions.find("KHR_lights_punctual");
       if (le != node.extensions.end() && le->second.Has("light"))
         addLight(le->second.Get("light").GetNumberAsInt(), index, world);
@@ -354,7 +468,7 @@ class Loader {
   }
 
   void addCamera(int index, int node, const glm::mat4& world) {
-    if (static_cast<size_t>(index) >= model_.cameras.size())
+    if (index < 0 || static_cast<size_t>(index) >= model_.cameras.size())
       fail(strf("node %d: camera %d does not exist", node, index));
     if (scene_.camera.fromFile) return;  // the first camera wins
     const auto& c = model_.cameras[static_cast<size_t>(index)];
@@ -366,7 +480,7 @@ class Loader {
     cam.position = glm::vec3(world[3]);
     cam.forward = glm::normalize(-glm::vec3(world[2]));
     cam.up = glm::normalize(glm::vec3(world[1]));
-    cam.yfov = static_cast<float>(c.perspective.yfov);
+    cam.yfov = toFloat(c.perspective.yfov, strf("camera %d: yfov", index));
     if (!finite(cam.forward) || !finite(cam.up) || !(cam.yfov > 1e-4f && cam.yfov < 3.1f))
       fail(strf("camera %d: degenerate transform or yfov", index));
     cam.fromFile = true;
@@ -379,6 +493,7 @@ class Loader {
     const auto& l = model_.lights[static_cast<size_t>(index)];
     Light light;
     light.name = l.name;
+    const std::string what = strf("light %d", index);
     if (l.type == "directional")
       light.type = LightType::kDirectional;
     else if (l.type == "point")
@@ -387,13 +502,13 @@ class Loader {
       light.type = LightType::kSpot;
     else
       fail(strf("light %d: unknown type '%s'", index, l.type.c_str()));
-    if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
-    light.intensity = static_cast<float>(l.intensity);
-    light.range = static_cast<float>(l.range);
+    if (l.color.size() == 3) light.color = toVec3(l.color, what + ": color");
+    light.intensity = toFloat(l.intensity, what + ": intensity");
+    light.range = toFloat(l.range, what + ": range");
     light.position = glm::vec3(world[3]);
     light.direction = glm::normalize(-glm::vec3(world[2]));
-    light.innerConeAngle = static_cast<float>(l.spot.innerConeAngle);
-    light.outerConeAngle = static_cast<float>(l.spot.outerConeAngle);
+    light.innerConeAngle = toFloat(l.spot.innerConeAngle, what + ": innerConeAngle");
+    light.outerConeAngle = toFloat(l.spot.outerConeAngle, what + ": outerConeAngle");
     if (!finite(light.color) || !std::isfinite(light.intensity) || !finite(light.direction))
       fail(strf("light %d: NaN or Inf parameter", index));
     if (light.outerConeAngle <= light.innerConeAngle)
@@ -408,7 +523,9 @@ class Loader {
     for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
       const auto& prim = mesh.primitives[pi];
       const std::string where = strf("mesh %d primitive %zu", meshIndex, pi);
-      int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if (mode < 0 || mode > 6)
+        fail(strf("%s: mode %d is not a glTF primitive mode (0-6)", where.c_str(), mode));
       if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
           mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         warn_(where + ": points and lines are not rendered; skipped");
@@ -433,7 +550,7 @@ class Loader {
         hasUv = true;
       }
       std::vector<uint32_t> idx;
-      if (prim.indices >= 0) {
+      if (prim.indices != -1) {
         const View iv =
             accessor(prim.indices, "indices", {TINYGLTF_TYPE_SCALAR},
                      {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
@@ -543,8 +660,8 @@ class Loader {
       d.indexCount = static_cast<uint32_t>(kept.size());
       d.node = nodeIndex;
       d.mesh = meshIndex;
-      if (prim.material >= 0) {
-        if (static_cast<size_t>(prim.material) >= model_.materials.size())
+      if (prim.material != -1) {
+        if (prim.material < 0 || static_cast<size_t>(prim.material) >= model_.materials.size())
           fail(strf("%s: material %d does not exist", where.c_str(), prim.material));
         d.material = prim.material;
       } else {

@@ -1,0 +1,618 @@
+#!/usr/bin/env python3
+"""Writes the malformed glTF corpus used by tests/scene/gltf_loader_test.cpp.
+
+Every file here starts from a valid one- or two-triangle scene and carries exactly
+one defect. The loader must refuse each with voxgi::Error, a one-line message that
+starts with the file's path and contains the substring listed in expected.txt
+(one line per file: "filename<TAB>expected substring").
+
+The valid starting points are written to valid/ so that the tests can show that
+the defect, not the base scene, is what the loader refuses.
+
+Run from anywhere (Python 3, standard library only); the outputs land next to
+this script and are committed with it:
+    python3 tests/data/malformed/make_corpus.py
+"""
+
+import base64
+import copy
+import json
+import os
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+VALID_DIR = os.path.join(HERE, "valid")
+
+FLOAT = 5126
+UNSIGNED_BYTE = 5121
+UNSIGNED_SHORT = 5123
+ARRAY_BUFFER = 34962
+ELEMENT_ARRAY_BUFFER = 34963
+
+# JSON cannot spell infinity; these placeholders are replaced by raw number text
+# after json.dumps (1e400 overflows a double to +Inf in every common JSON reader).
+INF_TOKEN = "__VOXGI_INF__"
+NAN_TOKEN = "__VOXGI_NAN__"
+
+QUAD_POSITIONS = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0)]
+QUAD_NORMALS = [(0.0, 0.0, 1.0)] * 4
+QUAD_UVS = [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)]
+QUAD_INDICES = [0, 1, 2, 0, 2, 3]
+TRIANGLE_POSITIONS = QUAD_POSITIONS[:3]
+TRIANGLE_INDICES = [0, 1, 2]
+
+
+def pad4(data, fill=b"\0"):
+    return data + fill * (-len(data) % 4)
+
+
+def data_uri(data, mime="application/octet-stream"):
+    return "data:%s;base64,%s" % (mime, base64.b64encode(data).decode("ascii"))
+
+
+def floats(values):
+    return b"".join(struct.pack("<%df" % len(v), *v) for v in values)
+
+
+def finite_bounds(values):
+    """min/max over the finite components (a NaN would make the JSON invalid)."""
+    lo = [min(v[i] for v in values if all(x == x and abs(x) != float("inf") for x in v)) for i in range(3)]
+    hi = [max(v[i] for v in values if all(x == x and abs(x) != float("inf") for x in v)) for i in range(3)]
+    return lo, hi
+
+
+def scene(positions=None, indices=None, normals=False, uvs=False):
+    """A valid glTF (as a dict) with one node, one mesh and an embedded buffer.
+
+    Layout: bufferView 0 = positions, 1 = indices (uint16), then optional
+    normals and uvs. Accessor 0 = POSITION, 1 = indices, then NORMAL, TEXCOORD_0.
+    """
+    positions = QUAD_POSITIONS if positions is None else positions
+    indices = QUAD_INDICES if indices is None else indices
+    blobs = [floats(positions), struct.pack("<%dH" % len(indices), *indices)]
+    lo, hi = finite_bounds(positions)
+    accessors = [
+        {"bufferView": 0, "componentType": FLOAT, "count": len(positions), "type": "VEC3",
+         "min": lo, "max": hi},
+        {"bufferView": 1, "componentType": UNSIGNED_SHORT, "count": len(indices), "type": "SCALAR"},
+    ]
+    targets = [ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER]
+    attributes = {"POSITION": 0}
+    if normals:
+        blobs.append(floats(QUAD_NORMALS[: len(positions)]))
+        targets.append(ARRAY_BUFFER)
+        attributes["NORMAL"] = len(accessors)
+        accessors.append({"bufferView": len(blobs) - 1, "componentType": FLOAT,
+                          "count": len(positions), "type": "VEC3"})
+    if uvs:
+        blobs.append(floats(QUAD_UVS[: len(positions)]))
+        targets.append(ARRAY_BUFFER)
+        attributes["TEXCOORD_0"] = len(accessors)
+        accessors.append({"bufferView": len(blobs) - 1, "componentType": FLOAT,
+                          "count": len(positions), "type": "VEC2"})
+    buffer = b""
+    views = []
+    for blob, target in zip(blobs, targets):
+        views.append({"buffer": 0, "byteOffset": len(buffer), "byteLength": len(blob), "target": target})
+        buffer += pad4(blob)
+    return {
+        "asset": {"version": "2.0", "generator": "voxgi make_corpus.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": 1, "mode": 4}]}],
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": len(buffer), "uri": data_uri(buffer)}],
+    }
+
+
+def png_chunk(kind, payload):
+    return struct.pack(">I", len(payload)) + kind + payload + struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF)
+
+
+def png(width, height, rgba_rows=None):
+    """An 8-bit PNG. With rgba_rows, a complete RGBA image; without, only the
+    first scanline of an RGB image is stored (enough for a header-only reader)."""
+    signature = b"\x89PNG\r\n\x1a\n"
+    if rgba_rows is not None:
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+        raw = b"".join(b"\0" + bytes(row) for row in rgba_rows)
+    else:
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+        raw = b"\0" + b"\0" * (3 * width)
+    return (signature + png_chunk(b"IHDR", ihdr) + png_chunk(b"IDAT", zlib.compress(raw, 9))
+            + png_chunk(b"IEND", b""))
+
+
+TINY_PNG = png(2, 2, [[255, 0, 0, 255, 0, 255, 0, 255], [0, 0, 255, 255, 255, 255, 255, 255]])
+
+
+def textured(image):
+    """The quad with a base-colour texture whose image is `image` (a glTF image dict)."""
+    g = scene(uvs=True)
+    g["meshes"][0]["primitives"][0]["material"] = 0
+    g["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+    g["samplers"] = [{}]
+    g["textures"] = [{"source": 0, "sampler": 0}]
+    g["images"] = [image]
+    return g
+
+
+def to_json(g):
+    text = json.dumps(g, indent=1, allow_nan=False)
+    return text.replace('"%s"' % INF_TOKEN, "1e400").replace('"%s"' % NAN_TOKEN, "NaN").encode() + b"\n"
+
+
+def glb(g, bin_data):
+    """A .glb from a dict whose buffer 0 has no uri, with bin_data as its BIN chunk."""
+    text = pad4(json.dumps(g, separators=(",", ":")).encode(), b" ")
+    body = pad4(bin_data)
+    chunks = (struct.pack("<I", len(text)) + b"JSON" + text + struct.pack("<I", len(body)) + b"BIN\0" + body)
+    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
+
+
+def glb_scene():
+    g = scene()
+    data = base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1])
+    del g["buffers"][0]["uri"]
+    return g, data
+
+
+# --- the cases ----------------------------------------------------------------
+# Each returns (bytes, expected substring). The substring names the problem as a
+# user should read it; where the loader says something else, the test fails and
+# tells us so.
+
+CASES = {}
+
+
+def case(name, expected):
+    def register(fn):
+        CASES[name] = (fn, expected)
+        return fn
+    return register
+
+
+def edited(fn):
+    """Case body that edits a fresh quad scene in place."""
+    def build():
+        g = scene()
+        fn(g)
+        return to_json(g)
+    return build
+
+
+# Container and JSON level.
+case("empty.gltf", "empty")(lambda: b"")
+case("not_json.gltf", "parse error")(lambda: b"This is not a glTF file, just text.\n")
+case("truncated_json.gltf", "parse error")(lambda: (lambda t: t[: len(t) // 2])(to_json(scene())))
+case("json_array.gltf", "not a JSON object")(lambda: to_json([scene()]))
+
+
+@case("missing_asset.gltf", "\"asset\"")
+@edited
+def _(g):
+    del g["asset"]
+
+
+@case("missing_asset_version.gltf", "version")
+@edited
+def _(g):
+    del g["asset"]["version"]
+
+
+# Buffers and views.
+@case("missing_bin.gltf", "missing_buffer.bin")
+@edited
+def _(g):
+    g["buffers"][0]["uri"] = "missing_buffer.bin"
+
+
+@case("buffer_bytelength_mismatch.gltf", "byteLength")
+@edited
+def _(g):
+    # 4 KiB of unused bytes after the geometry, so that an error message quoting
+    # the data: URI shows as the wall of text it would be for a real file.
+    data = base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1]) + bytes(range(256)) * 16
+    g["buffers"][0]["uri"] = data_uri(data)
+    g["buffers"][0]["byteLength"] = len(data) + 8
+
+
+@case("bufferview_beyond_buffer.gltf", "exceed buffer")
+@edited
+def _(g):
+    g["bufferViews"][1]["byteLength"] += 64
+
+
+@case("bufferview_bad_buffer.gltf", "buffer 3 does not exist")
+@edited
+def _(g):
+    g["bufferViews"][0]["buffer"] = 3
+
+
+@case("bytestride_too_small.gltf", "smaller than an element")
+@edited
+def _(g):
+    g["bufferViews"][0]["byteStride"] = 4
+
+
+# Accessors.
+@case("accessor_count_too_large.gltf", "needs 60 bytes")
+@edited
+def _(g):
+    g["accessors"][0]["count"] = 5  # 4 vertices stored
+
+
+@case("accessor_count_zero.gltf", "count 0")
+@edited
+def _(g):
+    g["accessors"][0]["count"] = 0
+
+
+@case("accessor_count_huge.gltf", "count 2147483649")
+@edited
+def _(g):
+    g["accessors"][0]["count"] = 2**31 + 1
+
+
+@case("accessor_count_overflow.gltf", "count 4611686018427387905")
+@edited
+def _(g):
+    g["accessors"][0]["count"] = 2**62 + 1  # stride * count wraps a 64-bit size
+
+
+@case("accessor_bad_bufferview.gltf", "bufferView 9 does not exist")
+@edited
+def _(g):
+    g["accessors"][0]["bufferView"] = 9
+
+
+@case("position_bad_accessor.gltf", "accessor 9 does not exist")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9
+
+
+@case("indices_bad_accessor.gltf", "indices accessor")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["indices"] = 9
+
+
+@case("position_vec2.gltf", "element type VEC2 is not allowed")
+@edited
+def _(g):
+    g["accessors"][0]["type"] = "VEC2"
+    del g["accessors"][0]["min"], g["accessors"][0]["max"]
+
+
+@case("position_ubyte.gltf", "wrong component type 5121")
+@edited
+def _(g):
+    g["accessors"][0]["componentType"] = UNSIGNED_BYTE
+    g["accessors"][0]["normalized"] = True
+
+
+@case("indices_float.gltf", "wrong component type 5126")
+@edited
+def _(g):
+    g["accessors"][1]["componentType"] = FLOAT
+    g["accessors"][1]["count"] = 3  # 12 bytes of the 12-byte view
+
+
+@case("no_position.gltf", "no POSITION")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["attributes"] = {"TEXCOORD_0": 0}
+
+
+@case("sparse_accessor.gltf", "sparse")
+def _():
+    g = scene()
+    # One substituted vertex: index 1 -> (2, 0, 0). Sparse data goes in a second buffer.
+    sparse = pad4(struct.pack("<H", 1)) + floats([(2.0, 0.0, 0.0)])
+    g["buffers"].append({"byteLength": len(sparse), "uri": data_uri(sparse)})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": 0, "byteLength": 2})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": 4, "byteLength": 12})
+    g["accessors"][0]["sparse"] = {
+        "count": 1,
+        "indices": {"bufferView": 2, "componentType": UNSIGNED_SHORT},
+        "values": {"bufferView": 3},
+    }
+    g["accessors"][0]["max"] = [2.0, 1.0, 0.0]
+    return to_json(g)
+
+
+@case("normal_count_mismatch.gltf", "counts differ")
+def _():
+    g = scene(normals=True)
+    g["accessors"][2]["count"] = 3
+    return to_json(g)
+
+
+# Vertex data.
+@case("index_out_of_range.gltf", "out of range")
+def _():
+    return to_json(scene(indices=[0, 1, 2, 0, 2, 7]))
+
+
+@case("nan_position.gltf", "NaN or Inf position")
+def _():
+    return to_json(scene(positions=[(0.0, 0.0, 0.0), (1.0, float("nan"), 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0)]))
+
+
+@case("inf_position.gltf", "NaN or Inf position")
+def _():
+    return to_json(scene(positions=[(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (float("inf"), 1.0, 0.0), (0.0, 1.0, 0.0)]))
+
+
+@case("position_overflow_after_transform.gltf", "overflows")
+@edited
+def _(g):
+    # A finite float transform that sends vertex (1, 0, 0) to x = 6e38 > FLT_MAX.
+    g["nodes"][0]["scale"] = [3e38, 3e38, 3e38]
+    g["nodes"][0]["translation"] = [3e38, 0.0, 0.0]
+
+
+# Node transforms.
+@case("nan_matrix.gltf", "parse error")  # JSON has no NaN: the text says NaN anyway
+@edited
+def _(g):
+    g["nodes"][0]["matrix"] = [1.0, 0.0, 0.0, 0.0, 0.0, NAN_TOKEN, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+
+
+@case("inf_matrix.gltf", "number overflow")  # 1e400 is +Inf even as a double
+@edited
+def _(g):
+    g["nodes"][0]["matrix"] = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, INF_TOKEN, 0.0, 0.0, 1.0]
+
+
+@case("matrix_float_overflow.gltf", "NaN or Inf")
+@edited
+def _(g):
+    # Finite as a double, infinite as the float the loader works in.
+    g["nodes"][0]["matrix"] = [1e300, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+
+
+@case("inf_translation.gltf", "NaN or Inf")
+@edited
+def _(g):
+    g["nodes"][0]["translation"] = [1e39, 0.0, 0.0]  # +Inf as a float
+
+
+# Node graph.
+@case("node_cycle.gltf", "cycle")
+@edited
+def _(g):
+    g["nodes"] = [{"children": [1]}, {"children": [0], "mesh": 0}]
+
+
+@case("node_self_child.gltf", "own child")
+@edited
+def _(g):
+    g["nodes"][0]["children"] = [0]
+
+
+@case("node_two_parents.gltf", "two parents")
+@edited
+def _(g):
+    g["scenes"][0]["nodes"] = [0, 1]
+    g["nodes"] = [{"children": [2]}, {"children": [2]}, {"mesh": 0}]
+
+
+@case("node_bad_child.gltf", "child 7 does not exist")
+@edited
+def _(g):
+    g["nodes"][0]["children"] = [7]
+
+
+@case("scene_bad_node.gltf", "node 5 does not exist")
+@edited
+def _(g):
+    g["scenes"][0]["nodes"] = [0, 5]
+
+
+@case("node_bad_mesh.gltf", "mesh 7 does not exist")
+@edited
+def _(g):
+    g["nodes"][0]["mesh"] = 7
+
+
+@case("node_negative_mesh.gltf", "mesh -2")
+@edited
+def _(g):
+    g["nodes"][0]["mesh"] = -2
+
+
+@case("node_bad_camera.gltf", "camera 3 does not exist")
+@edited
+def _(g):
+    g["nodes"].append({"camera": 3, "translation": [0.0, 0.0, 2.0]})
+    g["scenes"][0]["nodes"].append(1)
+
+
+@case("camera_zero_yfov.gltf", "yfov")
+@edited
+def _(g):
+    g["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.0, "znear": 0.01}}]
+    g["nodes"].append({"camera": 0, "translation": [0.0, 0.0, 2.0]})
+    g["scenes"][0]["nodes"].append(1)
+
+
+@case("node_bad_light.gltf", "light 4 does not exist")
+@edited
+def _(g):
+    g["extensionsUsed"] = ["KHR_lights_punctual"]
+    g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 1.0}]}}
+    g["nodes"][0]["extensions"] = {"KHR_lights_punctual": {"light": 4}}
+
+
+@case("light_unknown_type.gltf", "unknown type 'area'")
+@edited
+def _(g):
+    g["extensionsUsed"] = ["KHR_lights_punctual"]
+    g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "area", "intensity": 1.0}]}}
+    g["nodes"][0]["extensions"] = {"KHR_lights_punctual": {"light": 0}}
+
+
+@case("primitive_bad_mode.gltf", "mode 9")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["mode"] = 9  # glTF modes are 0..6
+
+
+# Extensions.
+@case("unknown_required_extension.gltf", "KHR_draco_mesh_compression")
+@edited
+def _(g):
+    g["extensionsUsed"] = ["KHR_draco_mesh_compression"]
+    g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+
+
+@case("made_up_required_extension.gltf", "VOXGI_made_up_extension")
+@edited
+def _(g):
+    g["extensionsUsed"] = ["VOXGI_made_up_extension"]
+    g["extensionsRequired"] = ["VOXGI_made_up_extension"]
+
+
+# Materials, textures, images.
+@case("primitive_bad_material.gltf", "material 3 does not exist")
+@edited
+def _(g):
+    g["materials"] = [{}]
+    g["meshes"][0]["primitives"][0]["material"] = 3
+
+
+@case("material_inf_emission.gltf", "NaN or Inf")
+@edited
+def _(g):
+    g["materials"] = [{"emissiveFactor": [1e39, 1.0, 1.0]}]  # +Inf as a float
+    g["meshes"][0]["primitives"][0]["material"] = 0
+
+
+@case("material_bad_texture_index.gltf", "texture 3 does not exist")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 3
+    return to_json(g)
+
+
+@case("texture_bad_image_index.gltf", "image 5 does not exist")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["textures"][0]["source"] = 5
+    return to_json(g)
+
+
+@case("missing_texture_image.gltf", "missing_basecolor.png")
+def _():
+    return to_json(textured({"uri": "missing_basecolor.png"}))
+
+
+@case("image_not_decodable.gltf", "not a decodable")
+def _():
+    return to_json(textured({"uri": data_uri(b"\x89PNG\r\n\x1a\n but not really a PNG", "image/png")}))
+
+
+@case("huge_texture.gltf", "exceeds")
+def _():
+    return to_json(textured({"uri": data_uri(png(65536, 65536), "image/png")}))
+
+
+@case("image_bufferview_beyond_buffer.gltf", "exceed buffer")
+def _():
+    g = textured({"bufferView": 0, "mimeType": "image/png"})
+    # The PNG goes in a buffer of its own; its view claims 16 bytes more than there are.
+    g["buffers"].append({"byteLength": len(pad4(TINY_PNG)), "uri": data_uri(pad4(TINY_PNG))})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": 0, "byteLength": len(pad4(TINY_PNG)) + 16})
+    g["images"][0]["bufferView"] = len(g["bufferViews"]) - 1
+    return to_json(g)
+
+
+@case("image_bufferview_offset_beyond_buffer.gltf", "exceed buffer")
+def _():
+    g = textured({"bufferView": 0, "mimeType": "image/png"})
+    # The image's view starts 100 MB past the end of its 76-byte buffer.
+    g["buffers"].append({"byteLength": len(pad4(TINY_PNG)), "uri": data_uri(pad4(TINY_PNG))})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": 100000000, "byteLength": 4096})
+    g["images"][0]["bufferView"] = len(g["bufferViews"]) - 1
+    return to_json(g)
+
+
+# Binary glTF.
+@case("bad_magic.glb", "magic")
+def _():
+    g, data = glb_scene()
+    return b"glTX" + glb(g, data)[4:]
+
+
+@case("truncated.glb", "truncated")
+def _():
+    g, data = glb_scene()
+    whole = glb(g, data)
+    return whole[: len(whole) * 2 // 3]
+
+
+@case("glb_too_short.glb", "truncated GLB")
+def _():
+    g, data = glb_scene()
+    return glb(g, data)[:12]
+
+
+@case("glb_bin_chunk_too_long.glb", "BIN")
+def _():
+    g, data = glb_scene()
+    whole = bytearray(glb(g, data))
+    json_length = struct.unpack_from("<I", whole, 12)[0]
+    bin_header = 20 + json_length
+    struct.pack_into("<I", whole, bin_header, len(data) + 64)
+    return bytes(whole)
+
+
+@case("glb_missing_bin_chunk.glb", "BIN")
+def _():
+    g, _ = glb_scene()
+    text = pad4(json.dumps(g, separators=(",", ":")).encode(), b" ")
+    return b"glTF" + struct.pack("<II", 2, 20 + len(text)) + struct.pack("<I", len(text)) + b"JSON" + text
+
+
+VALID = {
+    "quad.gltf": lambda: to_json(scene()),
+    "quad_normals.gltf": lambda: to_json(scene(normals=True)),
+    "triangle.gltf": lambda: to_json(scene(positions=TRIANGLE_POSITIONS, indices=TRIANGLE_INDICES)),
+    "textured.gltf": lambda: to_json(textured({"uri": data_uri(TINY_PNG, "image/png")})),
+    "quad.glb": lambda: glb(*glb_scene()),
+}
+
+
+def write(path, data):
+    with open(path, "wb") as f:
+        f.write(data)
+
+
+def main():
+    # Remove outputs of earlier runs so that a renamed case leaves nothing behind.
+    for name in os.listdir(HERE):
+        if name.endswith((".gltf", ".glb")):
+            os.remove(os.path.join(HERE, name))
+    os.makedirs(VALID_DIR, exist_ok=True)
+    for name in os.listdir(VALID_DIR):
+        if name.endswith((".gltf", ".glb")):
+            os.remove(os.path.join(VALID_DIR, name))
+    lines = []
+    for name in sorted(CASES):
+        fn, expected = CASES[name]
+        assert "\t" not in expected and "\n" not in expected
+        write(os.path.join(HERE, name), fn())
+        lines.append("%s\t%s\n" % (name, expected))
+    write(os.path.join(HERE, "expected.txt"), "".join(lines).encode())
+    for name, fn in sorted(VALID.items()):
+        write(os.path.join(VALID_DIR, name), fn())
+    print("wrote %d malformed files and %d valid ones to %s" % (len(CASES), len(VALID), HERE))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,638 @@
+// glTF loader: the samples load with the expected content, auto-scale follows the
+// scene's size, loads are deterministic, and every file of the malformed corpus
+// (tests/data/malformed, written by make_corpus.py) is refused with a one-line
+// voxgi::Error that names the file and the problem.
+#include "scene/gltf_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/log.h"
+#include "support/test_paths.h"
+
+namespace voxgi::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr float kPi = 3.14159265358979f;
+
+std::string sample(const std::string& relative) {
+  return test::samplesDir() + "/" + relative;
+}
+std::string darkPlane() {
+  return test::sourceDir() + "/scenes/dark_plane/dark_plane.gltf";
+}
+std::string malformedDir() {
+  return test::testDataDir() + "/malformed";
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void writeFile(const std::string& path, const std::string& data) {
+  std::ofstream out(path, std::ios::binary);
+  out << data;
+  ASSERT_TRUE(out.good()) << path;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) |
+                       (uint32_t(uint8_t(bytes[i + 1])) << 8) | uint32_t(uint8_t(bytes[i + 2]));
+    for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
+  }
+  if (i + 1 == bytes.size()) {
+    const uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += "==";
+  } else if (i + 2 == bytes.size()) {
+    const uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += kAlphabet[(v >> 6) & 63];
+    out += '=';
+  }
+  return out;
+}
+
+// The first few lines, indented, and how many more there are.
+std::string joined(const std::vector<std::string>& lines, size_t most = 6) {
+  std::string s;
+  for (size_t i = 0; i < lines.size() && i < most; ++i) s += "\n  " + lines[i];
+  if (lines.size() > most) s += "\n  ... and " + std::to_string(lines.size() - most) + " more";
+  return s;
+}
+
+// A message as a failure shows it: at most `most` characters.
+std::string shown(const std::string& what, size_t most = 300) {
+  if (what.size() <= most) return what;
+  return what.substr(0, most) + "... (" + std::to_string(what.size()) + " characters in all)";
+}
+
+// What follows "PATH: " (the file name itself must not satisfy an expectation).
+std::string problem(const std::string& what, const std::string& path) {
+  return what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what;
+}
+
+// Sum of N over the loader's "dropped N zero-area triangles" warnings.
+size_t droppedZeroArea(const std::vector<std::string>& warnings) {
+  size_t total = 0;
+  for (const std::string& w : warnings) {
+    const size_t at = w.find("dropped ");
+    if (at == std::string::npos || w.find(" zero-area triangles", at) == std::string::npos)
+      continue;
+    total += std::stoul(w.substr(at + 8));
+  }
+  return total;
+}
+
+// Structural invariants every loaded scene keeps, whatever the file.
+void expectWellFormed(const Scene& s) {
+  for (uint32_t i : s.indices) ASSERT_LT(i, s.vertices.size());
+  size_t covered = 0;
+  for (const Draw& d : s.draws) {
+    EXPECT_EQ(d.firstIndex, covered);
+    EXPECT_EQ(d.indexCount % 3, 0u);
+    ASSERT_GE(d.material, 0);
+    ASSERT_LT(static_cast<size_t>(d.material), s.materials.size());
+    covered += d.indexCount;
+  }
+  EXPECT_EQ(covered, s.indices.size());
+  for (const Vertex& v : s.vertices) {
+    ASSERT_TRUE(std::isfinite(v.position.x) && std::isfinite(v.position.y) &&
+                std::isfinite(v.position.z));
+    ASSERT_NEAR(glm::length(v.normal), 1.0f, 1e-3f);
+  }
+  for (const Material& m : s.materials) {
+    if (m.baseColorTexture >= 0) {
+      EXPECT_LT(static_cast<size_t>(m.baseColorTexture), s.textures.size());
+    }
+  }
+  EXPECT_FALSE(s.bounds.empty());
+  EXPECT_GT(s.scale.gridSize, 0.0f);
+  EXPECT_GT(s.scale.cameraSpeed, 0.0f);
+  EXPECT_GT(s.camera.zfar, s.camera.znear);
+  EXPECT_GT(s.camera.znear, 0.0f);
+}
+
+// --- the samples -------------------------------------------------------------
+
+struct SampleCase {
+  const char* name;
+  const char* path;      // relative to samplesDir()
+  size_t fileTriangles;  // triangles in the file's index data (scenes/README.md)
+  size_t zeroArea;       // of which have zero area in world space: dropped, with a warning
+};
+
+class SampleTest : public ::testing::TestWithParam<SampleCase> {};
+
+TEST_P(SampleTest, LoadsWithExactTriangleCount) {
+  VOXGI_REQUIRE_SAMPLES();
+  const SampleCase& c = GetParam();
+  const Scene s = loadGltf(sample(c.path));
+  const size_t dropped = droppedZeroArea(s.warnings);
+  // Every triangle of the file is either kept or reported as dropped...
+  EXPECT_EQ(s.triangleCount() + dropped, c.fileTriangles)
+      << c.path << "; warnings:" << joined(s.warnings);
+  // ...and exactly the known degenerate ones are dropped.
+  EXPECT_EQ(dropped, c.zeroArea) << c.path << "; warnings:" << joined(s.warnings);
+  EXPECT_EQ(s.triangleCount(), c.fileTriangles - c.zeroArea) << c.path;
+  EXPECT_EQ(s.path, sample(c.path));
+  expectWellFormed(s);
+}
+
+// Zero-area triangles in the samples, checked against the files with an
+// independent script:
+// - cornell_box: both UV spheres (meshes 7 and 8, 8318 triangles each) have 190
+//   pole triangles with two bit-identical corners, plus pole slivers whose two
+//   pole corners differ by ~1e-8 (area ~2e-10, against a median of 1.7e-3); the
+//   nodes' translations (3.3113, -1, 0.0876) and (-3, -4, 3) round those corners
+//   together in float, which makes 20 and 64 more triangles exactly degenerate in
+//   world space: 210 + 254 = 464.
+// - metal_rough_spheres_no_textures: each of the 98 drawn sphere instances has 2
+//   triangles with two bit-identical corners (e.g. indices 2 and 74): 196.
+
+INSTANTIATE_TEST_SUITE_P(
+    Samples, SampleTest,
+    ::testing::Values(SampleCase{"cornell_room", "cornell_room/cornell_room.gltf", 32268, 0},
+                      SampleCase{"dark_plane", "dark_plane/dark_plane.gltf", 48386, 0},
+                      SampleCase{"cornell_box", "cornell_box/cornellBox.gltf", 16732, 464},
+                      SampleCase{"box", "box/Box.gltf", 12, 0},
+                      SampleCase{"duck", "duck/Duck.gltf", 4212, 0},
+                      SampleCase{"avocado", "avocado/Avocado.gltf", 682, 0},
+                      SampleCase{"metal_rough_spheres_no_textures",
+                                 "metal_rough_spheres_no_textures/MetalRoughSpheresNoTextures.gltf",
+                                 1040409, 196},
+                      SampleCase{"lights_punctual_lamp",
+                                 "lights_punctual_lamp/LightsPunctualLamp.gltf", 6000, 0},
+                      SampleCase{"emissive_strength_test",
+                                 "emissive_strength_test/EmissiveStrengthTest.gltf", 90, 0}),
+    [](const ::testing::TestParamInfo<SampleCase>& param) {
+      return std::string(param.param.name);
+    });
+
+// The shipped copy needs no samples: scenes/cornell_room.
+TEST(GltfLoaderCornellRoom, CameraFromFile) {
+  const Scene s = loadGltf(test::cornellRoom());
+  EXPECT_TRUE(s.camera.fromFile);
+  EXPECT_NEAR(s.camera.position.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(s.camera.position.y, 1.0f, 1e-5f);
+  EXPECT_NEAR(s.camera.position.z, 3.4f, 1e-5f);
+  EXPECT_NEAR(s.camera.yfov, 40.0f * kPi / 180.0f, 1e-5f);
+  EXPECT_NEAR(s.camera.forward.z, -1.0f, 1e-5f);
+  EXPECT_NEAR(s.camera.up.y, 1.0f, 1e-5f);
+}
+
+TEST(GltfLoaderCornellRoom, EmissiveStrengthApplied) {
+  const Scene s = loadGltf(test::cornellRoom());
+  int emissive = 0;
+  for (const Material& m : s.materials) {
+    if (!m.isEmissive()) continue;
+    ++emissive;
+    EXPECT_NEAR(m.emission.x, 15.0f, 1e-4f) << m.name;
+    EXPECT_NEAR(m.emission.y, 15.0f, 1e-4f) << m.name;
+    EXPECT_NEAR(m.emission.z, 15.0f, 1e-4f) << m.name;
+    EXPECT_FALSE(m.doubleSided) << m.name;
+  }
+  EXPECT_EQ(emissive, 1);
+  EXPECT_TRUE(s.hasEmission());
+}
+
+TEST(GltfLoaderCornellRoom, MirrorMaterial) {
+  const Scene s = loadGltf(test::cornellRoom());
+  const auto mirror = std::find_if(s.materials.begin(), s.materials.end(), [](const Material& m) {
+    return m.metallic == 1.0f && m.roughness == 0.0f;
+  });
+  ASSERT_NE(mirror, s.materials.end());
+  EXPECT_NEAR(mirror->baseColor.r, 0.95f, 1e-6f);
+  EXPECT_NEAR(mirror->baseColor.g, 0.95f, 1e-6f);
+  EXPECT_NEAR(mirror->baseColor.b, 0.95f, 1e-6f);
+  EXPECT_NEAR(mirror->baseColor.a, 1.0f, 1e-6f);
+}
+
+TEST(GltfLoaderCornellRoom, LitByEmissionOnly) {
+  const Scene s = loadGltf(test::cornellRoom());
+  EXPECT_TRUE(s.lights.empty());
+  EXPECT_FALSE(s.defaultLight);
+}
+
+TEST(GltfLoaderCornellRoom, Bounds) {
+  const Scene s = loadGltf(test::cornellRoom());
+  EXPECT_NEAR(s.bounds.min.x, -1.0f, 1e-4f);
+  EXPECT_NEAR(s.bounds.min.y, 0.0f, 1e-4f);
+  EXPECT_NEAR(s.bounds.min.z, -1.0f, 1e-4f);
+  EXPECT_NEAR(s.bounds.max.x, 1.0f, 1e-4f);
+  EXPECT_NEAR(s.bounds.max.y, 2.0f, 1e-4f);
+  EXPECT_NEAR(s.bounds.max.z, 1.0f, 1e-4f);
+  EXPECT_EQ(s.triangleCount(), 32268u);
+  EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+}
+
+TEST(GltfLoaderDarkPlane, SphereLightEmission) {
+  const Scene s = loadGltf(darkPlane());
+  int emissive = 0;
+  for (const Material& m : s.materials) {
+    if (!m.isEmissive()) continue;
+    ++emissive;
+    EXPECT_NEAR(m.emission.x, 100.0f, 1e-3f);
+    EXPECT_NEAR(m.emission.y, 100.0f, 1e-3f);
+    EXPECT_NEAR(m.emission.z, 100.0f, 1e-3f);
+  }
+  EXPECT_EQ(emissive, 1);
+  EXPECT_TRUE(s.lights.empty());
+  EXPECT_FALSE(s.defaultLight);
+  EXPECT_EQ(s.triangleCount(), 48386u);
+}
+
+TEST(GltfLoaderSamples, UnlitBoxGetsDefaultDirectionalLight) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene s = loadGltf(sample("box/Box.gltf"));
+  EXPECT_FALSE(s.hasEmission());
+  for (const Material& m : s.materials) EXPECT_FALSE(m.isEmissive()) << m.name;
+  EXPECT_TRUE(s.defaultLight);
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].type, LightType::kDirectional);
+  EXPECT_FALSE(s.camera.fromFile);
+}
+
+TEST(GltfLoaderSamples, DefaultLightCanBeTurnedOff) {
+  VOXGI_REQUIRE_SAMPLES();
+  LoadOptions options;
+  options.addDefaultLight = false;
+  const Scene s = loadGltf(sample("box/Box.gltf"), options);
+  EXPECT_TRUE(s.lights.empty());
+  EXPECT_FALSE(s.defaultLight);
+}
+
+TEST(GltfLoaderSamples, PunctualLightsFromExtension) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene s = loadGltf(sample("lights_punctual_lamp/LightsPunctualLamp.gltf"));
+  EXPECT_FALSE(s.defaultLight);
+  ASSERT_EQ(s.lights.size(), 5u);  // five point lights in KHR_lights_punctual
+  for (const Light& l : s.lights) {
+    EXPECT_EQ(l.type, LightType::kPoint) << l.name;
+    EXPECT_GT(l.intensity, 0.0f) << l.name;
+  }
+  const auto point = std::find_if(s.lights.begin(), s.lights.end(),
+                                  [](const Light& l) { return l.name == "Point"; });
+  ASSERT_NE(point, s.lights.end());
+  EXPECT_FLOAT_EQ(point->intensity, 15.0f);
+  EXPECT_NEAR(point->color.r, 1.0f, 1e-6f);
+  EXPECT_NEAR(point->color.g, 0.631875f, 1e-5f);
+  EXPECT_NEAR(point->color.b, 0.2390998f, 1e-5f);
+  // The node's translation column.
+  EXPECT_NEAR(point->position.x, 0.0462236f, 1e-5f);
+  EXPECT_NEAR(point->position.y, 0.9077973f, 1e-5f);
+  EXPECT_NEAR(point->position.z, 0.0066966f, 1e-5f);
+}
+
+TEST(GltfLoaderSamples, EmissiveStrengthMultipliesEmissiveFactor) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene s = loadGltf(sample("emissive_strength_test/EmissiveStrengthTest.gltf"));
+  const std::map<std::string, float> strength = {
+      {"Emit1", 1.0f}, {"Emit2", 2.0f}, {"Emit4", 4.0f}, {"Emit8", 8.0f}, {"Emit16", 16.0f}};
+  int found = 0;
+  for (const Material& m : s.materials) {
+    auto it = strength.find(m.name);
+    if (it == strength.end()) continue;
+    ++found;
+    EXPECT_NEAR(m.emission.x, 0.1f * it->second, 1e-5f * it->second) << m.name;
+    EXPECT_NEAR(m.emission.y, 0.5f * it->second, 1e-5f * it->second) << m.name;
+    EXPECT_NEAR(m.emission.z, 0.9f * it->second, 1e-5f * it->second) << m.name;
+  }
+  EXPECT_EQ(found, 5);
+}
+
+class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene s = loadGltf(sample(GetParam()));
+  ASSERT_EQ(s.textures.size(), 1u);
+  const Texture& t = s.textures[0];
+  EXPECT_GT(t.width, 0);
+  EXPECT_GT(t.height, 0);
+  EXPECT_EQ(t.rgba8.size(), static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 4);
+  const bool used = std::any_of(s.materials.begin(), s.materials.end(),
+                                [](const Material& m) { return m.baseColorTexture == 0; });
+  EXPECT_TRUE(used);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Samples, TexturedSampleTest, ::testing::Values("duck/Duck.gltf", "avocado/Avocado.gltf"),
+    [](const ::testing::TestParamInfo<const char*>& param) {
+      return std::string(param.param).substr(0, std::string(param.param).find('/'));
+    });
+
+TEST(GltfLoaderSamples, TextureLimitRefusesLargerImages) {
+  VOXGI_REQUIRE_SAMPLES();
+  LoadOptions options;
+  options.maxTextureSize = 8;
+  const std::string path = sample("duck/Duck.gltf");
+  try {
+    loadGltf(path, options);
+    FAIL() << "a texture larger than maxTextureSize was accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
+    EXPECT_NE(problem(what, path).find("exceeds"), std::string::npos) << what;
+  }
+}
+
+// --- auto-scale ----------------------------------------------------------------
+
+// Box.gltf with its buffer embedded as a data: URI, under a new root node with the
+// given uniform scale. Written to a scratch directory; returns the path.
+std::string writeScaledBox(double scale) {
+  const std::string source = sample("box/Box.gltf");
+  nlohmann::json g = nlohmann::json::parse(readFile(source));
+  for (auto& buffer : g["buffers"]) {
+    const std::string bin = readFile(sample("box/" + buffer["uri"].get<std::string>()));
+    EXPECT_EQ(bin.size(), buffer["byteLength"].get<size_t>());
+    buffer["uri"] = "data:application/octet-stream;base64," + base64(bin);
+  }
+  const size_t scene = g.value("scene", size_t{0});
+  const size_t root = g["nodes"].size();
+  g["nodes"].push_back(
+      {{"scale", {scale, scale, scale}}, {"children", g["scenes"][scene]["nodes"]}});
+  g["scenes"][scene]["nodes"] = nlohmann::json::array({root});
+  const std::string path = test::scratchDir() + "/box_scaled.gltf";
+  writeFile(path, g.dump(1));
+  return path;
+}
+
+void expectRelative(float actual, float expected, float tolerance, const char* what) {
+  EXPECT_LE(std::abs(actual - expected), tolerance * std::abs(expected))
+      << what << ": " << actual << " vs " << expected;
+}
+
+TEST(GltfLoaderAutoScale, EmbeddedCopyMatchesOriginal) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene original = loadGltf(sample("box/Box.gltf"));
+  const Scene copy = loadGltf(writeScaledBox(1.0));
+  ASSERT_EQ(copy.triangleCount(), original.triangleCount());
+  expectRelative(copy.scale.cameraSpeed, original.scale.cameraSpeed, 1e-6f, "cameraSpeed");
+  expectRelative(copy.scale.gridSize, original.scale.gridSize, 1e-6f, "gridSize");
+}
+
+TEST(GltfLoaderAutoScale, ScalesWithTheScene) {
+  VOXGI_REQUIRE_SAMPLES();
+  const Scene box = loadGltf(sample("box/Box.gltf"));
+  const Scene big = loadGltf(writeScaledBox(1000.0));
+  ASSERT_EQ(big.triangleCount(), box.triangleCount());
+  expectRelative(big.scale.cameraSpeed, 1000.0f * box.scale.cameraSpeed, 1e-4f, "cameraSpeed");
+  expectRelative(big.scale.gridSize, 1000.0f * box.scale.gridSize, 1e-4f, "gridSize");
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(big.scale.gridOrigin[k], 1000.0f * box.scale.gridOrigin[k],
+                1e-4f * big.scale.gridSize);
+    EXPECT_NEAR(big.bounds.min[k], 1000.0f * box.bounds.min[k], 1e-4f * big.scale.gridSize);
+    EXPECT_NEAR(big.bounds.max[k], 1000.0f * box.bounds.max[k], 1e-4f * big.scale.gridSize);
+    EXPECT_NEAR(big.camera.position[k], 1000.0f * box.camera.position[k],
+                1e-4f * big.scale.gridSize);
+  }
+  expectRelative(big.camera.znear, 1000.0f * box.camera.znear, 1e-4f, "znear");
+  expectRelative(big.camera.zfar, 1000.0f * box.camera.zfar, 1e-4f, "zfar");
+}
+
+// --- determinism -----------------------------------------------------------------
+
+void expectSameScene(const Scene& a, const Scene& b) {
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
+  ASSERT_EQ(a.indices.size(), b.indices.size());
+  static_assert(sizeof(Vertex) == 8 * sizeof(float), "Vertex has padding; compare fields instead");
+  EXPECT_EQ(std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)),
+            0);
+  EXPECT_EQ(a.indices, b.indices);
+  ASSERT_EQ(a.draws.size(), b.draws.size());
+  for (size_t i = 0; i < a.draws.size(); ++i) {
+    EXPECT_EQ(a.draws[i].firstIndex, b.draws[i].firstIndex);
+    EXPECT_EQ(a.draws[i].indexCount, b.draws[i].indexCount);
+    EXPECT_EQ(a.draws[i].material, b.draws[i].material);
+    EXPECT_EQ(a.draws[i].node, b.draws[i].node);
+  }
+  ASSERT_EQ(a.textures.size(), b.textures.size());
+  for (size_t i = 0; i < a.textures.size(); ++i)
+    EXPECT_EQ(a.textures[i].rgba8, b.textures[i].rgba8);
+}
+
+TEST(GltfLoaderDeterminism, CornellRoomTwice) {
+  expectSameScene(loadGltf(test::cornellRoom()), loadGltf(test::cornellRoom()));
+}
+
+TEST(GltfLoaderDeterminism, DuckTwice) {
+  VOXGI_REQUIRE_SAMPLES();
+  expectSameScene(loadGltf(sample("duck/Duck.gltf")), loadGltf(sample("duck/Duck.gltf")));
+}
+
+// --- paths that are not glTF files ----------------------------------------------------
+
+// Loads `path`, which must fail; returns what() (empty after a failure is recorded).
+std::string loadError(const std::string& path) {
+  try {
+    loadGltf(path);
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << path << ": threw a non-voxgi exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << path << ": loaded without an error";
+  return "";
+}
+
+void expectOneLineNamingFile(const std::string& what, const std::string& path) {
+  EXPECT_EQ(what.find('\n'), std::string::npos) << shown(what);
+  EXPECT_EQ(what.find('\r'), std::string::npos) << shown(what);
+  EXPECT_EQ(what.rfind(path + ": ", 0), 0u)
+      << "does not start with '" << path << ": ': " << shown(what);
+  EXPECT_GT(what.size(), path.size() + 2) << "no problem named: " << what;
+}
+
+TEST(GltfLoaderPaths, MissingFile) {
+  const std::string path = test::scratchDir() + "/does_not_exist.gltf";
+  const std::string what = loadError(path);
+  expectOneLineNamingFile(what, path);
+  EXPECT_NE(problem(what, path).find("no such file"), std::string::npos) << what;
+}
+
+TEST(GltfLoaderPaths, Directory) {
+  const std::string dir = test::scratchDir();
+  expectOneLineNamingFile(loadError(dir), dir);
+  // Even when the directory is named like a glTF file.
+  const std::string named = dir + "/folder.gltf";
+  fs::create_directories(named);
+  const std::string what = loadError(named);
+  expectOneLineNamingFile(what, named);
+  EXPECT_NE(problem(what, named).find("directory"), std::string::npos) << what;
+}
+
+TEST(GltfLoaderPaths, UnknownExtension) {
+  const std::string path = test::scratchDir() + "/scene.obj";
+  writeFile(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string what = loadError(path);
+  expectOneLineNamingFile(what, path);
+  EXPECT_NE(problem(what, path).find(".obj"), std::string::npos) << what;
+}
+
+// --- the malformed corpus --------------------------------------------------------
+
+bool isGltfName(const fs::path& p) {
+  return p.extension() == ".gltf" || p.extension() == ".glb";
+}
+
+std::vector<std::string> corpusFiles() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(malformedDir(), ec))
+    if (entry.is_regular_file() && isGltfName(entry.path()))
+      names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// expected.txt: "filename<TAB>expected substring" per line.
+std::map<std::string, std::string> expectedMessages() {
+  std::map<std::string, std::string> out;
+  std::istringstream in(readFile(malformedDir() + "/expected.txt"));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const size_t tab = line.find('\t');
+    EXPECT_NE(tab, std::string::npos) << "expected.txt: no tab in '" << line << "'";
+    if (tab == std::string::npos) continue;
+    const std::string name = line.substr(0, tab);
+    EXPECT_EQ(out.count(name), 0u) << "expected.txt lists " << name << " twice";
+    out[name] = line.substr(tab + 1);
+    EXPECT_FALSE(out[name].empty()) << "expected.txt: empty expectation for " << name;
+  }
+  return out;
+}
+
+TEST(GltfLoaderCorpus, EveryFileListedAndEveryListingPresent) {
+  const std::vector<std::string> files = corpusFiles();
+  const std::map<std::string, std::string> expected = expectedMessages();
+  EXPECT_GE(files.size(), 20u);
+  for (const auto& f : files)
+    EXPECT_EQ(expected.count(f), 1u) << f << " is not listed in expected.txt";
+  for (const auto& [name, substring] : expected)
+    EXPECT_TRUE(std::find(files.begin(), files.end(), name) != files.end())
+        << "expected.txt lists " << name << ", which is not in " << malformedDir();
+}
+
+// The scenes the corpus files are edited from load cleanly, so each file's defect is
+// what gets it refused.
+TEST(GltfLoaderCorpus, ValidBaseScenesLoad) {
+  const std::string dir = malformedDir() + "/valid";
+  const std::map<std::string, size_t> triangles = {{"quad.gltf", 2},
+                                                   {"quad_normals.gltf", 2},
+                                                   {"triangle.gltf", 1},
+                                                   {"textured.gltf", 2},
+                                                   {"quad.glb", 2}};
+  for (const auto& [name, count] : triangles) {
+    SCOPED_TRACE(name);
+    const Scene s = loadGltf(dir + "/" + name);
+    EXPECT_EQ(s.triangleCount(), count);
+    EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+    expectWellFormed(s);
+    if (name == "textured.gltf") {
+      ASSERT_EQ(s.textures.size(), 1u);
+      EXPECT_EQ(s.textures[0].width, 2);
+      EXPECT_EQ(s.textures[0].height, 2);
+      ASSERT_EQ(s.textures[0].rgba8.size(), 16u);
+      EXPECT_EQ(s.textures[0].rgba8[0], 255);  // red first pixel
+      EXPECT_EQ(s.textures[0].rgba8[1], 0);
+    }
+  }
+}
+
+// Loads `path` in a forked child (stderr to /dev/null, killed after 30 s) and
+// returns how it ended: "" when it returned or threw voxgi::Error, else what
+// went wrong ("killed by signal 11"). A plain fork, not a gtest death test:
+// "threadsafe" death tests re-execute the whole binary for every file.
+std::string crashInChild(const std::string& path) {
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) return "";  // no child to be had: skip the guard
+  if (pid == 0) {
+    alarm(30);
+    const int devNull = open("/dev/null", O_WRONLY);
+    if (devNull >= 0) dup2(devNull, 2);
+    try {
+      loadGltf(path);
+    } catch (const Error&) {
+    } catch (...) {
+      std::_Exit(3);
+    }
+    std::_Exit(0);
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return "waitpid failed";
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    return "killed by signal " + std::to_string(sig) + " (" + strsignal(sig) + ")";
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 3)
+    return "threw something other than voxgi::Error";
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    return "exited with status " + std::to_string(status);
+  return "";
+}
+
+class MalformedTest : public ::testing::TestWithParam<std::string> {};
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(MalformedTest);
+
+TEST_P(MalformedTest, RefusedWithOneLineNamingFileAndProblem) {
+  const std::string name = GetParam();
+  const std::map<std::string, std::string> expected = expectedMessages();
+  const auto it = expected.find(name);
+  ASSERT_NE(it, expected.end()) << name << " is not listed in expected.txt";
+  const std::string path = malformedDir() + "/" + name;
+  // First in a child, so that a file that crashes the loader fails this test
+  // instead of taking the whole run down.
+  const std::string crash = crashInChild(path);
+  ASSERT_EQ(crash, "") << path << ": the loader crashed instead of throwing voxgi::Error";
+  const std::string what = loadError(path);
+  if (what.empty()) return;  // failure already recorded
+  expectOneLineNamingFile(what, path);
+  EXPECT_NE(problem(what, path).find(it->second), std::string::npos)
+      << "expected the message to contain '" << it->second << "'\n  got: " << shown(what);
+  // One line a person can read: no data: URIs or other blobs pasted in.
+  EXPECT_LE(what.size(), path.size() + 400) << shown(what);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, MalformedTest, ::testing::ValuesIn(corpusFiles()),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           std::string n = param.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace voxgi::scene
