@@ -275,25 +275,32 @@ class Loader {
           fail(strf("scene %zu: node %d does not exist", s, r));
   }
 
-  glm::mat4 localMatrix(const tinygltf::Node& node, int index) const {
-    glm::mat4 m(1.0f);
+  // Transforms are composed in double precision: a scene placed 10^4 units from
+  // the origin keeps its detail (positions are stored relative to Scene::origin).
+  glm::dmat4 localMatrix(const tinygltf::Node& node, int index) const {
+    glm::dmat4 m(1.0);
+    auto checked = [&](const std::vector<double>& v, const std::string& what) {
+      for (double x : v) toFloat(x, what);  // refuses NaN, Inf and beyond-float values
+      return glm::dvec3(v[0], v[1], v[2]);
+    };
     if (!node.matrix.empty()) {
       if (node.matrix.size() != 16) fail(strf("node %d: matrix must have 16 numbers", index));
-      for (int i = 0; i < 16; ++i)
-        glm::value_ptr(m)[i] =
-            toFloat(node.matrix[static_cast<size_t>(i)], strf("node %d: matrix", index));
+      for (int i = 0; i < 16; ++i) {
+        toFloat(node.matrix[static_cast<size_t>(i)], strf("node %d: matrix", index));
+        glm::value_ptr(m)[i] = node.matrix[static_cast<size_t>(i)];
+      }
     } else {
       if (node.translation.size() == 3)
-        m = glm::translate(m, toVec3(node.translation, strf("node %d: translation", index)));
+        m = glm::translate(m, checked(node.translation, strf("node %d: translation", index)));
       if (node.rotation.size() == 4) {
         const std::string what = strf("node %d: rotation", index);
-        glm::quat q(toFloat(node.rotation[3], what), toFloat(node.rotation[0], what),
-                    toFloat(node.rotation[1], what), toFloat(node.rotation[2], what));
-        if (!(glm::length(q) > 0.0f)) fail(what + ": zero quaternion");
+        for (double x : node.rotation) toFloat(x, what);
+        glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+        if (!(glm::length(q) > 0.0)) fail(what + ": zero quaternion");
         m = m * glm::mat4_cast(glm::normalize(q));
       }
       if (node.scale.size() == 3)
-        m = glm::scale(m, toVec3(node.scale, strf("node %d: scale", index)));
+        m = glm::scale(m, checked(node.scale, strf("node %d: scale", index)));
     }
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
@@ -450,9 +457,9 @@ class Loader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!child[i]) roots.push_back(static_cast<int>(i));
     }
-    std::function<void(int, const glm::mat4&)> visit = [&](int index, const glm::mat4& parent) {
+    std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
       const auto& node = model_.nodes[static_cast<size_t>(index)];
-      const glm::mat4 world = parent * localMatrix(node, index);
+      const glm::dmat4 world = parent * localMatrix(node, index);
       if (node.mesh != -1) {
         if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= model_.meshes.size())
           fail(strf("node %d: mesh %d does not exist", index, node.mesh));
@@ -464,10 +471,32 @@ class Loader {
         addLight(le->second.Get("light").GetNumberAsInt(), index, world);
       for (int c : node.children) visit(c, world);
     };
-    for (int r : roots) visit(r, glm::mat4(1.0f));
+    for (int r : roots) visit(r, glm::dmat4(1.0));
+    applyOrigin();
   }
 
-  void addCamera(int index, int node, const glm::mat4& world) {
+  // Moves everything to be relative to the centre of the geometry's bounds
+  // (computed in double), then stores it in float.
+  void applyOrigin() {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const glm::dvec3& p : world_) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const glm::dvec3 origin = world_.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
+    scene_.origin = origin;
+    for (size_t i = 0; i < world_.size(); ++i) {
+      const glm::dvec3 rel = world_[i] - origin;
+      scene_.vertices[i].position = glm::vec3(rel);
+      if (!finite(scene_.vertices[i].position))
+        fail(strf("vertex %zu lies beyond the float range after its node transforms", i));
+    }
+    scene_.camera.position = glm::vec3(cameraWorld_ - origin);
+    for (size_t i = 0; i < scene_.lights.size(); ++i)
+      scene_.lights[i].position = glm::vec3(lightWorld_[i] - origin);
+  }
+
+  void addCamera(int index, int node, const glm::dmat4& world) {
     if (index < 0 || static_cast<size_t>(index) >= model_.cameras.size())
       fail(strf("node %d: camera %d does not exist", node, index));
     if (scene_.camera.fromFile) return;  // the first camera wins
@@ -477,9 +506,9 @@ class Loader {
       return;
     }
     Camera cam;
-    cam.position = glm::vec3(world[3]);
-    cam.forward = glm::normalize(-glm::vec3(world[2]));
-    cam.up = glm::normalize(glm::vec3(world[1]));
+    cameraWorld_ = glm::dvec3(world[3]);
+    cam.forward = glm::vec3(glm::normalize(-glm::dvec3(world[2])));
+    cam.up = glm::vec3(glm::normalize(glm::dvec3(world[1])));
     cam.yfov = toFloat(c.perspective.yfov, strf("camera %d: yfov", index));
     if (!finite(cam.forward) || !finite(cam.up) || !(cam.yfov > 1e-4f && cam.yfov < 3.1f))
       fail(strf("camera %d: degenerate transform or yfov", index));
@@ -487,7 +516,7 @@ class Loader {
     scene_.camera = cam;
   }
 
-  void addLight(int index, int node, const glm::mat4& world) {
+  void addLight(int index, int node, const glm::dmat4& world) {
     if (index < 0 || static_cast<size_t>(index) >= model_.lights.size())
       fail(strf("node %d: light %d does not exist", node, index));
     const auto& l = model_.lights[static_cast<size_t>(index)];
@@ -505,8 +534,8 @@ class Loader {
     if (l.color.size() == 3) light.color = toVec3(l.color, what + ": color");
     light.intensity = toFloat(l.intensity, what + ": intensity");
     light.range = toFloat(l.range, what + ": range");
-    light.position = glm::vec3(world[3]);
-    light.direction = glm::normalize(-glm::vec3(world[2]));
+    lightWorld_.push_back(glm::dvec3(world[3]));
+    light.direction = glm::vec3(glm::normalize(-glm::dvec3(world[2])));
     light.innerConeAngle = toFloat(l.spot.innerConeAngle, what + ": innerConeAngle");
     light.outerConeAngle = toFloat(l.spot.outerConeAngle, what + ": outerConeAngle");
     if (!finite(light.color) || !std::isfinite(light.intensity) || !finite(light.direction))
@@ -516,10 +545,10 @@ class Loader {
     scene_.lights.push_back(light);
   }
 
-  void addMesh(int meshIndex, int nodeIndex, const glm::mat4& world) {
+  void addMesh(int meshIndex, int nodeIndex, const glm::dmat4& world) {
     const auto& mesh = model_.meshes[static_cast<size_t>(meshIndex)];
-    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
-    const bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
+    const glm::mat3 normalMatrix = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(world))));
+    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
     for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
       const auto& prim = mesh.primitives[pi];
       const std::string where = strf("mesh %d primitive %zu", meshIndex, pi);
@@ -594,14 +623,15 @@ class Loader {
       idx.resize(idx.size() / 3 * 3);
       const size_t base = scene_.vertices.size();
       scene_.vertices.resize(base + p.count);
+      world_.resize(base + p.count);
       for (size_t i = 0; i < p.count; ++i) {
         Vertex& v = scene_.vertices[base + i];
         glm::vec3 lp(readComponent(p.data + i * p.stride, p.componentType, false),
                      readComponent(p.data + i * p.stride + 4, p.componentType, false),
                      readComponent(p.data + i * p.stride + 8, p.componentType, false));
         if (!finite(lp)) fail(strf("%s: vertex %zu has a NaN or Inf position", where.c_str(), i));
-        v.position = glm::vec3(world * glm::vec4(lp, 1.0f));
-        if (!finite(v.position))
+        world_[base + i] = glm::dvec3(world * glm::dvec4(glm::dvec3(lp), 1.0));
+        if (!finite(glm::vec3(world_[base + i])))
           fail(strf("%s: vertex %zu overflows after the node transform", where.c_str(), i));
         v.normal = glm::vec3(0.0f);
         if (hasNormals) {
@@ -624,15 +654,14 @@ class Loader {
       // with the area-weighted average of the faces around the vertex.
       std::vector<uint32_t> kept;
       kept.reserve(idx.size());
-      std::vector<glm::vec3> faceSum(p.count, glm::vec3(0.0f));
+      std::vector<glm::dvec3> faceSum(p.count, glm::dvec3(0.0));
       size_t degenerate = 0;
       for (size_t i = 0; i < idx.size(); i += 3) {
         uint32_t a = idx[i], b = idx[i + 1], c = idx[i + 2];
         if (mirrored) std::swap(b, c);
-        const glm::vec3 e =
-            glm::cross(scene_.vertices[base + b].position - scene_.vertices[base + a].position,
-                       scene_.vertices[base + c].position - scene_.vertices[base + a].position);
-        if (!(glm::dot(e, e) > 0.0f) || !finite(e)) {
+        const glm::dvec3 e =
+            glm::cross(world_[base + b] - world_[base + a], world_[base + c] - world_[base + a]);
+        if (!(glm::dot(e, e) > 0.0) || !std::isfinite(glm::dot(e, e))) {
           ++degenerate;
           continue;
         }
@@ -648,9 +677,9 @@ class Loader {
           v.normal = glm::normalize(v.normal);
         } else {
           if (hasNormals) ++repaired;
-          const float f2 = glm::dot(faceSum[i], faceSum[i]);
-          v.normal =
-              f2 > 0.0f && std::isfinite(f2) ? glm::normalize(faceSum[i]) : glm::vec3(0, 1, 0);
+          const double f2 = glm::dot(faceSum[i], faceSum[i]);
+          v.normal = f2 > 0.0 && std::isfinite(f2) ? glm::vec3(glm::normalize(faceSum[i]))
+                                                   : glm::vec3(0, 1, 0);
         }
       }
       if (repaired) warn_(strf("%s: repaired %zu zero or NaN normals", where.c_str(), repaired));
@@ -678,6 +707,9 @@ class Loader {
   Scene scene_;
   int defaultMaterial_ = 0;
   std::map<int, int> textureMap_;
+  std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
+  glm::dvec3 cameraWorld_{0.0};
+  std::vector<glm::dvec3> lightWorld_;
 };
 
 }  // namespace

@@ -102,6 +102,10 @@ struct AutoScale {
 
 struct Scene {
   std::string path;
+  // Positions (vertices, camera, lights) are relative to `origin`, the centre of the
+  // file's geometry in its own world frame, composed in double precision: a scene
+  // far from its file's origin keeps its float precision.
+  glm::dvec3 origin{0.0};
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;
   std::vector<Draw> draws;
