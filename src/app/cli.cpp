@@ -73,6 +73,9 @@ std::string renderHelp() {
          "                    replaced only once the new one is complete.\n"
          "  --stats FILE      write timings and scene facts as JSON\n"
          "  --frames N        frames to render; timings are medians (default 1)\n"
+         "  --voxels N        voxel grid resolution, N^3 voxels, 32..512 (default 128);\n"
+         "                    used by modes that voxelize (points)\n"
+         "  --revoxelize      voxelize every frame instead of once per scene\n"
          "  --backend B       egl (default; surfaceless Mesa or an NVIDIA device), osmesa,\n"
          "                    or glfw (a hidden window; needs a display)\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
@@ -132,6 +135,10 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       auto backend = gl::parseBackend(b);
       if (!backend) throw UsageError("--backend: unknown backend '" + b + "' (egl, osmesa, glfw)");
       o.backend = *backend;
+    } else if (a == "--voxels") {
+      o.render.voxels = parseInt("--voxels", value(), 32, 512);
+    } else if (a == "--revoxelize") {
+      o.render.revoxelize = true;
     } else if (a == "--exposure") {
       o.render.tonemap.exposure = parseFloat("--exposure", value());
     } else if (a == "--tonemap") {

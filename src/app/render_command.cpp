@@ -116,6 +116,17 @@ int runRender(const RenderOptions& o) {
   stats["default_light"] = scene.defaultLight;
   stats["scene_warnings"] = scene.warnings;
   stats["gpu_scene_bytes"] = gs.bytes();
+  if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
+    const voxel::VoxelGridStats& vs = grid->stats();
+    stats["voxels"] = {{"resolution", vs.resolution},
+                       {"count", vs.occupied},
+                       {"checksum", strf("%016llx", static_cast<unsigned long long>(vs.checksum))},
+                       {"bytes", vs.bytes},
+                       {"peak_bytes", vs.peakBytes},
+                       {"revoxelize", o.render.revoxelize}};
+    // Voxelized once (in the untimed warm-up frame): report that run's time.
+    if (!stages.contains("voxelize")) stats["stages"]["voxelize"] = renderer.lastVoxelizeMs();
+  }
   stats["gl_errors"] = glErrors;
   if (!o.stats.empty()) image::writeText(o.stats, stats.dump(2) + "\n");
 
@@ -129,6 +140,15 @@ int runRender(const RenderOptions& o) {
     std::printf("  %-10s %10s\n", "stage", "gpu ms");
     for (const std::string& name : stageOrder)
       std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
+    if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
+      const voxel::VoxelGridStats& vs = grid->stats();
+      if (!stageMs.count("voxelize"))
+        std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
+                    "voxelize", renderer.lastVoxelizeMs());
+      std::printf("  voxels %d^3: %u occupied, %.1f MiB resident, %.1f MiB while voxelizing\n",
+                  vs.resolution, vs.occupied, static_cast<double>(vs.bytes) / (1 << 20),
+                  static_cast<double>(vs.peakBytes) / (1 << 20));
+    }
     std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
                 o.frames);
     std::printf("  load %.1f ms, start-up %.1f ms\n", loadMs, startupMs);

@@ -1,49 +1,11 @@
-// The scene uploaded once: vertex/index buffers and a vertex array, material,
-// light and emitter SSBOs, base-colour textures (sRGB, mipmapped).
+// The uploaded scene lives in scene/ (voxel/ reads it too); the name stays here.
 #ifndef VOXGI_RENDER_GPU_SCENE_H
 #define VOXGI_RENDER_GPU_SCENE_H
 
-#include <vector>
-
-#include "gl/handles.h"
-#include "scene/emitters.h"
-#include "scene/scene.h"
-#include "scene_shared.h"
+#include "scene/gpu_scene.h"
 
 namespace voxgi::render {
-
-class GpuScene {
- public:
-  explicit GpuScene(const scene::Scene& scene);
-
-  const scene::Scene& scene() const { return scene_; }
-  GLuint vertexArray() const { return vao_.id(); }
-  GLuint materials() const { return materials_.id(); }
-  GLuint lights() const { return lights_.id(); }
-  GLuint emitters() const { return emitters_.id(); }
-  int lightCount() const { return lightCount_; }
-  int emitterCount() const { return emitterCount_; }
-  // 0 when the material has no texture.
-  GLuint texture(int index) const {
-    return index >= 0 ? textures_[static_cast<size_t>(index)].id() : 0;
-  }
-  GLuint sampler() const { return sampler_.id(); }
-  size_t bytes() const { return bytes_; }
-
-  static std::vector<gpu::GpuMaterial> packMaterials(const scene::Scene& s);
-  static std::vector<gpu::GpuLight> packLights(const scene::Scene& s);
-  static std::vector<gpu::GpuEmitter> packEmitters(const std::vector<scene::Emitter>& e);
-
- private:
-  const scene::Scene& scene_;
-  gl::Buffer vertices_, indices_, materials_, lights_, emitters_;
-  gl::VertexArray vao_;
-  std::vector<gl::Texture> textures_;
-  gl::Sampler sampler_;
-  int lightCount_ = 0, emitterCount_ = 0;
-  size_t bytes_ = 0;
-};
-
+using GpuScene = scene::GpuScene;
 }  // namespace voxgi::render
 
 #endif  // VOXGI_RENDER_GPU_SCENE_H

@@ -10,6 +10,7 @@ namespace voxgi::render {
 
 std::optional<Mode> parseMode(const std::string& name) {
   if (name == "raster") return Mode::kRaster;
+  if (name == "points") return Mode::kPoints;
   return std::nullopt;
 }
 
@@ -17,12 +18,18 @@ const char* modeName(Mode m) {
   switch (m) {
     case Mode::kRaster:
       return "raster";
+    case Mode::kPoints:
+      return "points";
   }
   return "?";
 }
 
+bool modeUsesVoxels(Mode m) {
+  return m == Mode::kPoints;
+}
+
 std::string availableModes() {
-  return "raster";
+  return "raster, points";
 }
 
 void checkImageSize(int width, int height) {
@@ -51,9 +58,19 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
       scene_(scene),
       settings_(settings),
       gpuScene_(scene),
-      raster_(programs, {}),
       tonemap_(programs, settings.tonemap) {
   checkImageSize(settings.width, settings.height);
+  if (settings.mode == Mode::kRaster)
+    raster_ = std::make_unique<RasterPass>(programs, RasterPass::Settings{});
+  if (modeUsesVoxels(settings.mode)) {
+    const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    voxel::VoxelizePass::Settings vs;
+    vs.resolution = settings.voxels;
+    vs.keepSums = settings.revoxelize;
+    voxelize_ = std::make_unique<voxel::VoxelizePass>(programs, r ? r : "", vs);
+  }
+  if (settings.mode == Mode::kPoints)
+    points_ = std::make_unique<PointsPass>(programs, PointsPass::Settings{});
   const int w = settings.width, h = settings.height;
   hdr_ = gl::createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(hdr_.id(), 1, GL_RGBA32F, w, h);
@@ -89,15 +106,27 @@ void Renderer::renderFrame() {
   glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
 
   FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  const bool voxelizing = voxelize_ && (!voxelized_ || settings_.revoxelize);
+  if (voxelizing) {
+    voxelize_->execute(ctx, gpuScene_);
+    if (points_) points_->update(ctx, *voxelize_);
+    voxelized_ = true;
+  }
   switch (settings_.mode) {
     case Mode::kRaster:
-      raster_.execute(ctx, gpuScene_, hdrFbo_.id());
+      raster_->execute(ctx, gpuScene_, hdrFbo_.id());
+      break;
+    case Mode::kPoints:
+      points_->execute(ctx, *voxelize_, hdrFbo_.id());
       break;
   }
   tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   stages_ = timer_.resolve();
+  if (voxelizing)
+    for (const gl::StageTime& t : stages_)
+      if (t.name == "voxelize") lastVoxelizeMs_ = t.gpuMs;
 }
 
 namespace {

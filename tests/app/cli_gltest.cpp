@@ -71,6 +71,33 @@ TEST(Cli, AbsurdSizeIsRefused) {
   EXPECT_TRUE(fs::is_empty(dir));  // no partial or temporary file either
 }
 
+TEST(Cli, VoxelGridBeyondMemoryIsRefused) {
+  const std::string dir = scratchDir();
+  expectOneLineError(
+      runCommand("env VOXGI_VOXEL_BUDGET_MB=8 " +
+                 voxgi("render --mode points --voxels 128 --size 8x8 --out " + dir + "/p.png")),
+      1, "--voxels 128");
+  expectOneLineError(runCommand(voxgi("render --mode points --voxels 1024")), 2, "--voxels");
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(Cli, PointsModeReportsVoxels) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(
+      voxgi("render --mode points --voxels 32 --size 32x32 --frames 2 --revoxelize --stats " + dir +
+            "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats["voxels"]["resolution"], 32);
+  EXPECT_GT(stats["voxels"]["count"].get<int>(), 1000);
+  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * 16);
+  EXPECT_EQ(stats["voxels"]["checksum"].get<std::string>().size(), 16u);
+  EXPECT_TRUE(stats["stages"].contains("voxelize"));
+  EXPECT_TRUE(stats["stages"].contains("points"));
+  EXPECT_FALSE(stats["stages"].contains("raster"));
+}
+
 TEST(Cli, UnwritableOutputsAreRefusedBeforeRendering) {
   const std::string dir = scratchDir();
   expectOneLineError(runCommand(voxgi("render --size 8x8 --out " + dir + "/no/such/dir/x.png")), 1,

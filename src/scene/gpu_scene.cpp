@@ -1,32 +1,32 @@
-#include "render/gpu_scene.h"
+#include "scene/gpu_scene.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace voxgi::render {
+namespace voxgi::scene {
 
-std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const scene::Scene& s) {
+std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
   std::vector<gpu::GpuMaterial> out;
-  for (const scene::Material& m : s.materials) {
+  for (const Material& m : s.materials) {
     gpu::GpuMaterial g{};
     g.baseColor = m.baseColor;
     g.emission = glm::vec4(m.emission, 0.0f);
     g.params = glm::vec4(m.metallic, m.roughness, m.alphaCutoff, 0.0f);
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
-              (m.alphaMode == scene::AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u);
+              (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u);
     out.push_back(g);
   }
   return out;
 }
 
-std::vector<gpu::GpuLight> GpuScene::packLights(const scene::Scene& s) {
+std::vector<gpu::GpuLight> GpuScene::packLights(const Scene& s) {
   std::vector<gpu::GpuLight> out;
-  for (const scene::Light& l : s.lights) {
+  for (const Light& l : s.lights) {
     gpu::GpuLight g{};
-    const uint32_t type = l.type == scene::LightType::kDirectional ? gpu::kLightDirectional
-                          : l.type == scene::LightType::kPoint     ? gpu::kLightPoint
-                                                                   : gpu::kLightSpot;
+    const uint32_t type = l.type == LightType::kDirectional ? gpu::kLightDirectional
+                          : l.type == LightType::kPoint     ? gpu::kLightPoint
+                                                            : gpu::kLightSpot;
     g.positionType = glm::vec4(l.position, static_cast<float>(type));
     g.directionRange = glm::vec4(l.direction, l.range);
     g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
@@ -36,12 +36,12 @@ std::vector<gpu::GpuLight> GpuScene::packLights(const scene::Scene& s) {
   return out;
 }
 
-std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<scene::Emitter>& emitters) {
+std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<Emitter>& emitters) {
   std::vector<gpu::GpuEmitter> out;
-  for (const scene::Emitter& e : emitters) {
+  for (const Emitter& e : emitters) {
     gpu::GpuEmitter g{};
     const float two = e.twoSided ? 1.0f : 0.0f;
-    if (e.kind == scene::Emitter::Kind::kCluster) {
+    if (e.kind == Emitter::Kind::kCluster) {
       g.a = glm::vec4(e.v0, static_cast<float>(gpu::kEmitterCluster));
       g.b = glm::vec4(e.normal, e.area);
     } else {
@@ -55,17 +55,17 @@ std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<scene::Emi
   return out;
 }
 
-GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
-  const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(scene::Vertex));
+GpuScene::GpuScene(const Scene& s) : scene_(s) {
+  const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(Vertex));
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
   vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data());
   indices_ = gl::createBuffer(ibytes, s.indices.empty() ? nullptr : s.indices.data());
   vao_ = gl::createVertexArray();
   const GLuint vao = vao_.id();
-  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(scene::Vertex));
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(vao, indices_.id());
-  const GLuint offsets[3] = {offsetof(scene::Vertex, position), offsetof(scene::Vertex, normal),
-                             offsetof(scene::Vertex, uv)};
+  const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
+                             offsetof(Vertex, uv)};
   const GLint sizes[3] = {3, 3, 2};
   for (GLuint a = 0; a < 3; ++a) {
     glEnableVertexArrayAttrib(vao, a);
@@ -74,7 +74,7 @@ GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
   }
   const auto mats = packMaterials(s);
   const auto lights = packLights(s);
-  const auto emitters = packEmitters(scene::buildEmitters(s));
+  const auto emitters = packEmitters(buildEmitters(s));
   materials_ = gl::createBuffer(static_cast<GLsizeiptr>(mats.size() * sizeof(gpu::GpuMaterial)),
                                 mats.data());
   lights_ = gl::createBuffer(static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
@@ -86,7 +86,7 @@ GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
   bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
            lights.size() * sizeof(gpu::GpuLight) + emitters.size() * sizeof(gpu::GpuEmitter);
 
-  for (const scene::Texture& t : s.textures) {
+  for (const Texture& t : s.textures) {
     gl::Texture tex = gl::createTexture(GL_TEXTURE_2D);
     const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(t.width, t.height))));
     glTextureStorage2D(tex.id(), levels, GL_SRGB8_ALPHA8, t.width, t.height);
@@ -103,4 +103,4 @@ GpuScene::GpuScene(const scene::Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
-}  // namespace voxgi::render
+}  // namespace voxgi::scene

@@ -1,0 +1,64 @@
+// Voxel grid layout shared by C++ and GLSL (see src/voxel/voxelize_pass.h).
+#ifndef VOXGI_VOXEL_SHARED_H
+#define VOXGI_VOXEL_SHARED_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+namespace voxgi::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define VOXGI_CONST constexpr
+#else
+#define VOXGI_CONST const
+#endif
+
+// Fixed-point sums: each fragment adds value x kFixedOne x weight (weight = covered
+// MSAA samples, 1..4) to a r32ui image with imageAtomicAdd. Sums saturate at
+// 0xFFFFFFFF (never wrap). A voxel takes kMaxSamplesPerVoxel = 2^32 / 2^16 = 65536
+// covered samples (16384 fully covered fragments) of the largest value before any
+// sum could saturate.
+VOXGI_CONST uint kFixedOne = 65535u;
+VOXGI_CONST uint kSumChannels = 10u;  // albedo rgb, normal xyz, emission rgb, weight
+VOXGI_CONST uint kSumAlbedo = 0u;
+VOXGI_CONST uint kSumNormal = 3u;
+VOXGI_CONST uint kSumEmission = 6u;
+VOXGI_CONST uint kSumWeight = 9u;
+VOXGI_CONST uint kSamplesPerFragment = 4u;  // 4x MSAA
+
+// Image units: the sums take 0..9; the resolve pass writes the resolved grid
+// through 10..12. Passes that read the resolved grid bind it as samplers on the
+// texture units below.
+VOXGI_CONST uint kSumUnit0 = 0u;
+VOXGI_CONST uint kResolvedUnit0 = 10u;
+VOXGI_CONST uint kAlbedoTexUnit = 1u;       // rgba8: albedo rgb, opacity
+VOXGI_CONST uint kNormalTexUnit = 2u;       // rgba8_snorm: unit normal (0 when ambiguous)
+VOXGI_CONST uint kEmissionTexUnit = 3u;     // rgba16f: emitted radiance
+VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
+VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
+VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
+VOXGI_CONST uint kResolveGroupSize = 4u;    // 4x4x4 invocations
+
+struct VoxelParams {
+  vec4 gridOrigin;  // xyz world (scene-relative) corner, w voxel size
+  vec4 gridInfo;    // x resolution, y emission fixed-point scale, z 1/scale
+};
+
+struct VoxelStats {
+  uint occupied;     // voxels with any coverage
+  uint checksumSum;  // order-independent hash of the resolved bytes
+  uint checksumXor;
+  uint listCount;  // entries written to the voxel list
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(VoxelParams) == 32);
+static_assert(sizeof(VoxelStats) == 16);
+}  // namespace voxgi::gpu
+#endif
+#undef VOXGI_CONST
+
+#endif  // VOXGI_VOXEL_SHARED_H

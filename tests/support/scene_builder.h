@@ -1,0 +1,38 @@
+// Scenes made in code for tests, and transformed copies of glTF files.
+#ifndef VOXGI_TESTS_SCENE_BUILDER_H
+#define VOXGI_TESTS_SCENE_BUILDER_H
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace voxgi::test {
+
+class SceneBuilder {
+ public:
+  int addMaterial(glm::vec3 albedo, glm::vec3 emission = glm::vec3(0.0f), bool doubleSided = true);
+  // Triangles from consecutive position triples, one draw, flat normals.
+  void addTriangles(const std::vector<glm::vec3>& corners, int material,
+                    const glm::mat4& transform = glm::mat4(1.0f));
+  // A closed box [lo, hi] (12 triangles, outward normals) under `transform`.
+  void addBox(glm::vec3 lo, glm::vec3 hi, int material,
+              const glm::mat4& transform = glm::mat4(1.0f));
+  // Bounds, auto-scale and a framing camera, as the loader does.
+  scene::Scene finish();
+  scene::Scene& scene() { return scene_; }
+
+ private:
+  scene::Scene scene_;
+};
+
+// Writes a copy of a .gltf (buffers embedded as data: URIs) whose scene sits under
+// a new root node with the given translation and uniform scale; returns its path
+// in a scratch directory.
+std::string writeTransformedGltf(const std::string& source, glm::dvec3 translation, double scale);
+
+}  // namespace voxgi::test
+
+#endif  // VOXGI_TESTS_SCENE_BUILDER_H
