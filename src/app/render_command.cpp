@@ -108,6 +108,7 @@ int runRender(const RenderOptions& o) {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);
   stats["stages"] = stages;
+  stats["stage_timing"] = gl::stageTimingMethod();
   stats["triangles"] = scene.triangleCount();
   stats["materials"] = scene.materials.size();
   stats["textures"] = scene.textures.size();
@@ -137,7 +138,7 @@ int runRender(const RenderOptions& o) {
                 gs.emitterCount());
     std::printf("%s %dx%d on %s (%s)\n", render::modeName(o.render.mode), o.render.width,
                 o.render.height, gl::backendName(context->backend()), context->renderer().c_str());
-    std::printf("  %-10s %10s\n", "stage", "gpu ms");
+    std::printf("  %-10s %10s   (%s)\n", "stage", "ms", gl::stageTimingMethod());
     for (const std::string& name : stageOrder)
       std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
     if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {

@@ -1,6 +1,8 @@
 // Named per-stage timing: a GL_TIME_ELAPSED query (GPU time) and the CPU clock
 // around each stage, inside a debug group of the same name so captures and timing
 // plots line up. Stages do not nest (GL allows one TIME_ELAPSED query at a time).
+// Where the driver's queries cannot be trusted (see gl/workarounds.h) a stage is
+// timed by the wall clock between glFinish calls instead; gpuMs then holds that.
 #ifndef VOXGI_GL_STAGE_TIMER_H
 #define VOXGI_GL_STAGE_TIMER_H
 
@@ -17,6 +19,9 @@ struct StageTime {
   double gpuMs = 0.0;  // GL_TIME_ELAPSED
   double cpuMs = 0.0;  // wall clock from begin() to end() on the submitting thread
 };
+
+// "gpu-queries" or "synchronous" (what StageTime::gpuMs measured on this context).
+const char* stageTimingMethod();
 
 class StageTimer {
  public:

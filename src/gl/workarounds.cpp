@@ -28,9 +28,21 @@ void primeTimerQueries() {
 
 }  // namespace
 
+namespace {
+bool gSynchronousTiming = false;
+}  // namespace
+
 void applyDriverWorkarounds(const std::string& renderer, const std::string& version) {
   (void)version;
-  if (renderer.find("llvmpipe") != std::string::npos) primeTimerQueries();
+  const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;
+  if (llvmpipe) primeTimerQueries();
+  gSynchronousTiming = llvmpipe;
+  if (llvmpipe)
+    logDebug("workaround llvmpipe-timer-queries-miss-compute: stages timed synchronously");
+}
+
+bool stageTimingIsSynchronous() {
+  return gSynchronousTiming;
 }
 
 }  // namespace voxgi::gl
