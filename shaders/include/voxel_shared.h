@@ -40,7 +40,9 @@ VOXGI_CONST uint kEmissionTexUnit = 3u;     // rgba16f: emitted radiance
 VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
 VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
 VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
-VOXGI_CONST uint kResolveGroupSize = 4u;    // 4x4x4 invocations
+VOXGI_CONST uint kResolveGroupSize = 64u;   // invocations per group, one voxel each
+// SSBOs are limited to 128 MiB on llvmpipe: at most 2^25 listed voxels.
+VOXGI_CONST uint kMaxListEntries = 33554432u;
 
 struct VoxelParams {
   vec4 gridOrigin;  // xyz world (scene-relative) corner, w voxel size
@@ -48,10 +50,10 @@ struct VoxelParams {
 };
 
 struct VoxelStats {
-  uint occupied;     // voxels with any coverage
+  uint listCount;    // voxels touched by a fragment (may exceed the list's capacity)
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint listCount;  // entries written to the voxel list
+  uint capacity;  // entries the list can hold
 };
 
 #ifdef __cplusplus

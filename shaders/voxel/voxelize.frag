@@ -16,6 +16,8 @@ layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 
 layout(binding = 0, r32ui) uniform coherent uimage3D sums[kSumChannels];
+layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
+layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
 
 layout(location = 0) centroid in vec3 gNormal;
 layout(location = 1) centroid in vec2 gUv;
@@ -27,11 +29,12 @@ ivec3 unswizzle(ivec3 p, int axis) {
   return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p);
 }
 
-// Saturating add: once a sum would pass 2^32 - 1 it stays there.
-void addSaturating(int channel, ivec3 p, uint value) {
-  if (value == 0u) return;
+// Saturating add: once a sum would pass 2^32 - 1 it stays there. Returns the old value.
+uint addSaturating(int channel, ivec3 p, uint value) {
+  if (value == 0u) return 1u;
   uint old = imageAtomicAdd(sums[channel], p, value);
   if (old > 0xFFFFFFFFu - value) imageAtomicMax(sums[channel], p, 0xFFFFFFFFu);
+  return old;
 }
 
 uint fixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
@@ -77,6 +80,11 @@ void main() {
     addSaturating(6, p, emission[0] * weight);
     addSaturating(7, p, emission[1] * weight);
     addSaturating(8, p, emission[2] * weight);
-    addSaturating(9, p, weight);
+    // The first fragment to reach a voxel lists it: later passes visit only
+    // listed voxels, so nothing costs N^3.
+    if (addSaturating(9, p, weight) == 0u) {
+      uint slot = atomicAdd(stats.listCount, 1u);
+      if (slot < stats.capacity) voxels[slot] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20);
+    }
   }
 }

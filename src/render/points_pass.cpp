@@ -7,28 +7,8 @@ namespace voxgi::render {
 
 PointsPass::PointsPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
-      compact_(programs.get({{"voxel/compact.comp"}, {}})),
       draw_(programs.get({{"render/voxel_points.vert", "render/voxel_points.frag"}, {}})),
       emptyVao_(gl::createVertexArray()) {}
-
-void PointsPass::update(gl::FrameContext& ctx, const voxel::VoxelizePass& grid) {
-  gl::StageScope stage(ctx.timer, "voxel_list");
-  count_ = grid.stats().occupied;
-  list_ = gl::createBuffer(static_cast<GLsizeiptr>(std::max<uint32_t>(count_, 1)) * 4, nullptr);
-  stats_ = gl::createBuffer(sizeof(gpu::VoxelStats), nullptr, GL_DYNAMIC_STORAGE_BIT);
-  const gpu::VoxelStats cleared{};
-  glNamedBufferSubData(stats_.id(), 0, sizeof(cleared), &cleared);
-  glUseProgram(compact_.id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, grid.params());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, stats_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
-  glBindTextureUnit(gpu::kAlbedoTexUnit, grid.albedo());
-  const int n = grid.resolution();
-  const auto groups = static_cast<GLuint>((n + 3) / 4);
-  glDispatchCompute(groups, groups, groups);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glBindTextureUnit(gpu::kAlbedoTexUnit, 0);
-}
 
 void PointsPass::execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid,
                          GLuint framebuffer) {
@@ -46,10 +26,11 @@ void PointsPass::execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid,
   glBindVertexArray(emptyVao_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, grid.params());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, grid.list());
   glBindTextureUnit(gpu::kAlbedoTexUnit, grid.albedo());
   glBindTextureUnit(gpu::kEmissionTexUnit, grid.emission());
-  if (count_ > 0) glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(count_));
+  const uint32_t count = grid.stats().occupied;
+  if (count > 0) glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(count));
   glBindTextureUnit(gpu::kAlbedoTexUnit, 0);
   glBindTextureUnit(gpu::kEmissionTexUnit, 0);
   glDisable(GL_CULL_FACE);

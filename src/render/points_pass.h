@@ -18,18 +18,13 @@ class PointsPass {
   };
 
   PointsPass(gl::ProgramCache& programs, const Settings& settings);
-  // Rebuilds the list of occupied voxels; call after each voxelization.
-  void update(gl::FrameContext& ctx, const voxel::VoxelizePass& grid);
+  // One cube per voxel in the grid's list of occupied voxels.
   void execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid, GLuint framebuffer);
-  uint32_t cubes() const { return count_; }
 
  private:
   Settings settings_;
-  const gl::Program& compact_;
   const gl::Program& draw_;
-  gl::Buffer list_, stats_;
   gl::VertexArray emptyVao_;
-  uint32_t count_ = 0;
 };
 
 }  // namespace voxgi::render

@@ -109,7 +109,6 @@ void Renderer::renderFrame() {
   const bool voxelizing = voxelize_ && (!voxelized_ || settings_.revoxelize);
   if (voxelizing) {
     voxelize_->execute(ctx, gpuScene_);
-    if (points_) points_->update(ctx, *voxelize_);
     voxelized_ = true;
   }
   switch (settings_.mode) {

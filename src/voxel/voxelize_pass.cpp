@@ -28,10 +28,17 @@ bool hasGlExtension(const char* name) {
 
 }  // namespace
 
+uint32_t initialListCapacity(int resolution) {
+  const uint64_t n = static_cast<uint64_t>(resolution);
+  return static_cast<uint32_t>(std::min<uint64_t>(n * n * n, uint64_t{1} << 22));
+}
+
 VoxelMemory voxelMemory(int resolution) {
   const uint64_t n = static_cast<uint64_t>(resolution);
   const uint64_t voxels = n * n * n;
-  return {voxels * (kSumBytesPerVoxel + kResolvedBytesPerVoxel), voxels * kResolvedBytesPerVoxel};
+  const uint64_t list = uint64_t{4} * initialListCapacity(resolution);
+  return {voxels * (kSumBytesPerVoxel + kResolvedBytesPerVoxel) + list,
+          voxels * kResolvedBytesPerVoxel + list};
 }
 
 uint64_t voxelMemoryBudget(const std::string& renderer) {
@@ -63,7 +70,10 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
     : settings_(settings),
       voxelize_(programs.get(
           {{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"}, {}})),
-      resolve_(programs.get({{"voxel/resolve.comp"}, {}})) {
+      resolve_(programs.get({{"voxel/resolve.comp"},
+                             settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
+                                                  : std::vector<std::string>{}})),
+      unresolve_(programs.get({{"voxel/unresolve.comp"}, {}})) {
   const int n = settings.resolution;
   if (n < kMinResolution || n > kMaxResolution)
     throw Error(strf("--voxels %d: the grid resolution must be in [%d, %d]", n, kMinResolution,
@@ -94,7 +104,13 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   albedo_ = make3d(GL_RGBA8);
   normal_ = make3d(GL_RGBA8_SNORM);
   emission_ = make3d(GL_RGBA16F);
-  if (settings_.keepSums) allocateSums();
+  // Cleared once; afterwards only listed voxels are ever written or zeroed.
+  const uint32_t zero[4] = {0, 0, 0, 0};
+  glClearTexImage(albedo_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
+  glClearTexImage(normal_.id(), 0, GL_RGBA, GL_BYTE, zero);
+  glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
+  allocateList(initialListCapacity(n));
+  if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
   fbo_ = gl::createFramebuffer();
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, n);
@@ -112,11 +128,72 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
 void VoxelizePass::allocateSums() {
   if (!sums_.empty()) return;
   const int n = settings_.resolution;
+  const uint32_t zero = 0;
   for (uint32_t c = 0; c < gpu::kSumChannels; ++c) {
     gl::Texture t = gl::createTexture(GL_TEXTURE_3D);
     glTextureStorage3D(t.id(), 1, GL_R32UI, n, n, n);
+    glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);  // once: resolve re-zeroes
     sums_.push_back(std::move(t));
   }
+}
+
+void VoxelizePass::allocateList(uint32_t capacity) {
+  capacity_ = capacity;
+  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity) * 4, nullptr);
+}
+
+void VoxelizePass::raster(const scene::GpuScene& gs) {
+  const scene::Scene& s = gs.scene();
+  const int n = settings_.resolution;
+  gpu::VoxelStats fresh{};
+  fresh.capacity = capacity_;
+  glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, n, n);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glEnable(GL_MULTISAMPLE);
+  glDisable(GL_SAMPLE_SHADING);
+  glUseProgram(voxelize_.id());
+  glBindVertexArray(gs.vertexArray());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  for (uint32_t c = 0; c < gpu::kSumChannels; ++c)
+    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  for (const scene::Draw& d : s.draws) {
+    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
+    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    glUniform1i(gpu::kMaterialIndexLocation, d.material);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
+  }
+  glBindTextureUnit(gpu::kBaseColorUnit, 0);
+  glBindSampler(gpu::kBaseColorUnit, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                  GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void VoxelizePass::dispatchOverList(const gl::Program& program, uint32_t count) {
+  if (count == 0) return;
+  glUseProgram(program.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  for (uint32_t c = 0; c < gpu::kSumChannels && !sums_.empty(); ++c)
+    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(gpu::kResolvedUnit0 + 0, albedo_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+  glBindImageTexture(gpu::kResolvedUnit0 + 1, normal_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                     GL_RGBA8_SNORM);
+  glBindImageTexture(gpu::kResolvedUnit0 + 2, emission_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                     GL_RGBA16F);
+  glDispatchCompute((count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize, 1, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
@@ -137,62 +214,43 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   glNamedBufferSubData(params_.id(), 0, sizeof(params), &params);
 
   allocateSums();
-  const uint32_t zero = 0;
-  for (const gl::Texture& t : sums_)
-    glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-
-  // Raster: dominant-axis projection, no attachments, 4x MSAA.
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, n, n);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  glEnable(GL_MULTISAMPLE);
-  glDisable(GL_SAMPLE_SHADING);
-  glUseProgram(voxelize_.id());
-  glBindVertexArray(gs.vertexArray());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  for (const scene::Draw& d : s.draws) {
-    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
-    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
-    glUniform1i(gpu::kMaterialIndexLocation, d.material);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
+  if (settings_.inspectSums) {
+    const uint32_t zero = 0;
+    for (const gl::Texture& t : sums_)
+      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
-  glBindTextureUnit(gpu::kBaseColorUnit, 0);
-  glBindSampler(gpu::kBaseColorUnit, 0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 
-  // Resolve.
-  const gpu::VoxelStats cleared{};
-  glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(cleared), &cleared);
-  glUseProgram(resolve_.id());
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_R32UI);
-  glBindImageTexture(gpu::kResolvedUnit0 + 0, albedo_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  glBindImageTexture(gpu::kResolvedUnit0 + 1, normal_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                     GL_RGBA8_SNORM);
-  glBindImageTexture(gpu::kResolvedUnit0 + 2, emission_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                     GL_RGBA16F);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
-  const GLuint groups = static_cast<GLuint>((n + static_cast<int>(gpu::kResolveGroupSize) - 1) /
-                                            static_cast<int>(gpu::kResolveGroupSize));
-  glDispatchCompute(groups, groups, groups);
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                  GL_BUFFER_UPDATE_BARRIER_BIT);
-  for (uint32_t u = 0; u < gpu::kSumChannels + 3; ++u)
-    glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  // What the previous voxelization listed is zeroed first (its list is about to
+  // be overwritten).
+  dispatchOverList(unresolve_, listed_);
 
+  raster(gs);
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  stats_.occupied = out.occupied;
+  if (out.listCount > capacity_) {
+    // The list overflowed: grow it, clear the sums fully once and raster again.
+    if (out.listCount > gpu::kMaxListEntries)
+      throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
+                       out.listCount, gpu::kMaxListEntries));
+    allocateList(std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4));
+    const uint32_t zero = 0;
+    for (const gl::Texture& t : sums_)
+      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    raster(gs);
+    glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+    VOXGI_CHECK_LE(out.listCount, capacity_);
+  }
+  listed_ = out.listCount;
+  dispatchOverList(resolve_, listed_);
+  for (uint32_t u = 0; u < gpu::kSumChannels + 3; ++u)
+    glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+  stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
-  if (!settings_.keepSums) sums_.clear();  // only the resolved grid stays resident
+  stats_.bytes =
+      voxelMemory(n).residentBytes - uint64_t{4} * initialListCapacity(n) + uint64_t{4} * capacity_;
+  if (!settings_.keepSums && !settings_.inspectSums)
+    sums_.clear();  // only the resolved grid stays resident
 }
 
 std::vector<uint8_t> VoxelizePass::readAlbedo() const {
@@ -223,7 +281,7 @@ std::vector<uint16_t> VoxelizePass::readEmission() const {
 }
 
 std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
-  VOXGI_CHECK(channel < sums_.size());
+  VOXGI_CHECK(settings_.inspectSums && channel < sums_.size());
   const size_t n = static_cast<size_t>(settings_.resolution);
   std::vector<uint32_t> out(n * n * n);
   glGetTextureImage(sums_[channel].id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,

@@ -14,7 +14,9 @@
 // column. Values are summed in fixed point (16 fractional bits, weighted by covered
 // samples) with imageAtomicAdd on r32ui images: the grid is bit-identical whatever
 // the triangle order; sums saturate, never wrap (see voxel_shared.h for the bound).
-// A compute pass resolves the averages and counts and checksums the grid.
+// The first fragment to reach a voxel appends it to a list; a compute pass over
+// the list resolves the averages (zeroing the sums as it reads them) and checksums
+// the grid, so after the first use nothing costs N^3: work follows the surface.
 //
 // Tested by tests/voxel/voxelize_gltest.cpp (exact counts, determinism, agreement
 // with a CPU triangle-box reference, watertightness, scale invariance).
@@ -59,6 +61,9 @@ class VoxelizePass {
   struct Settings {
     int resolution = 128;
     bool keepSums = false;  // keep the r32ui sums allocated between voxelizations
+    // Tests: the resolve leaves the sums as they are (readSum() shows them) and each
+    // voxelization clears all N^3 of them first instead.
+    bool inspectSums = false;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.
@@ -73,6 +78,8 @@ class VoxelizePass {
   GLuint normal() const { return normal_.id(); }
   GLuint emission() const { return emission_.id(); }
   GLuint params() const { return params_.id(); }
+  // Packed coordinates (10 bits per axis) of the stats().occupied listed voxels.
+  GLuint list() const { return list_.id(); }
   // World-space cube of the grid: origin and voxel size.
   glm::vec3 gridOrigin() const { return gridOrigin_; }
   float voxelSize() const { return voxelSize_; }
@@ -81,11 +88,14 @@ class VoxelizePass {
   std::vector<uint8_t> readAlbedo() const;
   std::vector<int8_t> readNormal() const;
   std::vector<uint16_t> readEmission() const;
-  // One fixed-point sum channel (kSum*), x fastest; only with Settings::keepSums.
+  // One fixed-point sum channel (kSum*), x fastest; only with Settings::inspectSums.
   std::vector<uint32_t> readSum(uint32_t channel) const;
 
  private:
   void allocateSums();
+  void allocateList(uint32_t capacity);
+  void raster(const scene::GpuScene& gs);
+  void dispatchOverList(const gl::Program& program, uint32_t count);
 
   Settings settings_;
   const gl::Program& voxelize_;
@@ -93,7 +103,10 @@ class VoxelizePass {
   std::vector<gl::Texture> sums_;
   gl::Texture albedo_, normal_, emission_;
   gl::Framebuffer fbo_;
-  gl::Buffer params_, statsBuffer_;
+  gl::Buffer params_, statsBuffer_, list_;
+  const gl::Program& unresolve_;
+  uint32_t capacity_ = 0;
+  uint32_t listed_ = 0;  // voxels listed (and resolved) by the last voxelization
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;

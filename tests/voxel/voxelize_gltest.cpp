@@ -249,7 +249,7 @@ TEST_F(VoxelizeTest, SumsSaturateNeverWrap) {
   gl::StageTimer timer;
   scene::GpuScene gs(s);
   gl::FrameContext ctx{programs, timer, 32, 32, 0};
-  voxel::VoxelizePass pass(programs, "llvmpipe", {32, true});
+  voxel::VoxelizePass pass(programs, "llvmpipe", {32, false, true});
   pass.execute(ctx, gs);
   timer.resolve();
   const size_t at = 16 + 32 * (16 + 32 * 16);
