@@ -53,8 +53,13 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
       gpuScene_(scene),
       raster_(programs, {}),
       tonemap_(programs, settings.tonemap) {
-  checkImageSize(settings.width, settings.height);
-  const int w = settings.width, h = settings.height;
+  createTargets();
+  frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+void Renderer::createTargets() {
+  checkImageSize(settings_.width, settings_.height);
+  const int w = settings_.width, h = settings_.height;
   hdr_ = gl::createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(hdr_.id(), 1, GL_RGBA32F, w, h);
   depth_ = gl::createTexture(GL_TEXTURE_2D);
@@ -75,15 +80,70 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
     if (status != GL_FRAMEBUFFER_COMPLETE)
       throw Error(strf("image size %dx%d: framebuffer incomplete (0x%x)", w, h, status));
   }
-  frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  accumulated_ = 0;
+}
+
+void Renderer::resize(int width, int height) {
+  if (width == settings_.width && height == settings_.height) return;
+  checkImageSize(width, height);
+  settings_.width = width;
+  settings_.height = height;
+  createTargets();
+}
+
+void Renderer::setMode(Mode mode) {
+  if (mode == settings_.mode) return;
+  settings_.mode = mode;
+  accumulated_ = 0;
+}
+
+std::vector<Knob> Renderer::knobs() {
+  std::vector<Knob> out;
+  switch (settings_.mode) {
+    case Mode::kRaster:
+      break;  // the baseline has nothing to turn
+  }
+  tonemap_.appendKnobs(&out);
+  for (Knob& k : out) {
+    k.set = [this, set = std::move(k.set)](double v) {
+      set(v);
+      settings_.tonemap = tonemap_.settings();
+      accumulated_ = 0;
+    };
+  }
+  return out;
+}
+
+void Renderer::setTonemapSettings(const TonemapPass::Settings& s) {
+  tonemap_.settings() = s;
+  settings_.tonemap = s;
+  accumulated_ = 0;
+}
+
+size_t Renderer::targetBytes() const {
+  return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
+         (16 + 4 + 4);
 }
 
 void Renderer::renderFrame() {
+  renderFrame(scene_.camera);
+}
+
+namespace {
+bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov &&
+         a.znear == b.znear && a.zfar == b.zfar;
+}
+}  // namespace
+
+void Renderer::renderFrame(const scene::Camera& camera) {
+  if (!sameCamera(camera, lastCamera_)) accumulated_ = 0;
+  lastCamera_ = camera;
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
-  const glm::mat4 vp = scene_.camera.projection(aspect) * scene_.camera.view();
+  const glm::mat4 vp = camera.projection(aspect) * camera.view();
   for (int i = 0; i < 4; ++i) frame.viewProj[i] = vp[i];
-  frame.cameraPosition = glm::vec4(scene_.camera.position, 1.0f);
+  frame.cameraPosition = glm::vec4(camera.position, 1.0f);
   frame.counts = glm::vec4(static_cast<float>(gpuScene_.lightCount()),
                            static_cast<float>(gpuScene_.emitterCount()), 0.0f, 0.0f);
   glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
@@ -98,6 +158,7 @@ void Renderer::renderFrame() {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   stages_ = timer_.resolve();
+  ++accumulated_;
 }
 
 namespace {
