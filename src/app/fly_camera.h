@@ -15,8 +15,8 @@
 namespace voxgi::app {
 
 struct FlyInput {
-  glm::vec3 move{0.0f};   // x right (D - A), y up (E - Q), z forward (W - S); each in [-1, 1]
-  glm::vec2 look{0.0f};   // mouse motion in pixels: x right, y down
+  glm::vec3 move{0.0f};     // x right (D - A), y up (E - Q), z forward (W - S); each in [-1, 1]
+  glm::vec2 look{0.0f};     // mouse motion in pixels: x right, y down
   float speedScale = 1.0f;  // e.g. 4 with Shift, 0.25 with Ctrl
 };
 

@@ -307,8 +307,7 @@ void Viewer::drawKnobs() {
       }
       case render::Knob::Kind::kInt: {
         int v = static_cast<int>(k.get());
-        if (ImGui::SliderInt(k.label.c_str(), &v, static_cast<int>(k.min),
-                             static_cast<int>(k.max)))
+        if (ImGui::SliderInt(k.label.c_str(), &v, static_cast<int>(k.min), static_cast<int>(k.max)))
           k.set(v);
         break;
       }
@@ -397,8 +396,8 @@ void Viewer::drawPanel() {
     const scene::Scene& s = *scene_;
     const SceneFacts f(s);
     ImGui::TextDisabled("what the effect plan will be derived from");
-    ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(),
-                s.materials.size(), s.textures.size());
+    ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(), s.materials.size(),
+                s.textures.size());
     ImGui::Text("lights: %d directional, %d point, %d spot%s", f.directional, f.point, f.spot,
                 s.defaultLight ? " (default light added)" : "");
     ImGui::Text("emissive materials: %d (%d emitter groups)", f.emissiveMaterials,
@@ -522,16 +521,15 @@ int Viewer::run() {
       continue;
     }
     renderer_->resize(w, h);
-    while (nextScripted_ < options_.keys.size() &&
-           options_.keys[nextScripted_].frame <= frame_ + 1)
+    while (nextScripted_ < options_.keys.size() && options_.keys[nextScripted_].frame <= frame_ + 1)
       pendingActions_.push_back(options_.keys[nextScripted_++].action);
     for (const Action& a : std::exchange(pendingActions_, {})) apply(a);
     if (context_->shouldClose()) break;
     checkShaders();
 
     const auto start = Clock::now();
-    const float seconds = std::min(static_cast<float>(msBetween(lastFrame_, start)) * 1e-3f,
-                                   kMaxStepSeconds);
+    const float seconds =
+        std::min(static_cast<float>(msBetween(lastFrame_, start)) * 1e-3f, kMaxStepSeconds);
     lastFrame_ = start;
     imgui_->beginFrame();
     flyCamera(seconds);
@@ -568,8 +566,8 @@ int Viewer::run() {
   }
   imgui_.reset();
   if (glErrors > 0) {
-    logError(strf("%d GL error(s) during the run; first: %s", glErrors,
-                  gl::lastDebugError().c_str()));
+    logError(
+        strf("%d GL error(s) during the run; first: %s", glErrors, gl::lastDebugError().c_str()));
     return 1;
   }
   return 0;

@@ -9,7 +9,7 @@
 namespace voxgi::app {
 
 const char* modeForSlot(int slot) {
-  static const char* const kNames[kModeSlots] = {"raster", "points", "dvr",
+  static const char* const kNames[kModeSlots] = {"raster", "points",    "dvr",
                                                  "rtgi",   "pathtrace", nullptr};
   return slot >= 1 && slot <= kModeSlots ? kNames[slot - 1] : nullptr;
 }
