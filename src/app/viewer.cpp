@@ -167,6 +167,7 @@ class Viewer {
   std::string modeMessage_;
   std::vector<std::string> unavailableRequests_;
   int modeSwitches_ = 0;
+  int resizes_ = 0;
   int reloadsOk_ = 0, reloadsFailed_ = 0;
   std::string shaderError_, lastReloadError_;
   std::vector<std::string> screenshots_;
@@ -347,7 +348,7 @@ void Viewer::drawTimings() {
     const std::string overlay = strf("%s %.2f ms", names[i].c_str(), series[i].back());
     ImGui::PlotLines(("##" + names[i]).c_str(), series[i].data(),
                      static_cast<int>(series[i].size()), 0, overlay.c_str(), 0.0f, top,
-                     ImVec2(0.0f, 40.0f));
+                     ImVec2(-1.0f, 36.0f));
   }
 }
 
@@ -359,8 +360,8 @@ void Viewer::drawPanel() {
   ImGui::TextWrapped("%s", context_->renderer().c_str());
   ImGui::Text("GL %s, glfw", context_->version().c_str());
   const double lastMs = history_.empty() ? 0.0 : history_.back().frameMs;
-  ImGui::Text("%dx%d  %.1f ms/frame  frame %d (%d accumulated)", rs.width, rs.height, lastMs,
-              frame_, renderer_->accumulatedFrames());
+  ImGui::Text("%dx%d, %.1f ms per frame", rs.width, rs.height, lastMs);
+  ImGui::Text("frame %d, %d accumulated", frame_, renderer_->accumulatedFrames());
 
   if (ImGui::CollapsingHeader("Mode (keys 1-6)", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (int slot = 1; slot <= kModeSlots; ++slot) {
@@ -445,6 +446,7 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["stages"] = stages;
   stats["exposure"] = rs.tonemap.exposure;
   stats["tonemap"] = render::tonemapName(rs.tonemap.op);
+  stats["resizes"] = resizes_;
   stats["mode_switches"] = modeSwitches_;
   stats["unavailable_mode_requests"] = unavailableRequests_;
   stats["shader_root"] = programs_->root().string();
@@ -520,7 +522,11 @@ int Viewer::run() {
       lastFrame_ = Clock::now();
       continue;
     }
-    renderer_->resize(w, h);
+    if (w != renderer_->settings().width || h != renderer_->settings().height) {
+      renderer_->resize(w, h);
+      ++resizes_;
+      logInfo(strf("view: frame %d: resized to %dx%d", frame_, w, h));
+    }
     while (nextScripted_ < options_.keys.size() && options_.keys[nextScripted_].frame <= frame_ + 1)
       pendingActions_.push_back(options_.keys[nextScripted_++].action);
     for (const Action& a : std::exchange(pendingActions_, {})) apply(a);

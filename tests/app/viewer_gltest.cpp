@@ -57,8 +57,18 @@ class LiveCommand {
  public:
   explicit LiveCommand(const std::string& commandLine)
       : pipe_(popen(("timeout 120 " + commandLine + " 2>&1").c_str(), "r")) {}
+  // A failed assertion leaves the viewer running: stop it rather than wait for the
+  // timeout.
   ~LiveCommand() {
-    if (pipe_) pclose(pipe_);
+    if (!pipe_) return;
+    if (pid_ > 0) kill(pid_, SIGTERM);
+    pclose(pipe_);
+  }
+  // Reads the "voxgi-pid N" line the command line prints for the viewer.
+  pid_t readPid() {
+    std::string line;
+    if (waitFor("voxgi-pid", &line)) pid_ = std::atoi(line.c_str() + line.find(' ') + 1);
+    return pid_;
   }
   // Reads until a line containing `needle`; false at the end of the output.
   bool waitFor(const std::string& needle, std::string* line = nullptr) {
@@ -83,6 +93,7 @@ class LiveCommand {
 
  private:
   FILE* pipe_;
+  pid_t pid_ = 0;
   std::string output_;
 };
 
@@ -164,10 +175,9 @@ TEST(Viewer, BrokenShaderKeepsRunningAndRecovers) {
   LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec env VOXGI_SHADER_DIR=" + dir +
                      "/shaders " + voxgiBinary() + " view --size 96x72 --stats " + dir +
                      "/s.json'");
-  std::string pidLine, failed, recovered;
-  ASSERT_TRUE(viewer.waitFor("voxgi-pid", &pidLine)) << viewer.output();
-  const pid_t pid = std::atoi(pidLine.c_str() + pidLine.find(' ') + 1);
-  ASSERT_GT(pid, 0);
+  std::string failed, recovered;
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
   ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
 
   std::ofstream(frag) << broken;
@@ -189,6 +199,35 @@ TEST(Viewer, BrokenShaderKeepsRunningAndRecovers) {
   EXPECT_NE(stats["last_reload_error"].get<std::string>().find(
                 "raster.frag:" + std::to_string(line) + ":"),
             std::string::npos);
+  EXPECT_EQ(stats["gl_errors"], 0);
+}
+
+// The window resized from outside (as a window manager would): the render targets
+// follow the framebuffer, with no GL error.
+TEST(Viewer, FollowsWindowResize) {
+  VOXGI_REQUIRE_XVFB();
+  if (runCommand("sh -c 'command -v xdotool'").exitCode != 0) {
+    if (std::getenv("VOXGI_REQUIRE_SAMPLES")) FAIL() << "xdotool missing (tools/setup installs it)";
+    GTEST_SKIP() << "xdotool not installed";
+  }
+  const std::string dir = scratchDir();
+  // The shell resizes the window once the test says so (the file "go"), after the
+  // first frame, so the start size is not already the new one.
+  LiveCommand viewer("xvfb-run -a sh -c '" + voxgiBinary() + " view --size 120x90 --stats " + dir +
+                     "/s.json & v=$!; echo voxgi-pid $v; while [ ! -e " + dir +
+                     "/go ]; do sleep 0.05; done; xdotool search --sync --name \"voxgi view\" " +
+                     "windowsize 200 100; wait $v'");
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
+  ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
+  std::ofstream(dir + "/go") << "";
+  ASSERT_TRUE(viewer.waitFor("resized to 200x100")) << viewer.output();
+  kill(pid, SIGTERM);
+  EXPECT_EQ(viewer.finish(), 0) << viewer.output();
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["size"]["width"], 200);
+  EXPECT_EQ(stats["size"]["height"], 100);
+  EXPECT_GE(stats["resizes"].get<int>(), 1);
   EXPECT_EQ(stats["gl_errors"], 0);
 }
 
