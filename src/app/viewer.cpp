@@ -344,24 +344,29 @@ void Viewer::drawTimings() {
   }
   names.push_back("frame (wall)");
   ImGui::Text("last %.0f s, 0 .. %.1f ms", kGraphSeconds, top);
+  ImGui::PushItemWidth(-1.0f);
   for (size_t i = 0; i < names.size(); ++i) {
     const std::string overlay = strf("%s %.2f ms", names[i].c_str(), series[i].back());
     ImGui::PlotLines(("##" + names[i]).c_str(), series[i].data(),
                      static_cast<int>(series[i].size()), 0, overlay.c_str(), 0.0f, top,
-                     ImVec2(-1.0f, 36.0f));
+                     ImVec2(0.0f, 36.0f));
   }
+  ImGui::PopItemWidth();
 }
 
 void Viewer::drawPanel() {
   ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(360.0f, 0.0f), ImGuiCond_FirstUseEver);
+  // Never taller than the window, so nothing is out of reach (it scrolls instead).
+  const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 16.0f, 100.0f);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 100.0f), ImVec2(4096.0f, maxHeight));
   ImGui::Begin("voxgi view (tab hides)");
   const render::RenderSettings& rs = renderer_->settings();
   ImGui::TextWrapped("%s", context_->renderer().c_str());
   ImGui::Text("GL %s, glfw", context_->version().c_str());
   const double lastMs = history_.empty() ? 0.0 : history_.back().frameMs;
   ImGui::Text("%dx%d, %.1f ms per frame", rs.width, rs.height, lastMs);
-  ImGui::Text("frame %d, %d accumulated", frame_, renderer_->accumulatedFrames());
+  ImGui::Text("frame %d, %d accumulated", frame_ + 1, renderer_->accumulatedFrames());
 
   if (ImGui::CollapsingHeader("Mode (keys 1-6)", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (int slot = 1; slot <= kModeSlots; ++slot) {
