@@ -54,8 +54,9 @@ std::string mainHelp() {
          "\n"
          "commands:\n"
          "  render [SCENE]   render a glTF scene headless to PNG/EXR (default: the Cornell room)\n"
+         "  view [SCENE]     open a window: fly camera, mode keys, panel, shader hot reload\n"
          "\n"
-         "  voxgi --help, voxgi render --help, voxgi --version\n";
+         "  voxgi --help, voxgi render --help, voxgi view --help, voxgi --version\n";
 }
 
 std::string renderHelp() {
@@ -87,6 +88,124 @@ std::string renderHelp() {
          "Exit status: 0 on success, 1 on bad input or a failed render, 2 on a usage error.\n";
 }
 
+std::string viewHelp() {
+  return "usage: voxgi view [SCENE.gltf|SCENE.glb] [options]\n"
+         "\n"
+         "Opens SCENE (default: the built-in Cornell room) in a window (GLFW, GL 4.5 core)\n"
+         "with a panel of the mode's knobs, scene facts, per-stage timings and shader\n"
+         "state. Shaders are reloaded when a file under the shader folder changes\n"
+         "($VOXGI_SHADER_DIR, default: the source tree's shaders/); a broken file shows\n"
+         "its error in the panel while the last good program keeps running.\n"
+         "\n"
+         "keys:\n"
+         "  W A S D / Q E     move / down, up (Shift faster, Ctrl slower); speed from the\n"
+         "                    scene's size\n"
+         "  right mouse drag  look (or left drag outside the panel)\n"
+         "  1 2 3 4 5 6       mode: raster, points, dvr, rtgi, pathtrace, reserved (a mode\n"
+         "                    this build lacks says so in the panel and the log)\n"
+         "  + -               exposure up / down half a stop\n"
+         "  t                 tonemap operator clamp <-> aces\n"
+         "  r                 camera back to the start (the glTF camera)\n"
+         "  p, F12            screenshot: voxgi-DATE-TIME-N.png (display) + .exr (linear),\n"
+         "                    never overwriting an earlier one\n"
+         "  tab, F1           panel on / off\n"
+         "  esc               quit\n"
+         "\n"
+         "options:\n"
+         "  --mode M          start mode: " +
+         render::availableModes() +
+         " (default raster)\n"
+         "  --size WxH        window size at start (default 960x540); rendering follows\n"
+         "                    the window's framebuffer\n"
+         "  --exposure E      linear exposure before tonemapping (default 1)\n"
+         "  --tonemap T       clamp (default) or aces\n"
+         "  --frames N        render N frames, then exit (default: until the window closes)\n"
+         "  --screenshot FILE at the end of the run write FILE.png and FILE.exr (FILE may end\n"
+         "                    in .png or .exr); an existing file is replaced once the new one\n"
+         "                    is complete\n"
+         "  --screenshot-dir D  where the screenshot key writes (default: current folder)\n"
+         "  --keys SCRIPT     press keys at given frames: FRAME:KEY,... with KEY one of\n"
+         "                    1-6 + - t r p tab esc, e.g. --keys 10:2,20:1,25:+\n"
+         "  --stats FILE      at exit write JSON: frames, timings, mode, reloads ok and\n"
+         "                    failed, the last reload error, screenshots, gl_errors\n"
+         "  --no-panel        start with the panel hidden\n"
+         "  --verbose         log GL debug output and loader details\n"
+         "  --quiet           print errors only\n"
+         "  -h, --help        this text\n"
+         "\n"
+         "Closing the window, esc, Ctrl-C (SIGINT) and SIGTERM end the run cleanly.\n"
+         "Exit status: 0 on success, 1 on bad input or a GL error, 2 on a usage error.\n";
+}
+
+namespace {
+
+Invocation parseView(const std::vector<std::string>& args) {
+  Invocation inv;
+  inv.command = Command::kView;
+  ViewOptions& o = inv.view;
+  o.render.width = 960;
+  o.render.height = 540;
+  for (size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw UsageError(a + ": needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      inv.command = Command::kHelp;
+      inv.helpTopic = "view";
+      return inv;
+    } else if (a == "--mode") {
+      const std::string m = value();
+      auto mode = render::parseMode(m);
+      if (!mode)
+        throw UsageError("--mode: unknown mode '" + m +
+                         "' (available: " + render::availableModes() + ")");
+      o.render.mode = *mode;
+    } else if (a == "--size") {
+      parseSize(value(), &o.render.width, &o.render.height);
+    } else if (a == "--exposure") {
+      o.render.tonemap.exposure = parseFloat("--exposure", value());
+    } else if (a == "--tonemap") {
+      const std::string t = value();
+      auto op = render::parseTonemap(t);
+      if (!op) throw UsageError("--tonemap: unknown operator '" + t + "' (clamp, aces)");
+      o.render.tonemap.op = *op;
+    } else if (a == "--frames") {
+      o.frames = parseInt("--frames", value(), 1, 10000000);
+    } else if (a == "--screenshot") {
+      o.screenshot = value();
+    } else if (a == "--screenshot-dir") {
+      o.screenshotDir = value();
+    } else if (a == "--keys") {
+      try {
+        o.keys = parseKeyScript(value());
+      } catch (const UsageError&) {
+        throw;
+      } catch (const Error& e) {
+        throw UsageError(e.what());
+      }
+    } else if (a == "--stats") {
+      o.stats = value();
+    } else if (a == "--no-panel") {
+      o.panel = false;
+    } else if (a == "--verbose" || a == "-v") {
+      o.verbose = true;
+    } else if (a == "--quiet" || a == "-q") {
+      o.quiet = true;
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError("unknown option '" + a + "' (see voxgi view --help)");
+    } else if (o.scene.empty()) {
+      o.scene = a;
+    } else {
+      throw UsageError("more than one scene given ('" + o.scene + "' and '" + a + "')");
+    }
+  }
+  return inv;
+}
+
+}  // namespace
+
 Invocation parseCommandLine(const std::vector<std::string>& args) {
   Invocation inv;
   if (args.empty()) return inv;
@@ -96,6 +215,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     inv.command = Command::kVersion;
     return inv;
   }
+  if (cmd == "view") return parseView(args);
   if (cmd != "render") {
     if (!cmd.empty() && cmd[0] == '-')
       throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");

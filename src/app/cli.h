@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/viewer.h"
 #include "core/log.h"
 #include "gl/context.h"
 #include "render/renderer.h"
@@ -28,22 +29,26 @@ struct RenderOptions {
   bool quiet = false;
 };
 
-enum class Command { kHelp, kVersion, kRender };
+enum class Command { kHelp, kVersion, kRender, kView };
 
 struct Invocation {
   Command command = Command::kHelp;
   RenderOptions render;
-  std::string helpTopic;  // "" or "render"
+  ViewOptions view;
+  std::string helpTopic;  // "", "render" or "view"
 };
 
 Invocation parseCommandLine(const std::vector<std::string>& args);
 
 std::string mainHelp();
 std::string renderHelp();
+std::string viewHelp();
 std::string versionText();
 
 // The built-in default scene (scenes/cornell_room/cornell_room.gltf).
 std::string defaultScenePath();
+// The shader folder: $VOXGI_SHADER_DIR, else the source tree's shaders/.
+std::string shaderRoot();
 
 int runRender(const RenderOptions& options);
 

@@ -28,12 +28,12 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+}  // namespace
+
 std::string shaderRoot() {
   if (const char* env = std::getenv("VOXGI_SHADER_DIR")) return env;
   return VOXGI_SHADER_DIR;
 }
-
-}  // namespace
 
 int runRender(const RenderOptions& o) {
   if (o.verbose) setLogLevel(LogLevel::kDebug);

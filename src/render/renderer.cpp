@@ -59,19 +59,32 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
       settings_(settings),
       gpuScene_(scene),
       tonemap_(programs, settings.tonemap) {
-  checkImageSize(settings.width, settings.height);
-  if (settings.mode == Mode::kRaster)
-    raster_ = std::make_unique<RasterPass>(programs, RasterPass::Settings{});
-  if (modeUsesVoxels(settings.mode)) {
+  createPasses();
+  createTargets();
+  frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+// Builds what the current mode needs and nothing else (a mode never used costs
+// neither shader compiles nor memory); passes of earlier modes are kept.
+void Renderer::createPasses() {
+  const Mode mode = settings_.mode;
+  if (mode == Mode::kRaster && !raster_)
+    raster_ = std::make_unique<RasterPass>(programs_, RasterPass::Settings{});
+  if (modeUsesVoxels(mode) && !voxelize_) {
     const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     voxel::VoxelizePass::Settings vs;
-    vs.resolution = settings.voxels;
-    vs.keepSums = settings.revoxelize;
-    voxelize_ = std::make_unique<voxel::VoxelizePass>(programs, r ? r : "", vs);
+    vs.resolution = settings_.voxels;
+    vs.keepSums = settings_.revoxelize;
+    voxelize_ = std::make_unique<voxel::VoxelizePass>(programs_, r ? r : "", vs);
+    voxelized_ = false;
   }
-  if (settings.mode == Mode::kPoints)
-    points_ = std::make_unique<PointsPass>(programs, PointsPass::Settings{});
-  const int w = settings.width, h = settings.height;
+  if (mode == Mode::kPoints && !points_)
+    points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
+}
+
+void Renderer::createTargets() {
+  checkImageSize(settings_.width, settings_.height);
+  const int w = settings_.width, h = settings_.height;
   hdr_ = gl::createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(hdr_.id(), 1, GL_RGBA32F, w, h);
   depth_ = gl::createTexture(GL_TEXTURE_2D);
@@ -92,21 +105,84 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
     if (status != GL_FRAMEBUFFER_COMPLETE)
       throw Error(strf("image size %dx%d: framebuffer incomplete (0x%x)", w, h, status));
   }
-  frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  accumulated_ = 0;
+}
+
+void Renderer::resize(int width, int height) {
+  if (width == settings_.width && height == settings_.height) return;
+  checkImageSize(width, height);
+  settings_.width = width;
+  settings_.height = height;
+  createTargets();
+}
+
+void Renderer::setMode(Mode mode) {
+  if (mode == settings_.mode) return;
+  const Mode previous = settings_.mode;
+  settings_.mode = mode;
+  try {
+    createPasses();
+  } catch (...) {
+    settings_.mode = previous;  // e.g. a voxel grid that does not fit: stay as we were
+    throw;
+  }
+  accumulated_ = 0;
+}
+
+std::vector<Knob> Renderer::knobs() {
+  std::vector<Knob> out;
+  switch (settings_.mode) {
+    case Mode::kRaster:
+    case Mode::kPoints:
+      break;  // nothing to turn yet (the grid resolution is fixed at start)
+  }
+  tonemap_.appendKnobs(&out);
+  for (Knob& k : out) {
+    k.set = [this, set = std::move(k.set)](double v) {
+      set(v);
+      settings_.tonemap = tonemap_.settings();
+      accumulated_ = 0;
+    };
+  }
+  return out;
+}
+
+void Renderer::setTonemapSettings(const TonemapPass::Settings& s) {
+  tonemap_.settings() = s;
+  settings_.tonemap = s;
+  accumulated_ = 0;
+}
+
+size_t Renderer::targetBytes() const {
+  return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
+         (16 + 4 + 4);
 }
 
 void Renderer::renderFrame() {
+  renderFrame(scene_.camera);
+}
+
+namespace {
+bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov &&
+         a.znear == b.znear && a.zfar == b.zfar;
+}
+}  // namespace
+
+void Renderer::renderFrame(const scene::Camera& camera) {
+  if (!sameCamera(camera, lastCamera_)) accumulated_ = 0;
+  lastCamera_ = camera;
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
-  const glm::mat4 vp = scene_.camera.projection(aspect) * scene_.camera.view();
+  const glm::mat4 vp = camera.projection(aspect) * camera.view();
   for (int i = 0; i < 4; ++i) frame.viewProj[i] = vp[i];
-  frame.cameraPosition = glm::vec4(scene_.camera.position, 1.0f);
+  frame.cameraPosition = glm::vec4(camera.position, 1.0f);
   frame.counts = glm::vec4(static_cast<float>(gpuScene_.lightCount()),
                            static_cast<float>(gpuScene_.emitterCount()), 0.0f, 0.0f);
   glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
 
   FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
-  const bool voxelizing = voxelize_ && (!voxelized_ || settings_.revoxelize);
+  const bool voxelizing = modeUsesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
   if (voxelizing) {
     voxelize_->execute(ctx, gpuScene_);
     voxelized_ = true;
@@ -126,6 +202,7 @@ void Renderer::renderFrame() {
   if (voxelizing)
     for (const gl::StageTime& t : stages_)
       if (t.name == "voxelize") lastVoxelizeMs_ = t.gpuMs;
+  ++accumulated_;
 }
 
 namespace {

@@ -5,6 +5,11 @@
 // Only the passes the mode uses are built (their shaders compiled, memory taken).
 // Output sizes are checked against the driver's limits and a memory budget
 // before anything is allocated.
+//
+// `render` draws the scene's camera at a fixed size; the viewer passes its own
+// camera every frame and resizes the targets with the window. Any change of camera,
+// size, mode or knob restarts accumulation (accumulatedFrames() counts the frames
+// since), which progressive modes read to start their average over.
 #ifndef VOXGI_RENDER_RENDERER_H
 #define VOXGI_RENDER_RENDERER_H
 
@@ -18,6 +23,7 @@
 #include "gl/program_cache.h"
 #include "gl/stage_timer.h"
 #include "render/gpu_scene.h"
+#include "render/knob.h"
 #include "render/points_pass.h"
 #include "render/raster_pass.h"
 #include "render/tonemap_pass.h"
@@ -49,9 +55,28 @@ class Renderer {
  public:
   Renderer(gl::ProgramCache& programs, const scene::Scene& scene, const RenderSettings& settings);
 
-  // Renders one frame and waits for it; stage times land in lastStages().
+  // Renders one frame from the scene's camera and waits for it; stage times land
+  // in lastStages().
   void renderFrame();
+  // The same from another camera (the viewer's).
+  void renderFrame(const scene::Camera& camera);
   const std::vector<gl::StageTime>& lastStages() const { return stages_; }
+
+  // Re-creates the targets at width x height (checked as in the constructor).
+  void resize(int width, int height);
+  void setMode(Mode mode);
+  // The knobs of the current mode, then the tonemap's; setting one restarts
+  // accumulation. Valid until the mode changes.
+  std::vector<Knob> knobs();
+  const TonemapPass::Settings& tonemapSettings() { return tonemap_.settings(); }
+  void setTonemapSettings(const TonemapPass::Settings& s);
+
+  int accumulatedFrames() const { return accumulated_; }
+  void restartAccumulation() { accumulated_ = 0; }
+
+  // The tonemapped RGBA8 target (for presenting) and the bytes of all targets.
+  GLuint displayFramebuffer() const { return ldrFbo_.id(); }
+  size_t targetBytes() const;
 
   // Top-left origin, RGBA.
   std::vector<float> readLinear() const;
@@ -80,6 +105,11 @@ class Renderer {
   gl::Texture hdr_, depth_, ldr_;
   gl::Framebuffer hdrFbo_, ldrFbo_;
   std::vector<gl::StageTime> stages_;
+  int accumulated_ = 0;
+  scene::Camera lastCamera_;
+
+  void createTargets();
+  void createPasses();
 };
 
 }  // namespace voxgi::render

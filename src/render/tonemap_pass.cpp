@@ -10,10 +10,34 @@ std::optional<Tonemap> parseTonemap(const std::string& name) {
   return std::nullopt;
 }
 
+const char* tonemapName(Tonemap t) {
+  return t == Tonemap::kAces ? "aces" : "clamp";
+}
+
 TonemapPass::TonemapPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
       program_(programs.get({{"render/fullscreen.vert", "render/tonemap.frag"}, {}})),
       emptyVao_(gl::createVertexArray()) {}
+
+void TonemapPass::appendKnobs(std::vector<Knob>* knobs) {
+  Knob exposure;
+  exposure.label = "exposure";
+  exposure.min = 1.0 / 64.0;
+  exposure.max = 64.0;
+  exposure.logarithmic = true;
+  exposure.help = "linear scale applied to radiance before the operator";
+  exposure.get = [this] { return static_cast<double>(settings_.exposure); };
+  exposure.set = [this](double v) { settings_.exposure = static_cast<float>(v); };
+  knobs->push_back(std::move(exposure));
+  Knob op;
+  op.label = "tonemap";
+  op.kind = Knob::Kind::kChoice;
+  op.choices = {tonemapName(Tonemap::kClamp), tonemapName(Tonemap::kAces)};
+  op.help = "clamp: radiance above 1 clips; aces: Narkowicz's filmic fit";
+  op.get = [this] { return settings_.op == Tonemap::kAces ? 1.0 : 0.0; };
+  op.set = [this](double v) { settings_.op = v >= 0.5 ? Tonemap::kAces : Tonemap::kClamp; };
+  knobs->push_back(std::move(op));
+}
 
 void TonemapPass::execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "tonemap");

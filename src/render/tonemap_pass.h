@@ -8,11 +8,13 @@
 
 #include "gl/handles.h"
 #include "render/frame_context.h"
+#include "render/knob.h"
 
 namespace voxgi::render {
 
 enum class Tonemap { kClamp, kAces };
 std::optional<Tonemap> parseTonemap(const std::string& name);
+const char* tonemapName(Tonemap t);
 
 class TonemapPass {
  public:
@@ -24,6 +26,8 @@ class TonemapPass {
   TonemapPass(gl::ProgramCache& programs, const Settings& settings);
   void execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer);
   Settings& settings() { return settings_; }
+  // Exposure and operator, for the viewer's panel.
+  void appendKnobs(std::vector<Knob>* knobs);
 
  private:
   Settings settings_;

@@ -54,14 +54,18 @@ void Scene::autoFrameCamera() {
 }
 
 void Scene::fitClipPlanes() {
+  scene::fitClipPlanes(&camera, bounds);
+}
+
+void fitClipPlanes(Camera* camera, const Bounds& bounds) {
   const float diag = std::max(bounds.diagonal(), 1e-30f);
-  const glm::vec3 closest = glm::clamp(camera.position, bounds.min, bounds.max);
-  const float toBox = glm::length(closest - camera.position);
-  const float toFar = glm::length(bounds.center() - camera.position) + diag;
-  camera.zfar = toFar * 1.01f;
+  const glm::vec3 closest = glm::clamp(camera->position, bounds.min, bounds.max);
+  const float toBox = glm::length(closest - camera->position);
+  const float toFar = glm::length(bounds.center() - camera->position) + diag;
+  camera->zfar = toFar * 1.01f;
   // Near plane as far out as the geometry allows; keeps the depth ratio <= 1e5.
-  camera.znear = std::max(0.5f * toBox, camera.zfar * 1e-5f);
-  camera.znear = std::min(camera.znear, camera.zfar * 0.5f);
+  camera->znear = std::max(0.5f * toBox, camera->zfar * 1e-5f);
+  camera->znear = std::min(camera->znear, camera->zfar * 0.5f);
 }
 
 void Scene::addDefaultLightIfUnlit() {

@@ -84,6 +84,10 @@ struct Bounds {
   float diagonal() const;
 };
 
+// Near and far planes for `camera` from its distance to `bounds` (the far plane
+// beyond the farthest corner, the near plane as far out as the geometry allows).
+void fitClipPlanes(Camera* camera, const Bounds& bounds);
+
 // A contiguous run of indices drawn with one material.
 struct Draw {
   uint32_t firstIndex = 0;

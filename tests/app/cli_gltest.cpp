@@ -91,7 +91,8 @@ TEST(Cli, PointsModeReportsVoxels) {
   const auto stats = nlohmann::json::parse(in);
   EXPECT_EQ(stats["voxels"]["resolution"], 32);
   EXPECT_GT(stats["voxels"]["count"].get<int>(), 1000);
-  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * 16);
+  // 16 bytes per voxel resident, plus the list of occupied voxels (4 bytes each).
+  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * (16 + 4));
   EXPECT_EQ(stats["voxels"]["checksum"].get<std::string>().size(), 16u);
   EXPECT_TRUE(stats["stages"].contains("voxelize"));
   EXPECT_TRUE(stats["stages"].contains("points"));

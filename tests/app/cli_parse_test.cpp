@@ -70,5 +70,51 @@ TEST(CliParse, Rejects) {
   }
 }
 
+TEST(CliParse, ViewDefaultsAndOptions) {
+  Invocation inv = parse({"view"});
+  EXPECT_EQ(inv.command, Command::kView);
+  EXPECT_TRUE(inv.view.scene.empty());
+  EXPECT_EQ(inv.view.render.width, 960);
+  EXPECT_EQ(inv.view.render.height, 540);
+  EXPECT_EQ(inv.view.frames, 0);  // until the window closes
+  EXPECT_TRUE(inv.view.panel);
+  inv = parse({"view",         "s.glb",  "--size",           "320x200", "--frames",  "30",
+               "--screenshot", "a.png",  "--screenshot-dir", "shots",   "--keys",    "10:2,5:+",
+               "--stats",      "s.json", "--exposure",       "2",       "--tonemap", "aces",
+               "--mode",       "raster", "--no-panel"});
+  const ViewOptions& o = inv.view;
+  EXPECT_EQ(o.scene, "s.glb");
+  EXPECT_EQ(o.render.width, 320);
+  EXPECT_EQ(o.render.height, 200);
+  EXPECT_EQ(o.frames, 30);
+  EXPECT_EQ(o.screenshot, "a.png");
+  EXPECT_EQ(o.screenshotDir, "shots");
+  ASSERT_EQ(o.keys.size(), 2u);
+  EXPECT_EQ(o.keys[0].frame, 5);
+  EXPECT_EQ(o.keys[1].action, (Action{Action::Kind::kMode, 2}));
+  EXPECT_EQ(o.stats, "s.json");
+  EXPECT_FLOAT_EQ(o.render.tonemap.exposure, 2.0f);
+  EXPECT_EQ(o.render.tonemap.op, render::Tonemap::kAces);
+  EXPECT_FALSE(o.panel);
+  inv = parse({"view", "--help"});
+  EXPECT_EQ(inv.command, Command::kHelp);
+  EXPECT_EQ(inv.helpTopic, "view");
+}
+
+TEST(CliParse, ViewRejects) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"view", "--keys", "10:q"},
+           {"view", "--keys", ""},
+           {"view", "--keys"},
+           {"view", "--frames", "0"},
+           {"view", "--size", "10"},
+           {"view", "--mode", "magic"},
+           {"view", "--out", "a.png"},  // render's option, not the viewer's
+           {"view", "a.gltf", "b.gltf"},
+       }) {
+    EXPECT_THROW(parse(args), UsageError) << args.back();
+  }
+}
+
 }  // namespace
 }  // namespace voxgi::app

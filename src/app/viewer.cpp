@@ -1,0 +1,596 @@
+#include "app/viewer.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <deque>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli.h"
+#include "app/fly_camera.h"
+#include "app/imgui_layer.h"
+#include "app/screenshot.h"
+#include "gl/debug.h"
+#include "image/image.h"
+#include "scene/gltf_loader.h"
+
+namespace voxgi::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+constexpr double kReloadIntervalMs = 250.0;
+constexpr double kGraphSeconds = 5.0;
+constexpr float kMaxStepSeconds = 0.1f;  // a slow frame must not fling the camera
+
+volatile std::sig_atomic_t gStopSignal = 0;
+extern "C" void onStopSignal(int sig) {
+  gStopSignal = sig;
+}
+
+// SIGINT and SIGTERM end the run like closing the window, for as long as it lives.
+class StopSignals {
+ public:
+  StopSignals() {
+    gStopSignal = 0;
+    int_ = std::signal(SIGINT, onStopSignal);
+    term_ = std::signal(SIGTERM, onStopSignal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, int_);
+    std::signal(SIGTERM, term_);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  void (*int_)(int) = SIG_DFL;
+  void (*term_)(int) = SIG_DFL;
+};
+
+double msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::optional<Action> actionForGlfwKey(int key) {
+  using K = Action::Kind;
+  if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + kModeSlots) return Action{K::kMode, key - GLFW_KEY_0};
+  if (key >= GLFW_KEY_KP_1 && key < GLFW_KEY_KP_1 + kModeSlots)
+    return Action{K::kMode, key - GLFW_KEY_KP_0};
+  switch (key) {
+    case GLFW_KEY_EQUAL:  // the + key without Shift on most layouts
+    case GLFW_KEY_KP_ADD:
+      return Action{K::kExposureUp};
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+      return Action{K::kExposureDown};
+    case GLFW_KEY_T:
+      return Action{K::kToggleTonemap};
+    case GLFW_KEY_R:
+      return Action{K::kResetCamera};
+    case GLFW_KEY_P:
+    case GLFW_KEY_F12:
+      return Action{K::kScreenshot};
+    case GLFW_KEY_TAB:
+    case GLFW_KEY_F1:
+      return Action{K::kTogglePanel};
+    case GLFW_KEY_ESCAPE:
+      return Action{K::kQuit};
+    default:
+      return std::nullopt;
+  }
+}
+
+std::string mib(size_t bytes) {
+  return strf("%.2f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+}
+
+// Scene facts the effect plan will be made from (lights by type, emission,
+// textures, alpha); the plan itself does not exist yet.
+struct SceneFacts {
+  int directional = 0, point = 0, spot = 0;
+  int emissiveMaterials = 0, maskedMaterials = 0, blendedMaterials = 0;
+  explicit SceneFacts(const scene::Scene& s) {
+    for (const scene::Light& l : s.lights) {
+      if (l.type == scene::LightType::kDirectional) ++directional;
+      if (l.type == scene::LightType::kPoint) ++point;
+      if (l.type == scene::LightType::kSpot) ++spot;
+    }
+    for (const scene::Material& m : s.materials) {
+      if (m.isEmissive()) ++emissiveMaterials;
+      if (m.alphaMode == scene::AlphaMode::kMask) ++maskedMaterials;
+      if (m.alphaMode == scene::AlphaMode::kBlend) ++blendedMaterials;
+    }
+  }
+};
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewOptions& o) : options_(o) {}
+  int run();
+
+ private:
+  struct FrameSample {
+    Clock::time_point when;
+    double frameMs = 0.0;
+    std::vector<gl::StageTime> stages;
+  };
+
+  void apply(const Action& a);
+  void selectSlot(int slot);
+  void checkShaders();
+  void flyCamera(float seconds);
+  void drawPanel();
+  void drawKnobs();
+  void drawTimings();
+  void takeScreenshot(const ScreenshotPaths& paths);
+  void writeStats(const std::string& endedBy);
+
+  static void onKey(GLFWwindow* w, int key, int scancode, int action, int mods);
+
+  const ViewOptions& options_;
+  std::unique_ptr<gl::Context> context_;
+  GLFWwindow* window_ = nullptr;
+  std::unique_ptr<scene::Scene> scene_;
+  std::unique_ptr<gl::ProgramCache> programs_;
+  std::unique_ptr<render::Renderer> renderer_;
+  std::unique_ptr<FlyCamera> camera_;
+  std::unique_ptr<ImGuiLayer> imgui_;
+  std::string scenePath_;
+
+  std::vector<Action> pendingActions_;
+  bool panel_ = true;
+  int frame_ = 0;  // frames rendered so far
+  size_t nextScripted_ = 0;
+  Clock::time_point lastReload_, lastFrame_;
+  glm::dvec2 lastCursor_{0.0};
+  bool looking_ = false;
+
+  // What the panel and the stats report.
+  std::string modeMessage_;
+  std::vector<std::string> unavailableRequests_;
+  int modeSwitches_ = 0;
+  int resizes_ = 0;
+  int reloadsOk_ = 0, reloadsFailed_ = 0;
+  std::string shaderError_, lastReloadError_;
+  std::vector<std::string> screenshots_;
+  std::deque<FrameSample> history_;
+  std::vector<double> frameMs_;
+  std::map<std::string, std::vector<double>> stageMs_;
+  std::vector<std::string> stageOrder_;
+};
+
+void Viewer::onKey(GLFWwindow* w, int key, int, int action, int) {
+  auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+  if (!self || action == GLFW_RELEASE) return;
+  if (self->imgui_ && self->imgui_->wantsKeyboard()) return;
+  const auto a = actionForGlfwKey(key);
+  if (!a) return;
+  const bool repeats =
+      a->kind == Action::Kind::kExposureUp || a->kind == Action::Kind::kExposureDown;
+  if (action == GLFW_REPEAT && !repeats) return;
+  self->pendingActions_.push_back(*a);
+}
+
+void Viewer::selectSlot(int slot) {
+  const char* name = modeForSlot(slot);
+  const auto mode = name ? render::parseMode(name) : std::nullopt;
+  if (!mode) {
+    modeMessage_ = strf("key %d: %s is not in this build (available: %s)", slot,
+                        name ? name : "reserved slot", render::availableModes().c_str());
+    unavailableRequests_.push_back(name ? name : "reserved");
+    logWarning(strf("view: frame %d: %s", frame_, modeMessage_.c_str()));
+    return;
+  }
+  ++modeSwitches_;
+  renderer_->setMode(*mode);
+  modeMessage_.clear();
+  logInfo(strf("view: frame %d: mode %s", frame_, render::modeName(*mode)));
+}
+
+void Viewer::apply(const Action& a) {
+  using K = Action::Kind;
+  switch (a.kind) {
+    case K::kMode:
+      selectSlot(a.slot);
+      break;
+    case K::kExposureUp:
+    case K::kExposureDown: {
+      render::TonemapPass::Settings t = renderer_->tonemapSettings();
+      t.exposure = stepExposure(t.exposure, a.kind == K::kExposureUp ? 1 : -1);
+      renderer_->setTonemapSettings(t);
+      logInfo(strf("view: frame %d: exposure %g", frame_, t.exposure));
+      break;
+    }
+    case K::kToggleTonemap: {
+      render::TonemapPass::Settings t = renderer_->tonemapSettings();
+      t.op = t.op == render::Tonemap::kClamp ? render::Tonemap::kAces : render::Tonemap::kClamp;
+      renderer_->setTonemapSettings(t);
+      logInfo(strf("view: frame %d: tonemap %s", frame_, render::tonemapName(t.op)));
+      break;
+    }
+    case K::kResetCamera:
+      camera_->reset();
+      break;
+    case K::kScreenshot:
+      // The frame on screen is the last one rendered; with none yet, render first.
+      if (frame_ == 0) renderer_->renderFrame(camera_->camera());
+      takeScreenshot(nextScreenshotPaths(options_.screenshotDir, std::time(nullptr)));
+      break;
+    case K::kTogglePanel:
+      panel_ = !panel_;
+      break;
+    case K::kQuit:
+      glfwSetWindowShouldClose(window_, GLFW_TRUE);
+      break;
+  }
+}
+
+void Viewer::checkShaders() {
+  const auto now = Clock::now();
+  if (msBetween(lastReload_, now) < kReloadIntervalMs) return;
+  lastReload_ = now;
+  const gl::ProgramCache::ReloadReport r = programs_->reloadChanged();
+  if (r.rebuilt == 0 && r.failed == 0) return;
+  reloadsOk_ += r.rebuilt;
+  reloadsFailed_ += r.failed;
+  if (r.failed > 0) {
+    shaderError_ = r.error;
+    lastReloadError_ = r.error;
+    logInfo(strf("view: frame %d: shader reload failed, the last good program keeps running: %s",
+                 frame_, r.error.c_str()));
+  } else {
+    shaderError_.clear();
+    logInfo(strf("view: frame %d: reloaded %d program(s)", frame_, r.rebuilt));
+  }
+  if (r.rebuilt > 0) renderer_->restartAccumulation();
+}
+
+void Viewer::flyCamera(float seconds) {
+  FlyInput in;
+  const bool keyboard = !imgui_->wantsKeyboard();
+  auto down = [&](int key) { return keyboard && glfwGetKey(window_, key) == GLFW_PRESS; };
+  in.move.x = static_cast<float>(down(GLFW_KEY_D)) - static_cast<float>(down(GLFW_KEY_A));
+  in.move.y = static_cast<float>(down(GLFW_KEY_E)) - static_cast<float>(down(GLFW_KEY_Q));
+  in.move.z = static_cast<float>(down(GLFW_KEY_W)) - static_cast<float>(down(GLFW_KEY_S));
+  if (down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT)) in.speedScale = 4.0f;
+  if (down(GLFW_KEY_LEFT_CONTROL) || down(GLFW_KEY_RIGHT_CONTROL)) in.speedScale = 0.25f;
+  // Mouse look while the right button is held, or the left one outside the panel.
+  glm::dvec2 cursor;
+  glfwGetCursorPos(window_, &cursor.x, &cursor.y);
+  const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool look = right || (left && (looking_ || !imgui_->wantsMouse()));
+  if (look && looking_) in.look = glm::vec2(cursor - lastCursor_);
+  looking_ = look;
+  lastCursor_ = cursor;
+  camera_->update(in, seconds);
+}
+
+void Viewer::takeScreenshot(const ScreenshotPaths& paths) {
+  const int w = renderer_->settings().width, h = renderer_->settings().height;
+  const auto display = renderer_->readDisplay();
+  image::writePng(paths.png, w, h, display.data());
+  const auto linear = renderer_->readLinear();
+  image::writeExr(paths.exr, w, h, linear.data());
+  screenshots_.push_back(paths.png);
+  screenshots_.push_back(paths.exr);
+  logInfo(strf("view: wrote %s and %s (%dx%d)", paths.png.c_str(), paths.exr.c_str(), w, h));
+}
+
+void Viewer::drawKnobs() {
+  for (render::Knob& k : renderer_->knobs()) {
+    switch (k.kind) {
+      case render::Knob::Kind::kFloat: {
+        float v = static_cast<float>(k.get());
+        if (ImGui::SliderFloat(k.label.c_str(), &v, static_cast<float>(k.min),
+                               static_cast<float>(k.max), "%.3f",
+                               k.logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+          k.set(v);
+        break;
+      }
+      case render::Knob::Kind::kInt: {
+        int v = static_cast<int>(k.get());
+        if (ImGui::SliderInt(k.label.c_str(), &v, static_cast<int>(k.min), static_cast<int>(k.max)))
+          k.set(v);
+        break;
+      }
+      case render::Knob::Kind::kChoice: {
+        int v = static_cast<int>(k.get());
+        std::vector<const char*> items;
+        for (const std::string& c : k.choices) items.push_back(c.c_str());
+        if (ImGui::Combo(k.label.c_str(), &v, items.data(), static_cast<int>(items.size())))
+          k.set(v);
+        break;
+      }
+    }
+    if (!k.help.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", k.help.c_str());
+  }
+}
+
+void Viewer::drawTimings() {
+  if (history_.empty()) return;
+  // One plot per stage plus the whole frame, on a shared scale.
+  std::vector<std::string> names;
+  for (const gl::StageTime& s : history_.back().stages) names.push_back(s.name);
+  float top = 1.0f;
+  std::vector<std::vector<float>> series(names.size() + 1);
+  for (const FrameSample& f : history_) {
+    series.back().push_back(static_cast<float>(f.frameMs));
+    top = std::max(top, static_cast<float>(f.frameMs));
+    for (size_t i = 0; i < names.size(); ++i) {
+      float v = 0.0f;
+      for (const gl::StageTime& s : f.stages)
+        if (s.name == names[i]) v = static_cast<float>(s.gpuMs);
+      series[i].push_back(v);
+    }
+  }
+  names.push_back("frame (wall)");
+  ImGui::Text("last %.0f s, 0 .. %.1f ms", kGraphSeconds, top);
+  ImGui::PushItemWidth(-1.0f);
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string overlay = strf("%s %.2f ms", names[i].c_str(), series[i].back());
+    ImGui::PlotLines(("##" + names[i]).c_str(), series[i].data(),
+                     static_cast<int>(series[i].size()), 0, overlay.c_str(), 0.0f, top,
+                     ImVec2(0.0f, 36.0f));
+  }
+  ImGui::PopItemWidth();
+}
+
+void Viewer::drawPanel() {
+  ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(360.0f, 0.0f), ImGuiCond_FirstUseEver);
+  // Never taller than the window, so nothing is out of reach (it scrolls instead).
+  const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 16.0f, 100.0f);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 100.0f), ImVec2(4096.0f, maxHeight));
+  ImGui::Begin("voxgi view (tab hides)");
+  const render::RenderSettings& rs = renderer_->settings();
+  ImGui::TextWrapped("%s", context_->renderer().c_str());
+  ImGui::Text("GL %s, glfw", context_->version().c_str());
+  const double lastMs = history_.empty() ? 0.0 : history_.back().frameMs;
+  ImGui::Text("%dx%d, %.1f ms per frame", rs.width, rs.height, lastMs);
+  ImGui::Text("frame %d, %d accumulated", frame_ + 1, renderer_->accumulatedFrames());
+
+  if (ImGui::CollapsingHeader("Mode (keys 1-6)", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (int slot = 1; slot <= kModeSlots; ++slot) {
+      const char* name = modeForSlot(slot);
+      const auto mode = name ? render::parseMode(name) : std::nullopt;
+      const std::string label =
+          strf("%d %s%s", slot, name ? name : "reserved", mode ? "" : "  (not in this build)");
+      if (!mode) ImGui::BeginDisabled();
+      if (ImGui::RadioButton(label.c_str(), mode && *mode == rs.mode)) selectSlot(slot);
+      if (!mode) ImGui::EndDisabled();
+    }
+    if (!modeMessage_.empty())
+      ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", modeMessage_.c_str());
+  }
+  if (ImGui::CollapsingHeader("Knobs", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Text("size %dx%d (follows the window)", rs.width, rs.height);
+    drawKnobs();
+    ImGui::TextDisabled("keys: + - exposure, t tonemap");
+  }
+  if (ImGui::CollapsingHeader("Frame time per stage (GPU)", ImGuiTreeNodeFlags_DefaultOpen))
+    drawTimings();
+  if (ImGui::CollapsingHeader("Shaders (hot reload)", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::TextWrapped("%s: %zu programs", programs_->root().string().c_str(), programs_->size());
+    ImGui::Text("reloads: %d ok, %d failed", reloadsOk_, reloadsFailed_);
+    if (!shaderError_.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
+      ImGui::TextWrapped("%s", shaderError_.c_str());
+      ImGui::PopStyleColor();
+      ImGui::TextDisabled("the last good program keeps running");
+    }
+  }
+  if (ImGui::CollapsingHeader("Scene facts")) {
+    const scene::Scene& s = *scene_;
+    const SceneFacts f(s);
+    ImGui::TextDisabled("what the effect plan will be derived from");
+    ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(), s.materials.size(),
+                s.textures.size());
+    ImGui::Text("lights: %d directional, %d point, %d spot%s", f.directional, f.point, f.spot,
+                s.defaultLight ? " (default light added)" : "");
+    ImGui::Text("emissive materials: %d (%d emitter groups)", f.emissiveMaterials,
+                renderer_->gpuScene().emitterCount());
+    ImGui::Text("alpha: %d masked, %d blended materials", f.maskedMaterials, f.blendedMaterials);
+    const glm::vec3 e = s.bounds.extent();
+    ImGui::Text("bounds %.3g x %.3g x %.3g", e.x, e.y, e.z);
+  }
+  if (ImGui::CollapsingHeader("Memory")) {
+    ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
+    ImGui::Text("render targets: %s", mib(renderer_->targetBytes()).c_str());
+    ImGui::Text("voxel structures: n/a in this mode");
+  }
+  if (ImGui::CollapsingHeader("Camera")) {
+    const scene::Camera& c = camera_->camera();
+    ImGui::Text("position %.3g %.3g %.3g", c.position.x, c.position.y, c.position.z);
+    ImGui::Text("forward %.3f %.3f %.3f", c.forward.x, c.forward.y, c.forward.z);
+    ImGui::Text("speed %.3g units/s (Shift x4, Ctrl x1/4)", camera_->speed());
+    ImGui::TextDisabled("WASD move, Q/E down/up, right mouse look, r reset");
+  }
+  if (ImGui::Button("Screenshot (p)")) pendingActions_.push_back({Action::Kind::kScreenshot});
+  if (!screenshots_.empty()) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", fs::path(screenshots_.back()).filename().string().c_str());
+  }
+  ImGui::End();
+}
+
+void Viewer::writeStats(const std::string& endedBy) {
+  nlohmann::ordered_json stats;
+  const render::RenderSettings& rs = renderer_->settings();
+  stats["voxgi_version"] = VOXGI_VERSION;
+  stats["command"] = "view";
+  stats["scene"] = scenePath_;
+  stats["mode"] = render::modeName(rs.mode);
+  stats["size"] = {{"width", rs.width}, {"height", rs.height}};
+  stats["backend"] = gl::backendName(context_->backend());
+  stats["renderer"] = context_->renderer();
+  stats["gl_version"] = context_->version();
+  stats["frames"] = frame_;
+  stats["ended_by"] = endedBy;
+  stats["frame_ms"] = median(frameMs_);
+  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+  for (const std::string& name : stageOrder_) stages[name] = median(stageMs_[name]);
+  stats["stages"] = stages;
+  stats["exposure"] = rs.tonemap.exposure;
+  stats["tonemap"] = render::tonemapName(rs.tonemap.op);
+  stats["resizes"] = resizes_;
+  stats["mode_switches"] = modeSwitches_;
+  stats["unavailable_mode_requests"] = unavailableRequests_;
+  stats["shader_root"] = programs_->root().string();
+  stats["reloads_ok"] = reloadsOk_;
+  stats["reloads_failed"] = reloadsFailed_;
+  stats["last_reload_error"] = lastReloadError_;
+  stats["screenshots"] = screenshots_;
+  stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
+  stats["gl_errors"] = gl::debugErrorCount();
+  image::writeText(options_.stats, stats.dump(2) + "\n");
+}
+
+int Viewer::run() {
+  // Everything that can be refused without a window is refused first.
+  std::optional<ScreenshotPaths> named;
+  if (!options_.screenshot.empty()) {
+    named = screenshotPathsFor(options_.screenshot);
+    image::checkWritable(named->png);
+    image::checkWritable(named->exr);
+  }
+  if (!options_.screenshotDir.empty() && !fs::is_directory(options_.screenshotDir))
+    throw Error(options_.screenshotDir + ": not a folder (--screenshot-dir)");
+  if (!options_.stats.empty()) image::checkWritable(options_.stats);
+  scenePath_ = options_.scene.empty() ? defaultScenePath() : options_.scene;
+  scene_ = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+
+  gl::ContextOptions co;
+  co.backend = gl::Backend::kGlfw;
+  co.width = options_.render.width;
+  co.height = options_.render.height;
+  co.visible = true;
+  co.title = "voxgi view - " + fs::path(scenePath_).filename().string();
+  context_ = gl::Context::create(co);
+  window_ = static_cast<GLFWwindow*>(context_->nativeWindow());
+  glfwSwapInterval(1);
+
+  render::RenderSettings settings = options_.render;
+  glfwGetFramebufferSize(window_, &settings.width, &settings.height);
+  settings.width = std::max(settings.width, 1);
+  settings.height = std::max(settings.height, 1);
+  programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
+  renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
+  camera_ = std::make_unique<FlyCamera>(scene_->camera, scene_->bounds, scene_->scale.cameraSpeed);
+
+  // Our key callback first; the ImGui backend chains to it after its own.
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetKeyCallback(window_, &Viewer::onKey);
+  imgui_ = std::make_unique<ImGuiLayer>(window_);
+  panel_ = options_.panel;
+
+  std::optional<StopSignals> signals(std::in_place);
+
+  logInfo(strf("view: %s in a %dx%d window on %s; mode %s", scenePath_.c_str(), settings.width,
+               settings.height, context_->renderer().c_str(),
+               render::modeName(options_.render.mode)));
+  std::string endedBy = "window";
+  lastReload_ = lastFrame_ = Clock::now();
+  while (true) {
+    if (gStopSignal) {
+      endedBy = "signal";
+      break;
+    }
+    if (context_->shouldClose()) break;
+    if (options_.frames > 0 && frame_ >= options_.frames) {
+      endedBy = "frames";
+      break;
+    }
+    glfwPollEvents();
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    if (w <= 0 || h <= 0) {  // minimised: nothing to draw into
+      glfwWaitEventsTimeout(0.1);
+      lastFrame_ = Clock::now();
+      continue;
+    }
+    if (w != renderer_->settings().width || h != renderer_->settings().height) {
+      renderer_->resize(w, h);
+      ++resizes_;
+      logInfo(strf("view: frame %d: resized to %dx%d", frame_, w, h));
+    }
+    while (nextScripted_ < options_.keys.size() && options_.keys[nextScripted_].frame <= frame_ + 1)
+      pendingActions_.push_back(options_.keys[nextScripted_++].action);
+    for (const Action& a : std::exchange(pendingActions_, {})) apply(a);
+    if (context_->shouldClose()) break;
+    checkShaders();
+
+    const auto start = Clock::now();
+    const float seconds =
+        std::min(static_cast<float>(msBetween(lastFrame_, start)) * 1e-3f, kMaxStepSeconds);
+    lastFrame_ = start;
+    imgui_->beginFrame();
+    flyCamera(seconds);
+    renderer_->renderFrame(camera_->camera());
+    glBlitNamedFramebuffer(renderer_->displayFramebuffer(), 0, 0, 0, w, h, 0, 0, w, h,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    if (panel_) drawPanel();
+    imgui_->endFrame();
+    context_->swapBuffers();
+    ++frame_;
+
+    const double ms = msBetween(start, Clock::now());
+    frameMs_.push_back(ms);
+    for (const gl::StageTime& s : renderer_->lastStages()) {
+      if (!stageMs_.count(s.name)) stageOrder_.push_back(s.name);
+      stageMs_[s.name].push_back(s.gpuMs);
+    }
+    history_.push_back({start, ms, renderer_->lastStages()});
+    while (msBetween(history_.front().when, start) > kGraphSeconds * 1000.0) history_.pop_front();
+    if (frame_ == 1) logInfo(strf("view: first frame in %.1f ms", ms));
+  }
+  signals.reset();
+
+  if (named) {
+    if (frame_ == 0) renderer_->renderFrame(camera_->camera());
+    takeScreenshot(*named);
+  }
+  if (!options_.stats.empty()) writeStats(endedBy);
+  const int glErrors = gl::debugErrorCount();
+  if (!options_.quiet) {
+    std::printf("view: %d frames (ended by %s), median %.1f ms; shader reloads %d ok, %d failed\n",
+                frame_, endedBy.c_str(), median(frameMs_), reloadsOk_, reloadsFailed_);
+    if (!options_.stats.empty()) std::printf("wrote %s\n", options_.stats.c_str());
+  }
+  imgui_.reset();
+  if (glErrors > 0) {
+    logError(
+        strf("%d GL error(s) during the run; first: %s", glErrors, gl::lastDebugError().c_str()));
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int runView(const ViewOptions& options) {
+  if (options.verbose) setLogLevel(LogLevel::kDebug);
+  if (options.quiet) setLogLevel(LogLevel::kError);
+  Viewer viewer(options);
+  return viewer.run();
+}
+
+}  // namespace voxgi::app

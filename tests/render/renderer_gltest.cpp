@@ -1,0 +1,109 @@
+// What the viewer asks of the renderer: a per-frame camera, resizing, knobs, and
+// accumulation restarting on any change; the fixed-size `render` path is unchanged.
+#include <gtest/gtest.h>
+
+#include "core/log.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "support/gl_fixture.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+namespace {
+
+class RendererTest : public GlTest {
+ protected:
+  void SetUp() override {
+    GlTest::SetUp();
+    if (!context_) return;
+    scene_ = scene::loadGltf(cornellRoom());
+    programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
+  }
+  void TearDown() override {
+    programs_.reset();
+    GlTest::TearDown();
+  }
+  render::RenderSettings settings(int w, int h) const {
+    render::RenderSettings s;
+    s.width = w;
+    s.height = h;
+    return s;
+  }
+  scene::Scene scene_;
+  std::unique_ptr<gl::ProgramCache> programs_;
+};
+
+TEST_F(RendererTest, SceneCameraAndExplicitCameraAgree) {
+  render::Renderer r(*programs_, scene_, settings(48, 40));
+  r.renderFrame();
+  const auto a = r.readDisplay();
+  r.renderFrame(scene_.camera);
+  EXPECT_EQ(r.readDisplay(), a);
+  scene::Camera moved = scene_.camera;
+  moved.position += 0.3f * moved.forward;
+  r.renderFrame(moved);
+  EXPECT_NE(r.readDisplay(), a);
+}
+
+TEST_F(RendererTest, ResizedMatchesFresh) {
+  render::Renderer resized(*programs_, scene_, settings(64, 64));
+  resized.renderFrame();
+  resized.resize(96, 48);
+  EXPECT_EQ(resized.settings().width, 96);
+  EXPECT_EQ(resized.accumulatedFrames(), 0);
+  resized.renderFrame();
+  EXPECT_EQ(resized.readDisplay().size(), 96u * 48u * 4u);
+  render::Renderer fresh(*programs_, scene_, settings(96, 48));
+  fresh.renderFrame();
+  EXPECT_EQ(resized.readDisplay(), fresh.readDisplay());
+  EXPECT_EQ(resized.readLinear(), fresh.readLinear());
+  EXPECT_THROW(resized.resize(0, 10), voxgi::Error);
+  EXPECT_EQ(resized.settings().width, 96);  // a refused size leaves the targets alone
+}
+
+TEST_F(RendererTest, AccumulationRestartsOnAnyChange) {
+  render::Renderer r(*programs_, scene_, settings(32, 32));
+  r.renderFrame();
+  r.renderFrame();
+  EXPECT_EQ(r.accumulatedFrames(), 2);
+  r.resize(32, 32);  // same size: nothing changes
+  r.setMode(render::Mode::kRaster);
+  EXPECT_EQ(r.accumulatedFrames(), 2);
+  scene::Camera c = scene_.camera;
+  c.forward = glm::normalize(c.forward + glm::vec3(0.01f, 0.0f, 0.0f));
+  r.renderFrame(c);
+  EXPECT_EQ(r.accumulatedFrames(), 1);
+  r.renderFrame(c);
+  EXPECT_EQ(r.accumulatedFrames(), 2);
+  auto knobs = r.knobs();
+  ASSERT_FALSE(knobs.empty());
+  knobs[0].set(knobs[0].get());
+  EXPECT_EQ(r.accumulatedFrames(), 0);
+  r.renderFrame(c);
+  r.restartAccumulation();
+  EXPECT_EQ(r.accumulatedFrames(), 0);
+}
+
+TEST_F(RendererTest, KnobsDriveTheTonemap) {
+  render::Renderer r(*programs_, scene_, settings(32, 32));
+  auto knobs = r.knobs();
+  ASSERT_EQ(knobs.size(), 2u);  // raster has none; the tonemap's exposure and operator
+  EXPECT_EQ(knobs[0].label, "exposure");
+  EXPECT_EQ(knobs[0].get(), 1.0);
+  EXPECT_EQ(knobs[1].kind, render::Knob::Kind::kChoice);
+  EXPECT_EQ(knobs[1].choices, (std::vector<std::string>{"clamp", "aces"}));
+  knobs[0].set(0.25);
+  knobs[1].set(1);
+  EXPECT_EQ(r.settings().tonemap.exposure, 0.25f);
+  EXPECT_EQ(r.settings().tonemap.op, render::Tonemap::kAces);
+  r.renderFrame();
+  render::RenderSettings s = settings(32, 32);
+  s.tonemap.exposure = 0.25f;
+  s.tonemap.op = render::Tonemap::kAces;
+  render::Renderer expected(*programs_, scene_, s);
+  expected.renderFrame();
+  EXPECT_EQ(r.readDisplay(), expected.readDisplay());
+}
+
+}  // namespace
+}  // namespace voxgi::test
