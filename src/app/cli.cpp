@@ -55,8 +55,22 @@ std::string mainHelp() {
          "commands:\n"
          "  render [SCENE]   render a glTF scene headless to PNG/EXR (default: the Cornell room)\n"
          "  view [SCENE]     open a window: fly camera, mode keys, panel, shader hot reload\n"
+         "  bench [SCENE]    per-stage timings (medians) for a list of voxel resolutions\n"
          "\n"
-         "  voxgi --help, voxgi render --help, voxgi view --help, voxgi --version\n";
+         "  voxgi --help, voxgi render|view|bench --help, voxgi --version\n";
+}
+
+std::string benchHelp() {
+  return "usage: voxgi bench [SCENE] [options]\n"
+         "\n"
+         "Renders --frames frames (default 5) after one warm-up frame, re-voxelizing every\n"
+         "frame, and prints the median time of each stage, one row per grid resolution.\n"
+         "\n"
+         "options:\n"
+         "  --voxels N,M,...  grid resolutions, 32..512 (default 128,256)\n"
+         "  --json FILE       write the results as JSON\n"
+         "  --mode, --size, --frames, --backend, --exposure, --tonemap, --verbose, --quiet\n"
+         "                    as for render (default mode points, size 256x256)\n";
 }
 
 std::string renderHelp() {
@@ -216,6 +230,46 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     return inv;
   }
   if (cmd == "view") return parseView(args);
+  if (cmd == "bench") {
+    // The render options, plus a list of resolutions and a JSON file.
+    std::vector<std::string> rest = {"render",  "--mode",   "points", "--size",
+                                     "256x256", "--frames", "5"};
+    BenchOptions bench;
+    bench.voxels = {128, 256};
+    for (size_t i = 1; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      if (a == "-h" || a == "--help") {
+        inv.helpTopic = "bench";
+        return inv;
+      }
+      if (a == "--voxels" || a == "--json") {
+        if (i + 1 >= args.size()) throw UsageError(a + ": needs a value");
+        const std::string v = args[++i];
+        if (a == "--json") {
+          bench.json = v;
+          continue;
+        }
+        bench.voxels.clear();
+        size_t start = 0;
+        while (start <= v.size()) {
+          const size_t comma = v.find(',', start);
+          const std::string item =
+              v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+          bench.voxels.push_back(parseInt("--voxels", item, 32, 512));
+          if (comma == std::string::npos) break;
+          start = comma + 1;
+        }
+        continue;
+      }
+      if (a == "--out" || a == "--stats" || a == "--revoxelize")
+        throw UsageError(a + ": not a bench option (see voxgi bench --help)");
+      rest.push_back(a);
+    }
+    bench.render = parseCommandLine(rest).render;
+    inv.bench = bench;
+    inv.command = Command::kBench;
+    return inv;
+  }
   if (cmd != "render") {
     if (!cmd.empty() && cmd[0] == '-')
       throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");

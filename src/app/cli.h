@@ -29,12 +29,19 @@ struct RenderOptions {
   bool quiet = false;
 };
 
-enum class Command { kHelp, kVersion, kRender, kView };
+struct BenchOptions {
+  RenderOptions render;     // mode, size, frames, backend as for render
+  std::vector<int> voxels;  // grid resolutions, one row each
+  std::string json;         // results file
+};
+
+enum class Command { kHelp, kVersion, kRender, kView, kBench };
 
 struct Invocation {
   Command command = Command::kHelp;
   RenderOptions render;
   ViewOptions view;
+  BenchOptions bench;
   std::string helpTopic;  // "", "render" or "view"
 };
 
@@ -43,6 +50,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args);
 std::string mainHelp();
 std::string renderHelp();
 std::string viewHelp();
+std::string benchHelp();
 std::string versionText();
 
 // The built-in default scene (scenes/cornell_room/cornell_room.gltf).
@@ -51,6 +59,7 @@ std::string defaultScenePath();
 std::string shaderRoot();
 
 int runRender(const RenderOptions& options);
+int runBench(const BenchOptions& options);
 
 }  // namespace voxgi::app
 

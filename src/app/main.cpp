@@ -13,9 +13,10 @@ int main(int argc, char** argv) {
     const app::Invocation inv = app::parseCommandLine(args);
     switch (inv.command) {
       case app::Command::kHelp:
-        std::fputs(inv.helpTopic == "render" ? app::renderHelp().c_str()
-                   : inv.helpTopic == "view" ? app::viewHelp().c_str()
-                                             : app::mainHelp().c_str(),
+        std::fputs(inv.helpTopic == "render"  ? app::renderHelp().c_str()
+                   : inv.helpTopic == "view"  ? app::viewHelp().c_str()
+                   : inv.helpTopic == "bench" ? app::benchHelp().c_str()
+                                              : app::mainHelp().c_str(),
                    stdout);
         return 0;
       case app::Command::kVersion:
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
         return app::runRender(inv.render);
       case app::Command::kView:
         return app::runView(inv.view);
+      case app::Command::kBench:
+        return app::runBench(inv.bench);
     }
   } catch (const app::UsageError& e) {
     std::fprintf(stderr, "voxgi: error: %s\n", e.what());

@@ -99,6 +99,26 @@ TEST(Cli, PointsModeReportsVoxels) {
   EXPECT_FALSE(stats["stages"].contains("raster"));
 }
 
+TEST(Cli, BenchPrintsATableAndWritesJson) {
+  const std::string dir = scratchDir();
+  const auto r =
+      runCommand(voxgi("bench --voxels 32,64 --frames 2 --size 32x32 --json " + dir + "/b.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("voxelize"), std::string::npos) << r.output;
+  std::ifstream in(dir + "/b.json");
+  const auto b = nlohmann::json::parse(in);
+  ASSERT_EQ(b["runs"].size(), 2u);
+  EXPECT_EQ(b["runs"][0]["voxels"], 32);
+  EXPECT_EQ(b["runs"][1]["voxels"], 64);
+  for (const auto& run : b["runs"]) {
+    EXPECT_GT(run["stages"]["voxelize"].get<double>(), 0.0);  // measured every frame
+    EXPECT_GT(run["occupied"].get<int>(), 0);
+  }
+  EXPECT_GT(b["runs"][1]["occupied"].get<int>(), b["runs"][0]["occupied"].get<int>());
+  expectOneLineError(runCommand(voxgi("bench --voxels 64,abc")), 2, "--voxels");
+  expectOneLineError(runCommand(voxgi("bench --out x.png")), 2, "--out");
+}
+
 TEST(Cli, UnwritableOutputsAreRefusedBeforeRendering) {
   const std::string dir = scratchDir();
   expectOneLineError(runCommand(voxgi("render --size 8x8 --out " + dir + "/no/such/dir/x.png")), 1,
