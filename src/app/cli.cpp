@@ -90,7 +90,9 @@ std::string renderHelp() {
          "  --frames N        frames to render; timings are medians (default 1)\n"
          "  --voxels N        voxel grid resolution, N^3 voxels, 32..512 (default 128);\n"
          "                    used by modes that voxelize (points)\n"
-         "  --revoxelize      voxelize every frame instead of once per scene\n"
+         "  --revoxelize      voxelize every frame instead of once per scene (animated scenes)\n"
+         "  --time T          animated scenes: pose of the first frame, seconds (default 0)\n"
+         "  --fps F           animated scenes: frame f shows T + f/F (default 30)\n"
          "  --backend B       egl (default; surfaceless Mesa or an NVIDIA device), osmesa,\n"
          "                    or glfw (a hidden window; needs a display)\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
@@ -313,6 +315,11 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       o.render.voxels = parseInt("--voxels", value(), 32, 512);
     } else if (a == "--revoxelize") {
       o.render.revoxelize = true;
+    } else if (a == "--time") {
+      o.time = parseFloat("--time", value());
+    } else if (a == "--fps") {
+      o.fps = parseFloat("--fps", value());
+      if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
     } else if (a == "--exposure") {
       o.render.tonemap.exposure = parseFloat("--exposure", value());
     } else if (a == "--tonemap") {

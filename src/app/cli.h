@@ -25,6 +25,8 @@ struct RenderOptions {
   std::vector<std::string> outputs;  // .png and/or .exr
   std::string stats;                 // .json
   int frames = 1;
+  double time = 0.0;  // animated scenes: the pose of the first frame, seconds
+  double fps = 30.0;  // animated scenes: frame f shows time + f / fps
   bool verbose = false;
   bool quiet = false;
 };

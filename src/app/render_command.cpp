@@ -57,6 +57,7 @@ int runRender(const RenderOptions& o) {
 
   const auto loadStart = Clock::now();
   scene::Scene scene = scene::loadGltf(scenePath);
+  scene.pose(o.time);
   const double loadMs = msSince(loadStart);
 
   gl::ProgramCache programs(shaderRoot());
@@ -71,6 +72,10 @@ int runRender(const RenderOptions& o) {
   std::vector<std::string> stageOrder;
   for (int f = 0; f < o.frames; ++f) {
     const auto t = Clock::now();
+    if (scene.animated() && f > 0) {  // frame f shows time + f / fps
+      scene.pose(o.time + f / o.fps);
+      renderer.geometryChanged();
+    }
     renderer.renderFrame();
     frameMs.push_back(msSince(t));
     for (const gl::StageTime& s : renderer.lastStages()) {
@@ -115,6 +120,12 @@ int runRender(const RenderOptions& o) {
   stats["lights"] = scene.lights.size();
   stats["emitters"] = gs.emitterCount();
   stats["default_light"] = scene.defaultLight;
+  stats["animated"] = scene.animated();
+  if (scene.animated()) {
+    stats["time"] = o.time;
+    stats["fps"] = o.fps;
+    stats["animation_seconds"] = scene.animationDuration;
+  }
   stats["scene_warnings"] = scene.warnings;
   stats["gpu_scene_bytes"] = gs.bytes();
   if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {

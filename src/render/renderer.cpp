@@ -116,6 +116,11 @@ void Renderer::resize(int width, int height) {
   createTargets();
 }
 
+void Renderer::geometryChanged() {
+  gpuScene_.updateGeometry();
+  accumulated_ = 0;
+}
+
 void Renderer::setMode(Mode mode) {
   if (mode == settings_.mode) return;
   const Mode previous = settings_.mode;

@@ -65,6 +65,8 @@ class Renderer {
   // Re-creates the targets at width x height (checked as in the constructor).
   void resize(int width, int height);
   void setMode(Mode mode);
+  // The scene was re-posed (Scene::pose): upload it; voxels follow with revoxelize.
+  void geometryChanged();
   // The knobs of the current mode, then the tonemap's; setting one restarts
   // accumulation. Valid until the mode changes.
   std::vector<Knob> knobs();

@@ -173,7 +173,9 @@ class Loader {
 
     scene_.path = path_;
     readMaterials();
+    readNodesAndAnimations();
     traverse();
+    if (scene_.animated()) boundMotion();
     if (scene_.draws.empty()) warn_("no triangles to draw");
     scene_.finalize();
     if (opt_.addDefaultLight) scene_.addDefaultLightIfUnlit();
@@ -233,6 +235,105 @@ class Loader {
     }
     if (line.size() > 300) line = line.substr(0, 300) + "...";
     return line;
+  }
+
+  void readNodesAndAnimations() {
+    const size_t n = model_.nodes.size();
+    scene_.nodes.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const auto& node = model_.nodes[i];
+      SceneNode& sn = scene_.nodes[i];
+      for (int c : node.children) scene_.nodes[static_cast<size_t>(c)].parent = static_cast<int>(i);
+      if (!node.matrix.empty()) {
+        sn.hasMatrix = true;
+        sn.matrix = localMatrix(node, static_cast<int>(i));
+        continue;
+      }
+      if (node.translation.size() == 3)
+        sn.translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
+      if (node.rotation.size() == 4)
+        sn.rotation = glm::normalize(
+            glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+      if (node.scale.size() == 3)
+        sn.scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+    }
+    std::vector<char> animated(n, 0);
+    for (size_t a = 0; a < model_.animations.size(); ++a) {
+      const auto& anim = model_.animations[a];
+      for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
+        const auto& ch = anim.channels[ci];
+        const std::string where = strf("animation %zu channel %zu", a, ci);
+        if (ch.target_path == "weights") {
+          warn_(where + ": morph target weights are not animated; skipped");
+          continue;
+        }
+        AnimationChannel c;
+        if (ch.target_path == "translation")
+          c.path = AnimationPath::kTranslation;
+        else if (ch.target_path == "rotation")
+          c.path = AnimationPath::kRotation;
+        else if (ch.target_path == "scale")
+          c.path = AnimationPath::kScale;
+        else
+          fail(where + ": unknown target path '" + ch.target_path + "'");
+        if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= n)
+          fail(strf("%s: node %d does not exist", where.c_str(), ch.target_node));
+        if (scene_.nodes[static_cast<size_t>(ch.target_node)].hasMatrix)
+          fail(strf("%s: node %d has a matrix and cannot be animated", where.c_str(),
+                    ch.target_node));
+        if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
+          fail(strf("%s: sampler %d does not exist", where.c_str(), ch.sampler));
+        const auto& sampler = anim.samplers[static_cast<size_t>(ch.sampler)];
+        c.node = ch.target_node;
+        c.step = sampler.interpolation == "STEP";
+        const bool cubic = sampler.interpolation == "CUBICSPLINE";
+        if (cubic) warn_(where + ": CUBICSPLINE is played back linearly");
+        const View in = accessor(sampler.input, "animation input", {TINYGLTF_TYPE_SCALAR},
+                                 {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        const int type =
+            c.path == AnimationPath::kRotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+        const View out =
+            accessor(sampler.output, "animation output", {type}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        const size_t per = cubic ? 3 : 1;
+        if (out.count != in.count * per) fail(where + ": input and output counts differ");
+        for (size_t k = 0; k < in.count; ++k) {
+          const float t = readComponent(in.data + k * in.stride, in.componentType, false);
+          if (!std::isfinite(t) || (k > 0 && t < c.times.back()))
+            fail(where + ": keyframe times must be finite and increasing");
+          c.times.push_back(t);
+          const unsigned char* q = out.data + (k * per + (cubic ? 1 : 0)) * out.stride;
+          glm::dvec4 v(0.0);
+          for (int comp = 0; comp < (type == TINYGLTF_TYPE_VEC4 ? 4 : 3); ++comp)
+            v[comp] = readComponent(q + 4 * static_cast<size_t>(comp), out.componentType, false);
+          if (!std::isfinite(v.x + v.y + v.z + v.w)) fail(where + ": NaN or Inf keyframe value");
+          c.values.push_back(v);
+        }
+        scene_.animationDuration =
+            std::max(scene_.animationDuration, static_cast<double>(c.times.back()));
+        animated[static_cast<size_t>(c.node)] = 1;
+        scene_.animations.push_back(std::move(c));
+      }
+    }
+    // A node moves if it or an ancestor is animated (the graph is a forest here).
+    moving_.assign(n, 0);
+    for (size_t i = 0; i < n; ++i)
+      for (int a = static_cast<int>(i); a >= 0; a = scene_.nodes[static_cast<size_t>(a)].parent)
+        if (animated[static_cast<size_t>(a)]) moving_[i] = 1;
+  }
+
+  // The bounds cover every pose: sampled at each keyframe and 64 steps between.
+  void boundMotion() {
+    std::vector<double> times;
+    for (const AnimationChannel& c : scene_.animations)
+      times.insert(times.end(), c.times.begin(), c.times.end());
+    for (int k = 0; k <= 64; ++k) times.push_back(scene_.animationDuration * k / 64.0);
+    for (double t : times) {
+      scene_.pose(t);
+      for (const AnimatedRange& r : scene_.animatedRanges)
+        for (size_t i = 0; i < r.localPositions.size(); ++i)
+          scene_.motionBounds.extend(scene_.vertices[r.firstVertex + i].position);
+    }
+    scene_.pose(0.0);
   }
 
   void validateBuffers() {
@@ -684,6 +785,19 @@ class Loader {
       }
       if (repaired) warn_(strf("%s: repaired %zu zero or NaN normals", where.c_str(), repaired));
       if (kept.empty()) continue;
+      if (moving_[static_cast<size_t>(nodeIndex)]) {
+        // Kept in the node's own space, to be re-posed (Scene::pose).
+        AnimatedRange r;
+        r.firstVertex = static_cast<uint32_t>(base);
+        r.node = nodeIndex;
+        const glm::mat3 toLocal = glm::mat3(glm::transpose(glm::dmat3(world)));
+        const glm::dmat4 inverse = glm::inverse(world);
+        for (size_t i = 0; i < p.count; ++i) {
+          r.localPositions.push_back(glm::dvec3(inverse * glm::dvec4(world_[base + i], 1.0)));
+          r.localNormals.push_back(toLocal * scene_.vertices[base + i].normal);
+        }
+        scene_.animatedRanges.push_back(std::move(r));
+      }
       Draw d;
       d.firstIndex = static_cast<uint32_t>(scene_.indices.size());
       d.indexCount = static_cast<uint32_t>(kept.size());
@@ -708,6 +822,7 @@ class Loader {
   int defaultMaterial_ = 0;
   std::map<int, int> textureMap_;
   std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
+  std::vector<char> moving_;       // per node: it or an ancestor is animated
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };

@@ -58,7 +58,9 @@ std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<Emitter>& 
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
   const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(Vertex));
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
-  vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data());
+  // Animated scenes rewrite their vertices (updateGeometry); others never do.
+  vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data(),
+                               s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   indices_ = gl::createBuffer(ibytes, s.indices.empty() ? nullptr : s.indices.data());
   vao_ = gl::createVertexArray();
   const GLuint vao = vao_.id();
@@ -80,7 +82,8 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   lights_ = gl::createBuffer(static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
                              lights.empty() ? nullptr : lights.data());
   emitters_ = gl::createBuffer(static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
-                               emitters.empty() ? nullptr : emitters.data());
+                               emitters.empty() ? nullptr : emitters.data(),
+                               s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
   bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
@@ -101,6 +104,24 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+void GpuScene::updateGeometry() {
+  if (!scene_.animated()) return;
+  uint32_t lo = UINT32_MAX, hi = 0;
+  for (const AnimatedRange& r : scene_.animatedRanges) {
+    lo = std::min(lo, r.firstVertex);
+    hi = std::max(hi, r.firstVertex + static_cast<uint32_t>(r.localPositions.size()));
+  }
+  glNamedBufferSubData(vertices_.id(), static_cast<GLintptr>(lo) * sizeof(Vertex),
+                       static_cast<GLsizeiptr>(hi - lo) * sizeof(Vertex),
+                       scene_.vertices.data() + lo);
+  // Moving emissive surfaces move their light.
+  const auto emitters = packEmitters(buildEmitters(scene_));
+  if (static_cast<int>(emitters.size()) == emitterCount_ && !emitters.empty())
+    glNamedBufferSubData(emitters_.id(), 0,
+                         static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
+                         emitters.data());
 }
 
 }  // namespace voxgi::scene

@@ -17,6 +17,8 @@ class GpuScene {
   explicit GpuScene(const Scene& scene);
 
   const Scene& scene() const { return scene_; }
+  // Re-uploads the animated vertices (and emitters) after Scene::pose().
+  void updateGeometry();
   GLuint vertexArray() const { return vao_.id(); }
   GLuint materials() const { return materials_.id(); }
   GLuint lights() const { return lights_.id(); }

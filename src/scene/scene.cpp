@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <functional>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/log.h"
@@ -30,6 +32,10 @@ bool Scene::hasEmission() const {
 void Scene::finalize() {
   bounds = Bounds{};
   for (const Vertex& v : vertices) bounds.extend(v.position);
+  if (!motionBounds.empty()) {
+    bounds.extend(motionBounds.min);
+    bounds.extend(motionBounds.max);
+  }
   if (bounds.empty()) {  // nothing to draw: a unit box around the origin
     bounds.min = glm::vec3(-1.0f);
     bounds.max = glm::vec3(1.0f);
@@ -78,6 +84,72 @@ void Scene::addDefaultLightIfUnlit() {
   lights.push_back(l);
   defaultLight = true;
   logInfo(path + ": the scene has no light; added a default directional light");
+}
+
+namespace {
+
+glm::dvec4 sample(const AnimationChannel& c, double t) {
+  const std::vector<float>& k = c.times;
+  if (t <= k.front()) return c.values.front();
+  if (t >= k.back()) return c.values.back();
+  const size_t i =
+      static_cast<size_t>(std::upper_bound(k.begin(), k.end(), static_cast<float>(t)) - k.begin()) -
+      1;
+  if (c.step || i + 1 >= k.size()) return c.values[i];
+  const double span = static_cast<double>(k[i + 1]) - k[i];
+  const double u = span > 0.0 ? (t - k[i]) / span : 0.0;
+  if (c.path == AnimationPath::kRotation) {
+    const glm::dvec4 a = c.values[i], b = c.values[i + 1];
+    const glm::dquat q =
+        glm::slerp(glm::dquat(a.w, a.x, a.y, a.z), glm::dquat(b.w, b.x, b.y, b.z), u);
+    return glm::dvec4(q.x, q.y, q.z, q.w);
+  }
+  return glm::mix(c.values[i], c.values[i + 1], u);
+}
+
+}  // namespace
+
+void Scene::pose(double seconds) {
+  if (animatedRanges.empty()) return;
+  double t = seconds;
+  if (animationDuration > 0.0) {
+    t = std::fmod(t, animationDuration);
+    if (t < 0.0) t += animationDuration;
+  }
+  std::vector<SceneNode> posed = nodes;
+  for (const AnimationChannel& c : animations) {
+    const glm::dvec4 v = sample(c, t);
+    SceneNode& n = posed[static_cast<size_t>(c.node)];
+    if (c.path == AnimationPath::kTranslation) n.translation = glm::dvec3(v);
+    if (c.path == AnimationPath::kScale) n.scale = glm::dvec3(v);
+    if (c.path == AnimationPath::kRotation)
+      n.rotation = glm::normalize(glm::dquat(v.w, v.x, v.y, v.z));
+  }
+  std::vector<glm::dmat4> world(posed.size());
+  std::vector<char> done(posed.size(), 0);
+  std::function<const glm::dmat4&(int)> worldOf = [&](int i) -> const glm::dmat4& {
+    const size_t u = static_cast<size_t>(i);
+    if (done[u]) return world[u];
+    const SceneNode& n = posed[u];
+    const glm::dmat4 local = n.hasMatrix ? n.matrix
+                                         : glm::translate(glm::dmat4(1.0), n.translation) *
+                                               glm::mat4_cast(n.rotation) *
+                                               glm::scale(glm::dmat4(1.0), n.scale);
+    world[u] = n.parent >= 0 ? worldOf(n.parent) * local : local;
+    done[u] = 1;
+    return world[u];
+  };
+  for (const AnimatedRange& r : animatedRanges) {
+    const glm::dmat4& m = worldOf(r.node);
+    const glm::mat3 normalMatrix = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(m))));
+    for (size_t i = 0; i < r.localPositions.size(); ++i) {
+      Vertex& v = vertices[r.firstVertex + i];
+      v.position = glm::vec3(glm::dvec3(m * glm::dvec4(r.localPositions[i], 1.0)) - origin);
+      const glm::vec3 n = normalMatrix * r.localNormals[i];
+      const float len = glm::length(n);
+      v.normal = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+    }
+  }
 }
 
 }  // namespace voxgi::scene

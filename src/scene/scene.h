@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace voxgi::scene {
 
@@ -97,6 +98,35 @@ struct Draw {
   int mesh = -1;
 };
 
+// The glTF node hierarchy, kept for animation; transforms in double precision.
+struct SceneNode {
+  int parent = -1;
+  bool hasMatrix = false;  // a node given by a matrix is not animated
+  glm::dmat4 matrix{1.0};
+  glm::dvec3 translation{0.0};
+  glm::dquat rotation{1.0, 0.0, 0.0, 0.0};
+  glm::dvec3 scale{1.0};
+};
+
+enum class AnimationPath { kTranslation, kRotation, kScale };
+
+// One glTF animation channel: keyframes of one node's translation, rotation or scale.
+struct AnimationChannel {
+  int node = -1;
+  AnimationPath path = AnimationPath::kTranslation;
+  bool step = false;  // STEP interpolation (else LINEAR; rotations slerp)
+  std::vector<float> times;
+  std::vector<glm::dvec4> values;  // xyz, or a quaternion as (x, y, z, w)
+};
+
+// Vertices that move: their node or one of its ancestors is animated.
+struct AnimatedRange {
+  uint32_t firstVertex = 0;
+  int node = -1;
+  std::vector<glm::dvec3> localPositions;
+  std::vector<glm::vec3> localNormals;
+};
+
 // Quantities derived from the bounds so that nothing assumes a unit.
 struct AutoScale {
   float cameraSpeed = 1.0f;    // units per second for the fly camera
@@ -120,9 +150,19 @@ struct Scene {
   Bounds bounds;
   AutoScale scale;
   bool defaultLight = false;  // no light in the file: one was added (see addDefaultLightIfUnlit)
+  // Animation: nodes, channels and the vertex ranges they move. Bounds (and so the
+  // voxel grid) cover every pose of the animation.
+  std::vector<SceneNode> nodes;
+  std::vector<AnimationChannel> animations;
+  std::vector<AnimatedRange> animatedRanges;
+  double animationDuration = 0.0;  // seconds; time wraps around
+  Bounds motionBounds;             // union of the animated vertices over all poses
   std::vector<std::string> warnings;
 
   size_t triangleCount() const { return indices.size() / 3; }
+  bool animated() const { return !animatedRanges.empty(); }
+  // Moves the animated vertices to their pose at `seconds` (camera and lights stay).
+  void pose(double seconds);
   bool hasEmission() const;
 
   // Recomputes bounds, auto-scale and (unless the file had one) the framing camera.

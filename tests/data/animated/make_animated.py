@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""Writes moving_box.gltf: a static floor and a box whose node slides along x
+from -0.5 to +0.5 over one second (LINEAR), then back by 2 s (a second key).
+Self-contained: the buffer is a base64 data: URI. Run from anywhere."""
+import base64, json, os, struct
+
+def box(lo, hi):
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    c = lambda i: (x1 if i & 1 else x0, y1 if i & 2 else y0, z1 if i & 4 else z0)
+    faces = [(1, 3, 7, 5), (0, 4, 6, 2), (2, 6, 7, 3), (0, 1, 5, 4), (4, 5, 7, 6), (0, 2, 3, 1)]
+    pos, idx = [], []
+    for f in faces:
+        base = len(pos)
+        pos += [c(i) for i in f]
+        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+    return pos, idx
+
+floor_pos = [(-1.5, 0, 1.5), (1.5, 0, 1.5), (1.5, 0, -1.5), (-1.5, 0, -1.5)]
+floor_idx = [0, 1, 2, 0, 2, 3]
+box_pos, box_idx = box((-0.25, 0.0, -0.25), (0.25, 0.5, 0.25))
+times = [0.0, 1.0, 2.0]
+moves = [(-0.5, 0.0, 0.0), (0.5, 0.0, 0.0), (-0.5, 0.0, 0.0)]
+
+blob = b""
+views, accessors = [], []
+def add(data, fmt, count, type_, ctype, target=None, minmax=None):
+    global blob
+    while len(blob) % 4:
+        blob += b"\0"
+    raw = b"".join(struct.pack(fmt, *v) if isinstance(v, tuple) else struct.pack(fmt, v) for v in data)
+    view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(raw)}
+    if target:
+        view["target"] = target
+    views.append(view)
+    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
+    if minmax:
+        acc["min"], acc["max"] = minmax
+    accessors.append(acc)
+    blob += raw
+    return len(accessors) - 1
+
+def bounds(p):
+    return [[min(v[i] for v in p) for i in range(3)], [max(v[i] for v in p) for i in range(3)]]
+
+fp = add(floor_pos, "<3f", 4, "VEC3", 5126, 34962, bounds(floor_pos))
+fi = add(floor_idx, "<I", 6, "SCALAR", 5125, 34963)
+bp = add(box_pos, "<3f", len(box_pos), "VEC3", 5126, 34962, bounds(box_pos))
+bi = add(box_idx, "<I", len(box_idx), "SCALAR", 5125, 34963)
+ti = add(times, "<f", 3, "SCALAR", 5126, None, [[0.0], [2.0]])
+tv = add(moves, "<3f", 3, "VEC3", 5126)
+
+gltf = {
+    "asset": {"version": "2.0", "generator": "voxgi tests/data/animated/make_animated.py"},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2]}],
+    "nodes": [
+        {"name": "floor", "mesh": 0},
+        {"name": "box", "mesh": 1, "translation": [-0.5, 0.0, 0.0]},
+        {"name": "camera", "camera": 0, "translation": [0.0, 1.2, 3.0],
+         "rotation": [-0.1736482, 0.0, 0.0, 0.9848078]},
+    ],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
+    "materials": [
+        {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0}},
+        {"name": "box", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.1, 1], "metallicFactor": 0}},
+    ],
+    "meshes": [
+        {"primitives": [{"attributes": {"POSITION": fp}, "indices": fi, "material": 0}]},
+        {"primitives": [{"attributes": {"POSITION": bp}, "indices": bi, "material": 1}]},
+    ],
+    "animations": [{"name": "slide", "samplers": [{"input": ti, "output": tv, "interpolation": "LINEAR"}],
+                    "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}]}],
+    "accessors": accessors,
+    "bufferViews": views,
+    "buffers": [{"byteLength": len(blob),
+                 "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+}
+out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "moving_box.gltf")
+with open(out, "w") as f:
+    json.dump(gltf, f, indent=1)
+print("wrote", out)
