@@ -9,21 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli.h"
+#include "core/statistics.h"
 #include "gl/debug.h"
 #include "image/image.h"
 #include "scene/gltf_loader.h"
 
 namespace voxgi::app {
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 int runBench(const BenchOptions& b) {
   const RenderOptions& o = b.render;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 
 namespace voxgi::app {
 namespace {
@@ -155,6 +156,36 @@ std::string viewHelp() {
 
 namespace {
 
+// The options `render` and `view` share (mode, size, tonemap, voxels); true if `a`
+// was one of them. `value` returns the option's argument.
+bool parseRenderSetting(const std::string& a, const std::function<std::string()>& value,
+                        render::RenderSettings* rs) {
+  if (a == "--mode") {
+    const std::string m = value();
+    auto mode = render::parseMode(m);
+    if (!mode)
+      throw UsageError("--mode: unknown mode '" + m + "' (available: " + render::availableModes() +
+                       ")");
+    rs->mode = *mode;
+  } else if (a == "--size") {
+    parseSize(value(), &rs->width, &rs->height);
+  } else if (a == "--exposure") {
+    rs->tonemap.exposure = parseFloat("--exposure", value());
+  } else if (a == "--tonemap") {
+    const std::string t = value();
+    auto op = render::parseTonemap(t);
+    if (!op) throw UsageError("--tonemap: unknown operator '" + t + "' (clamp, aces)");
+    rs->tonemap.op = *op;
+  } else if (a == "--voxels") {
+    rs->voxels = parseInt("--voxels", value(), 32, 512);
+  } else if (a == "--revoxelize") {
+    rs->revoxelize = true;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 Invocation parseView(const std::vector<std::string>& args) {
   Invocation inv;
   inv.command = Command::kView;
@@ -171,22 +202,7 @@ Invocation parseView(const std::vector<std::string>& args) {
       inv.command = Command::kHelp;
       inv.helpTopic = "view";
       return inv;
-    } else if (a == "--mode") {
-      const std::string m = value();
-      auto mode = render::parseMode(m);
-      if (!mode)
-        throw UsageError("--mode: unknown mode '" + m +
-                         "' (available: " + render::availableModes() + ")");
-      o.render.mode = *mode;
-    } else if (a == "--size") {
-      parseSize(value(), &o.render.width, &o.render.height);
-    } else if (a == "--exposure") {
-      o.render.tonemap.exposure = parseFloat("--exposure", value());
-    } else if (a == "--tonemap") {
-      const std::string t = value();
-      auto op = render::parseTonemap(t);
-      if (!op) throw UsageError("--tonemap: unknown operator '" + t + "' (clamp, aces)");
-      o.render.tonemap.op = *op;
+    } else if (parseRenderSetting(a, value, &o.render)) {
     } else if (a == "--frames") {
       o.frames = parseInt("--frames", value(), 1, 10000000);
     } else if (a == "--screenshot") {
@@ -291,15 +307,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       inv.command = Command::kHelp;
       inv.helpTopic = "render";
       return inv;
-    } else if (a == "--mode") {
-      const std::string m = value();
-      auto mode = render::parseMode(m);
-      if (!mode)
-        throw UsageError("--mode: unknown mode '" + m +
-                         "' (available: " + render::availableModes() + ")");
-      o.render.mode = *mode;
-    } else if (a == "--size") {
-      parseSize(value(), &o.render.width, &o.render.height);
+    } else if (parseRenderSetting(a, value, &o.render)) {
     } else if (a == "--out" || a == "-o") {
       o.outputs.push_back(value());
     } else if (a == "--stats") {
@@ -311,22 +319,11 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       auto backend = gl::parseBackend(b);
       if (!backend) throw UsageError("--backend: unknown backend '" + b + "' (egl, osmesa, glfw)");
       o.backend = *backend;
-    } else if (a == "--voxels") {
-      o.render.voxels = parseInt("--voxels", value(), 32, 512);
-    } else if (a == "--revoxelize") {
-      o.render.revoxelize = true;
     } else if (a == "--time") {
       o.time = parseFloat("--time", value());
     } else if (a == "--fps") {
       o.fps = parseFloat("--fps", value());
       if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
-    } else if (a == "--exposure") {
-      o.render.tonemap.exposure = parseFloat("--exposure", value());
-    } else if (a == "--tonemap") {
-      const std::string t = value();
-      auto op = render::parseTonemap(t);
-      if (!op) throw UsageError("--tonemap: unknown operator '" + t + "' (clamp, aces)");
-      o.render.tonemap.op = *op;
     } else if (a == "--verbose" || a == "-v") {
       o.verbose = true;
     } else if (a == "--quiet" || a == "-q") {

@@ -13,13 +13,7 @@ PointsPass::PointsPass(gl::ProgramCache& programs, const Settings& settings)
 void PointsPass::execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid,
                          GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "points");
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  glViewport(0, 0, ctx.width, ctx.height);
-  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, &settings_.clearColor.x);
-  const float one = 1.0f;
-  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &one);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glUseProgram(draw_.id());

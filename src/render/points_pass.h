@@ -5,7 +5,7 @@
 #ifndef VOXGI_RENDER_POINTS_PASS_H
 #define VOXGI_RENDER_POINTS_PASS_H
 
-#include "gl/frame_context.h"
+#include "render/frame_context.h"
 #include "gl/handles.h"
 #include "voxel/voxelize_pass.h"
 

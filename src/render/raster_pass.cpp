@@ -8,15 +8,7 @@ RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
 
 void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "raster");
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  glViewport(0, 0, ctx.width, ctx.height);
-  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, &settings_.clearColor.x);
-  const float one = 1.0f;
-  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &one);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
+  beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glUseProgram(program_.id());
   glBindVertexArray(gs.vertexArray());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
