@@ -5,8 +5,8 @@
 #ifndef VOXGI_RENDER_POINTS_PASS_H
 #define VOXGI_RENDER_POINTS_PASS_H
 
-#include "render/frame_context.h"
 #include "gl/handles.h"
+#include "render/frame_context.h"
 #include "voxel/voxelize_pass.h"
 
 namespace voxgi::render {
