@@ -409,7 +409,13 @@ void Viewer::drawPanel() {
   if (ImGui::CollapsingHeader("Memory")) {
     ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
     ImGui::Text("render targets: %s", mib(renderer_->targetBytes()).c_str());
-    ImGui::Text("voxel structures: n/a in this mode");
+    if (const voxel::VoxelizePass* grid = renderer_->voxelGrid()) {
+      const voxel::VoxelGridStats& v = grid->stats();
+      ImGui::Text("voxel grid %d^3: %u occupied, %s resident, %s while voxelizing", v.resolution,
+                  v.occupied, mib(v.bytes).c_str(), mib(v.peakBytes).c_str());
+    } else {
+      ImGui::Text("voxel structures: none (no mode used so far reads voxels)");
+    }
   }
   if (ImGui::CollapsingHeader("Camera")) {
     const scene::Camera& c = camera_->camera();
