@@ -26,26 +26,36 @@ struct RenderOptions {
   int frames = 1;
   bool verbose = false;
   bool quiet = false;
+  bool progress = true;  // pathtrace: a progress bar on stderr when it is a terminal
 };
 
-enum class Command { kHelp, kVersion, kRender };
+struct CompareOptions {
+  std::string test;
+  std::string reference;
+  bool json = false;
+};
+
+enum class Command { kHelp, kVersion, kRender, kCompare };
 
 struct Invocation {
   Command command = Command::kHelp;
   RenderOptions render;
-  std::string helpTopic;  // "" or "render"
+  CompareOptions compare;
+  std::string helpTopic;  // "", "render" or "compare"
 };
 
 Invocation parseCommandLine(const std::vector<std::string>& args);
 
 std::string mainHelp();
 std::string renderHelp();
+std::string compareHelp();
 std::string versionText();
 
 // The built-in default scene (scenes/cornell_room/cornell_room.gltf).
 std::string defaultScenePath();
 
 int runRender(const RenderOptions& options);
+int runCompare(const CompareOptions& options);
 
 }  // namespace voxgi::app
 

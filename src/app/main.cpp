@@ -13,7 +13,9 @@ int main(int argc, char** argv) {
     const app::Invocation inv = app::parseCommandLine(args);
     switch (inv.command) {
       case app::Command::kHelp:
-        std::fputs(inv.helpTopic == "render" ? app::renderHelp().c_str() : app::mainHelp().c_str(),
+        std::fputs(inv.helpTopic == "render"    ? app::renderHelp().c_str()
+                   : inv.helpTopic == "compare" ? app::compareHelp().c_str()
+                                                : app::mainHelp().c_str(),
                    stdout);
         return 0;
       case app::Command::kVersion:
@@ -21,6 +23,8 @@ int main(int argc, char** argv) {
         return 0;
       case app::Command::kRender:
         return app::runRender(inv.render);
+      case app::Command::kCompare:
+        return app::runCompare(inv.compare);
     }
   } catch (const app::UsageError& e) {
     std::fprintf(stderr, "voxgi: error: %s\n", e.what());

@@ -10,6 +10,7 @@ namespace voxgi::render {
 
 std::optional<Mode> parseMode(const std::string& name) {
   if (name == "raster") return Mode::kRaster;
+  if (name == "pathtrace") return Mode::kPathtrace;
   return std::nullopt;
 }
 
@@ -17,12 +18,14 @@ const char* modeName(Mode m) {
   switch (m) {
     case Mode::kRaster:
       return "raster";
+    case Mode::kPathtrace:
+      return "pathtrace";
   }
   return "?";
 }
 
 std::string availableModes() {
-  return "raster";
+  return "raster, pathtrace";
 }
 
 void checkImageSize(int width, int height) {
@@ -76,6 +79,23 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
       throw Error(strf("image size %dx%d: framebuffer incomplete (0x%x)", w, h, status));
   }
   frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  if (settings.mode == Mode::kPathtrace) {
+    pathtrace_ = std::make_unique<PathtracePass>(programs, gpuScene_, settings.pathtrace);
+    startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
+  }
+}
+
+void Renderer::warmUp() {
+  if (settings_.mode != Mode::kPathtrace) {
+    renderFrame();
+    return;
+  }
+  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  pathtrace_->warmUp(ctx, hdr_.id());
+  tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  timer_.resolve();
 }
 
 void Renderer::renderFrame() {
@@ -92,6 +112,10 @@ void Renderer::renderFrame() {
   switch (settings_.mode) {
     case Mode::kRaster:
       raster_.execute(ctx, gpuScene_, hdrFbo_.id());
+      break;
+    case Mode::kPathtrace:
+      pathtrace_->reset();
+      pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }
   tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
