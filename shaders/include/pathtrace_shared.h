@@ -27,6 +27,7 @@ VOXGI_CONST uint kPtNodeBinding = 3u;
 VOXGI_CONST uint kPtTriangleBinding = 4u;
 VOXGI_CONST uint kPtShadingBinding = 5u;
 VOXGI_CONST uint kPtEmissiveBinding = 6u;
+VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
 VOXGI_CONST uint kPtParamsBinding = 1u;
 // Image units: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;
@@ -36,7 +37,15 @@ VOXGI_CONST uint kPtOutputImage = 2u;
 // Work group: 8x8 pixels. On llvmpipe a group runs on one thread, 8 lanes at a time.
 VOXGI_CONST uint kPtGroupX = 8u;
 VOXGI_CONST uint kPtGroupY = 8u;
-VOXGI_CONST uint kPtStackSize = 48u;  // traversal stack (entries); the builder checks depth
+VOXGI_CONST uint kPtStackSize = 48u;   // traversal stack (entries); the builder checks depth
+VOXGI_CONST uint kPtMaxLeafSize = 4u;  // leaves are tested by an unrolled loop of this length
+// llvmpipe stops every loop of a shader invocation once the invocation has run
+// 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops and
+// counted per SIMD vector), silently. Past it a path would come back truncated and
+// the image biased dark. So each dispatch traces one path per pixel, and a path
+// that runs past this per-lane budget of loop iterations stops and is counted
+// (the counter SSBO): the count is reported, and tests require it to be 0.
+VOXGI_CONST uint kPtLoopBudget = 8192u;
 
 // A BVH node stores the bounds of both children, so one fetch tests two boxes.
 // Child reference: count == 0 -> interior node `index`; else a leaf of `count`

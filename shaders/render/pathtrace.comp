@@ -19,6 +19,7 @@ layout(std430, binding = kPtNodeBinding) readonly buffer Nodes { GpuBvhNode node
 layout(std430, binding = kPtTriangleBinding) readonly buffer Triangles { GpuPtTriangle tris[]; };
 layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
 layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
+layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
 layout(binding = 0, rgba32f) uniform image2D sumImage;           // kPtSumImage
 layout(binding = 1, rgba32f) uniform image2D compensationImage;  // kPtCompensationImage
 layout(binding = 2, rgba32f) uniform writeonly image2D outImage; // kPtOutputImage
@@ -30,6 +31,8 @@ const float kInf = 1.0 / 0.0;
 // Functions for GPU Rendering"); each path gets its own stream from (seed, pixel,
 // sample index), so samples never repeat across pixels, passes or runs.
 uint rngState;
+// Loop iterations this path may still run (see kPtLoopBudget).
+uint loopBudget;
 
 uint pcgHash(uint v) {
   uint state = v * 747796405u + 2891336453u;
@@ -71,7 +74,8 @@ bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint tri
   uint stack[kPtStackSize];
   int sp = 0;
   uint node = 0u;
-  while (true) {
+  while (loopBudget > 0u) {
+    --loopBudget;
     GpuBvhNode n = nodes[node];
     float tl = hitBox(n.leftMin.xyz, n.leftMax.xyz, o, inv, tHit);
     float tr = hitBox(n.rightMin.xyz, n.rightMax.xyz, o, inv, tHit);
@@ -82,7 +86,10 @@ bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint tri
       uint count = side == 0 ? lc : rc;
       float tb = side == 0 ? tl : tr;
       if (count == 0u || tb == kInf) continue;
-      for (uint i = first; i < first + count; ++i) {
+      // A fixed trip count: unrolled, so it does not spend the driver's loop budget.
+      for (uint j = 0u; j < kPtMaxLeafSize; ++j) {
+        if (j >= count) break;
+        uint i = first + j;
         // Moeller-Trumbore; NaN (a ray in the triangle's plane) fails every test.
         GpuPtTriangle t = tris[i];
         vec3 p = cross(d, t.e2.xyz);
@@ -282,6 +289,8 @@ vec3 samplePunctual(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
   vec3 sum = vec3(0.0);
   int count = int(params.depth.z);
   for (int i = 0; i < count; ++i) {
+    if (loopBudget == 0u) break;
+    --loopBudget;
     GpuLight light = lights[i];
     uint type = uint(light.positionType.w);
     vec3 wi;
@@ -326,6 +335,8 @@ vec3 radiance(vec3 o, vec3 d) {
   float lastPdf = 0.0;  // solid-angle pdf of the BSDF sample that led here
   bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
   for (int depth = 1; depth <= maxDepth; ++depth) {
+    if (loopBudget == 0u) break;
+    --loopBudget;
     float t;
     uint tri;
     vec2 bc;
@@ -398,12 +409,14 @@ void main() {
   precise vec4 comp = imageLoad(compensationImage, pixel);
   for (uint k = 0u; k < samples; ++k) {
     rngState = pcgHash(pcgHash(pcgHash(params.tile.z) + pixelIndex) + firstSample + k);
+    loopBudget = kPtLoopBudget;
     // Box filter: a uniform point in the pixel's footprint. Image y grows upwards.
     vec2 jitter = vec2(rand01(), rand01());
     vec2 ndc = (vec2(pixel) + jitter) / vec2(width, height) * 2.0 - 1.0;
     vec3 dir = normalize(params.cameraForward.xyz + ndc.x * params.cameraRight.xyz +
                          ndc.y * params.cameraUp.xyz);
     vec4 value = vec4(radiance(params.cameraPosition.xyz, dir), 1.0);
+    if (loopBudget == 0u) atomicAdd(truncatedPaths, 1u);
     // Kahan summation: float sums of thousands of samples keep their low bits.
     precise vec4 y = value - comp;
     precise vec4 next = sum + y;

@@ -158,6 +158,13 @@ int runRender(const RenderOptions& o) {
     stats["rr_depth"] = o.render.pathtrace.rrDepth;
     stats["bvh_nodes"] = renderer.pathtrace()->bvh().nodes().size();
     stats["emissive_triangles"] = renderer.pathtrace()->emissiveTriangles();
+    const uint64_t truncated = renderer.pathtrace()->truncatedPaths();
+    stats["truncated_paths"] = truncated;
+    if (truncated > 0)
+      logWarning(
+          strf("pathtrace: %llu of the last frame's paths ran out of loop budget and were "
+               "cut short (the image is biased dark)",
+               static_cast<unsigned long long>(truncated)));
   }
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);

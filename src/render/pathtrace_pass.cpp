@@ -136,6 +136,8 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
   shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
   emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   params_ = gl::createBuffer(sizeof(gpu::GpuPtParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const uint32_t zero = 0;
+  counter_ = gl::createBuffer(sizeof(uint32_t), &zero, GL_DYNAMIC_STORAGE_BIT);
   // Ray offsets scaled to the scene: 1e-5 of its diagonal.
   epsilon_ = 1e-5f * std::max(s.bounds.diagonal(), 1e-20f);
   logDebug(strf(
@@ -160,6 +162,15 @@ void PathtracePass::reset() {
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   for (gl::Texture* t : {&sum_, &compensation_})
     if (*t) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, zero);
+  const uint32_t none = 0;
+  glNamedBufferSubData(counter_.id(), 0, sizeof(none), &none);
+}
+
+uint64_t PathtracePass::truncatedPaths() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t n = 0;
+  glGetNamedBufferSubData(counter_.id(), 0, sizeof(n), &n);
+  return n;
 }
 
 void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h,
@@ -188,6 +199,7 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTriangleBinding, triangles_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, shading_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, emissive_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
   glBindImageTexture(gpu::kPtSumImage, sum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(gpu::kPtCompensationImage, compensation_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                      GL_RGBA32F);
@@ -213,13 +225,12 @@ void PathtracePass::execute(FrameContext& ctx, int spp, GLuint hdrTexture,
   gl::StageScope stage(ctx.timer, "pathtrace");
   allocate(ctx.width, ctx.height);
   const int64_t pixels = static_cast<int64_t>(ctx.width) * ctx.height;
-  const int64_t budget = std::max<int64_t>(settings_.samplesPerDispatch, 1);
-  // Whole image and several samples per dispatch when small; horizontal tiles of
-  // whole rows (multiples of the group height) at one sample when large.
+  const int64_t budget = std::max<int64_t>(settings_.pixelsPerDispatch, 1);
+  // One sample per pixel per pass; large images in bands of whole rows (multiples
+  // of the group height).
   int rowsPerTile = ctx.height;
-  int perPass = static_cast<int>(std::clamp<int64_t>(budget / pixels, 1, 64));
+  constexpr int perPass = 1;
   if (pixels > budget) {
-    perPass = 1;
     const auto g = static_cast<int>(gpu::kPtGroupY);
     rowsPerTile = std::max<int>(g, static_cast<int>(budget / ctx.width) / g * g);
   }

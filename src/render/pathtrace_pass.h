@@ -43,9 +43,10 @@ class PathtracePass {
     int maxDepth = 8;  // Mitsuba's convention: 8 allows 7 bounces (reference_scenes.md)
     int rrDepth = 5;   // Russian roulette from this depth on (reference_scenes.md)
     uint32_t seed = 0;
-    // Pixel samples per dispatch: small enough that one dispatch stays well under a
-    // second on llvmpipe (progress stays live), large enough to amortise the launch.
-    int64_t samplesPerDispatch = 1 << 18;
+    // Pixels per dispatch (one path each; see kPtLoopBudget for why one): small
+    // enough that a dispatch stays well under a second on llvmpipe, so progress
+    // stays live; larger images are cut into bands of whole rows.
+    int64_t pixelsPerDispatch = 1 << 18;
   };
   // Called after each batch of dispatches with the samples per pixel done so far.
   using Progress = std::function<void(int done, int total)>;
@@ -61,6 +62,8 @@ class PathtracePass {
   void warmUp(FrameContext& ctx, GLuint hdrTexture);
 
   int samplesSoFar() const { return samples_; }
+  // Paths stopped by the loop budget since reset() (waits for the GPU); should be 0.
+  uint64_t truncatedPaths() const;
   const Bvh& bvh() const { return bvh_; }
   double bvhBuildMs() const { return bvhMs_; }
   int emissiveTriangles() const { return emissiveCount_; }
@@ -76,7 +79,7 @@ class PathtracePass {
   const gl::Program& program_;
   Bvh bvh_;
   double bvhMs_ = 0.0;
-  gl::Buffer nodes_, triangles_, shading_, emissive_, params_;
+  gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
   int emissiveCount_ = 0;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;

@@ -89,8 +89,8 @@ TEST(Bvh, EmptyAndDegenerateInputs) {
                                 {glm::vec3(-1, -1, 0), glm::vec3(1, -1, 0), glm::vec3(0, 1, 0)});
   const Bvh bvh(same);
   for (const gpu::GpuBvhNode& n : bvh.nodes()) {
-    EXPECT_LE(std::bit_cast<uint32_t>(n.leftMax.w), 8u);
-    EXPECT_LE(std::bit_cast<uint32_t>(n.rightMax.w), 8u);
+    EXPECT_LE(std::bit_cast<uint32_t>(n.leftMax.w), gpu::kPtMaxLeafSize);
+    EXPECT_LE(std::bit_cast<uint32_t>(n.rightMax.w), gpu::kPtMaxLeafSize);
   }
   ASSERT_TRUE(bvh.intersect({glm::vec3(0, 0, 5), glm::vec3(0, 0, -1)}, &hit));
   EXPECT_FLOAT_EQ(hit.t, 5.0f);
