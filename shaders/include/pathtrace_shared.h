@@ -38,7 +38,7 @@ VOXGI_CONST uint kPtOutputImage = 2u;
 VOXGI_CONST uint kPtGroupX = 8u;
 VOXGI_CONST uint kPtGroupY = 8u;
 VOXGI_CONST uint kPtStackSize = 48u;   // traversal stack (entries); the builder checks depth
-VOXGI_CONST uint kPtMaxLeafSize = 1u;  // leaves are tested by an unrolled loop of this length
+VOXGI_CONST uint kPtMaxLeafSize = 1u;  // leaves hold one triangle: fastest on llvmpipe
 // llvmpipe stops every loop of a shader invocation once the invocation has run
 // 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops and
 // counted per SIMD vector), silently. Past it a path would come back truncated and

@@ -77,7 +77,8 @@ struct Builder {
     if (!(extent[axis] > 0.0f)) {  // every centroid in one point: only size forces a split
       return count > static_cast<uint32_t>(options.maxLeafSize) ? begin + count / 2 : end;
     }
-    if (level >= kMedianSplitDepth) return count > 2 ? median() : end;
+    if (level >= kMedianSplitDepth)
+      return count > static_cast<uint32_t>(options.maxLeafSize) ? median() : end;
 
     const int nb = options.bins;
     float bestCost = 1e30f;

@@ -46,7 +46,8 @@ bool intersectTriangle(const BvhRay& ray, const glm::vec3& v0, const glm::vec3& 
 class Bvh {
  public:
   struct Options {
-    int maxLeafSize = 8;         // a leaf never holds more
+    // A leaf never holds more; the GPU tests exactly kPtMaxLeafSize per leaf.
+    int maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);
     float traversalCost = 1.0f;  // SAH cost of visiting a node, relative to one triangle test
     int bins = 16;
   };

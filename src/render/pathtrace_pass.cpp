@@ -62,7 +62,13 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
       material.push_back(d.material);
     }
   }
-  bvh_ = Bvh(tris);
+  Bvh::Options options;
+  options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
+  bvh_ = Bvh(tris, options);
+  for (const gpu::GpuBvhNode& n : bvh_.nodes()) {
+    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.leftMax.w), gpu::kPtMaxLeafSize);
+    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.rightMax.w), gpu::kPtMaxLeafSize);
+  }
   bvhMs_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
