@@ -18,9 +18,12 @@ struct StageTime {
   double cpuMs = 0.0;  // wall clock from begin() to end() on the submitting thread
 };
 
+enum class StageKind { kGraphics, kCompute };
+
 class StageTimer {
  public:
-  void begin(const std::string& name);
+  // Compute stages may be timed by the wall clock (see timeComputeByWallClock()).
+  void begin(const std::string& name, StageKind kind = StageKind::kGraphics);
   void end();
   // Waits for the queries of this frame and returns the stage times in order.
   std::vector<StageTime> resolve();
@@ -28,8 +31,9 @@ class StageTimer {
  private:
   struct Pending {
     std::string name;
-    Query query;
+    Query query;  // none when timed by the wall clock
     double cpuMs = 0.0;
+    bool wallClock = false;
   };
   std::vector<Pending> pending_;
   bool open_ = false;
@@ -39,7 +43,10 @@ class StageTimer {
 // RAII helper: StageScope s(timer, "raster");
 class StageScope {
  public:
-  StageScope(StageTimer& timer, const std::string& name) : timer_(timer) { timer_.begin(name); }
+  StageScope(StageTimer& timer, const std::string& name, StageKind kind = StageKind::kGraphics)
+      : timer_(timer) {
+    timer_.begin(name, kind);
+  }
   ~StageScope() { timer_.end(); }
   StageScope(const StageScope&) = delete;
   StageScope& operator=(const StageScope&) = delete;

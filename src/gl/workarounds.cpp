@@ -10,6 +10,8 @@ namespace {
 // reports the time since the screen was created (minutes) instead of the GPU time
 // of its commands; later queries are right. One query around a clear of a tiny
 // framebuffer, read back at start, absorbs it (an empty query does not).
+}  // namespace
+
 void primeTimerQueries() {
   Texture t = createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(t.id(), 1, GL_RGBA8, 4, 4);
@@ -26,11 +28,23 @@ void primeTimerQueries() {
                 static_cast<double>(ns) * 1e-6));
 }
 
+namespace {
+bool gComputeByWallClock = false;
+
 }  // namespace
 
 void applyDriverWorkarounds(const std::string& renderer, const std::string& version) {
   (void)version;
-  if (renderer.find("llvmpipe") != std::string::npos) primeTimerQueries();
+  gComputeByWallClock = false;
+  if (renderer.find("llvmpipe") != std::string::npos) {
+    primeTimerQueries();
+    gComputeByWallClock = true;
+    logDebug("workaround llvmpipe-compute-timer-query: compute stages timed by wall clock");
+  }
+}
+
+bool timeComputeByWallClock() {
+  return gComputeByWallClock;
 }
 
 }  // namespace voxgi::gl

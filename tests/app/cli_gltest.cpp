@@ -141,6 +141,9 @@ TEST(Cli, PathtraceWritesImagesAndThroughput) {
   EXPECT_TRUE(stats["stages"].contains("pathtrace"));
   EXPECT_TRUE(stats["stages"].contains("tonemap"));
   EXPECT_FALSE(stats["stages"].contains("bvh"));  // start-up, not per frame
+  // Sane stage times: compute is timed at all, and the query after it is not garbage.
+  EXPECT_GT(stats["stages"]["pathtrace"].get<double>(), 0.0);
+  EXPECT_LT(stats["stages"]["tonemap"].get<double>(), 1000.0);
   EXPECT_TRUE(stats["startup_stages"].contains("bvh"));
   const image::Image exr = image::readImage(dir + "/p.exr");
   EXPECT_EQ(exr.width, 32);
