@@ -9,7 +9,7 @@ luminance ratio; tools/flip: FLIP on sRGB 8-bit). Writes under --out:
   error_vs_time_SCENE.png  RMSE against frame time per mode, with each mode's Pareto front
   time_vs_spp.png          path tracer frame time against spp, and against pixels
 References live in out/reference/ (not in git); a missing one is rendered first by
-tools/make-reference (--quick: 256 spp, otherwise 2048 spp).
+tools/make-reference (--quick: 128 spp, otherwise 2048 spp).
 """
 import argparse
 import csv
@@ -33,7 +33,7 @@ SEED = 7  # test renders; the references use another seed
 FULL = {
     "pathtrace": {"spp": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096],
                   "sizes": ["100x100", "256x256", "640x360", "1280x720", "1920x1080"],
-                  "size_spp": 4},
+                  "size_spp": 1},
     "raster": {"sizes": ["100x100", "256x256", "640x360", "1280x720", "1920x1080"]},
     "rtgi": {"axes": [("--voxels", [64, 128, 256, 512]), ("--bounces", [1, 2, 3]),
                       ("--cones", [1, 4, 9]), ("--rays", [1, 4, 16]),
@@ -72,7 +72,7 @@ def reference(scene, quick):
         if m and (best is None or int(m.group(1)) > best[0]):
             best = (int(m.group(1)), name)
     if best is None:
-        spp = "256" if quick else "2048"
+        spp = "128" if quick else "2048"
         subprocess.run([os.path.join(ROOT, "tools", "make-reference"), spp, REF_SIZE, scene],
                        check=True)
         best = (int(spp), f"{scene}_{REF_SIZE}_{spp}spp.exr")
