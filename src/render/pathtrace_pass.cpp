@@ -193,7 +193,7 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   p.cameraUp = glm::vec4(up * tanHalf, 0.0f);
   p.cameraForward = glm::vec4(forward, 0.0f);
   p.image = glm::uvec4(ctx.width, ctx.height, firstSample, samples);
-  p.tile = glm::uvec4(x0, y0, settings_.seed, emissiveCount_);
+  p.tile = glm::uvec4(x0, y0, settings_.seed, settings_.nextEventEstimation ? emissiveCount_ : 0);
   p.depth = glm::uvec4(settings_.maxDepth, settings_.rrDepth, scene_.lightCount(), 0);
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
 

@@ -43,6 +43,9 @@ class PathtracePass {
     int maxDepth = 8;  // Mitsuba's convention: 8 allows 7 bounces (reference_scenes.md)
     int rrDepth = 5;   // Russian roulette from this depth on (reference_scenes.md)
     uint32_t seed = 0;
+    // false: emissive surfaces are found by BSDF sampling alone (no light sampling,
+    // no MIS); tests compare the two estimators, which must agree.
+    bool nextEventEstimation = true;
     // Pixels per dispatch (one path each; see kPtLoopBudget for why one): small
     // enough that a dispatch stays well under a second on llvmpipe, so progress
     // stays live; larger images are cut into bands of whole rows.

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <numeric>
 #include <random>
+#include <utility>
 
 #include "pathtrace_shared.h"
 #include "render/bvh.h"
@@ -84,6 +85,7 @@ struct Settings {
   int maxDepth = 8;
   int rrDepth = 5;
   uint32_t seed = 0;
+  bool nee = true;
 };
 
 std::vector<float> renderLinear(const scene::Scene& s, const Settings& t) {
@@ -95,6 +97,7 @@ std::vector<float> renderLinear(const scene::Scene& s, const Settings& t) {
   rs.pathtrace.maxDepth = t.maxDepth;
   rs.pathtrace.rrDepth = t.rrDepth;
   rs.pathtrace.seed = t.seed;
+  rs.pathtrace.nextEventEstimation = t.nee;
   render::Renderer r(programs, s, rs);
   r.renderFrame();
   EXPECT_EQ(r.pathtrace()->truncatedPaths(), 0u) << "paths cut short by the loop budget";
@@ -150,6 +153,30 @@ TEST_F(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
     EXPECT_LT(step, previousStep) << "bounce " << depth << " carried more than the one before";
     previous = got;
     previousStep = step;
+  }
+}
+
+// Light sampling with MIS and BSDF sampling alone are two estimators of the same
+// integral: they agree only if every pdf (GGX visible normals, the lobe mix, the
+// emitters' area pdf) is right. A furnace of glTF metallic-roughness material.
+TEST_F(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
+  scene::Scene s = furnace(0.8f, 1.0f);
+  for (auto [metallic, roughness] :
+       {std::pair{0.0f, 0.3f}, std::pair{0.5f, 0.5f}, std::pair{1.0f, 0.2f}}) {
+    s.materials[0].metallic = metallic;
+    s.materials[0].roughness = roughness;
+    Settings t;
+    t.size = 24;
+    t.spp = 32;
+    t.maxDepth = 4;
+    const double withNee = meanRgb(renderLinear(s, t));
+    t.nee = false;
+    t.seed = 1;
+    const double bsdfOnly = meanRgb(renderLinear(s, t));
+    std::printf("metallic %.1f roughness %.1f: NEE + MIS %.5f, BSDF sampling %.5f\n", metallic,
+                roughness, withNee, bsdfOnly);
+    EXPECT_NEAR(withNee, bsdfOnly, 0.01 * bsdfOnly) << metallic << " " << roughness;
+    EXPECT_GT(withNee, 1.0);  // emission plus something reflected
   }
 }
 
