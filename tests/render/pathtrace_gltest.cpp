@@ -156,6 +156,22 @@ TEST_F(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
   }
 }
 
+// A mirror enclosure (metallic 1, roughness 0: reflectance = base colour, no
+// Fresnel) obeys the same series; every path is deterministic after the first ray.
+TEST_F(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
+  const float rho = 0.5f;
+  scene::Scene s = furnace(rho, 1.0f);
+  s.materials[0].metallic = 1.0f;
+  s.materials[0].roughness = 0.0f;
+  Settings t;
+  t.maxDepth = 6;
+  t.rrDepth = 1000;
+  const double got = meanRgb(renderLinear(s, t));
+  const double expected = (1.0 - std::pow(rho, 6)) / (1.0 - rho);
+  std::printf("mirror furnace: %.6f, expected %.6f\n", got, expected);
+  EXPECT_NEAR(got, expected, 1e-4 * expected);
+}
+
 // Light sampling with MIS and BSDF sampling alone are two estimators of the same
 // integral: they agree only if every pdf (GGX visible normals, the lobe mix, the
 // emitters' area pdf) is right. A furnace of glTF metallic-roughness material.
