@@ -57,8 +57,9 @@ std::string mainHelp() {
          "  render [SCENE]   render a glTF scene headless to PNG/EXR (default: the Cornell room)\n"
          "  view [SCENE]     open a window: fly camera, mode keys, panel, shader hot reload\n"
          "  bench [SCENE]    per-stage timings (medians) for a list of voxel resolutions\n"
+         "  compare TEST REF error metrics of a linear image against a reference\n"
          "\n"
-         "  voxgi --help, voxgi render|view|bench --help, voxgi --version\n";
+         "  voxgi --help, voxgi render|view|bench|compare --help, voxgi --version\n";
 }
 
 std::string benchHelp() {
@@ -88,7 +89,8 @@ std::string renderHelp() {
          "                    float radiance. Repeat to write both. An existing file is\n"
          "                    replaced only once the new one is complete.\n"
          "  --stats FILE      write timings and scene facts as JSON\n"
-         "  --frames N        frames to render; timings are medians (default 1)\n"
+         "  --frames N        frames to render; timings are medians (default 1); a\n"
+         "                    pathtrace frame is a whole image of --spp samples\n"
          "  --voxels N        voxel grid resolution, N^3 voxels, 32..512 (default 128);\n"
          "                    used by modes that voxelize (points)\n"
          "  --revoxelize      voxelize every frame instead of once per scene (animated scenes)\n"
@@ -101,6 +103,15 @@ std::string renderHelp() {
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
          "  -h, --help        this text\n"
+         "\n"
+         "pathtrace:\n"
+         "  --spp N           samples per pixel of one frame (default 64: enough to judge\n"
+         "                    an image; the references of tools/sweep use 2048)\n"
+         "  --seed S          random seed; the same seed gives the same image (default 0)\n"
+         "  --max-depth D     longest path, Mitsuba's convention: 1 = emitters seen directly,\n"
+         "                    2 = direct light (default 8: up to 7 bounces)\n"
+         "  --rr-depth D      Russian roulette from this depth on (default 5)\n"
+         "  --no-progress     no progress bar (shown on stderr only when it is a terminal)\n"
          "\n"
          "Exit status: 0 on success, 1 on bad input or a failed render, 2 on a usage error.\n";
 }
@@ -152,6 +163,25 @@ std::string viewHelp() {
          "\n"
          "Closing the window, esc, Ctrl-C (SIGINT) and SIGTERM end the run cleanly.\n"
          "Exit status: 0 on success, 1 on bad input or a GL error, 2 on a usage error.\n";
+}
+
+std::string compareHelp() {
+  return "usage: voxgi compare TEST REF [--json]\n"
+         "\n"
+         "Error metrics of image TEST against reference REF (same size and channel count;\n"
+         "EXR for linear radiance), over the colour channels:\n"
+         "  rmse                  root mean square error\n"
+         "  rel_mse               mean of (t - r)^2 / (r^2 + 0.01)\n"
+         "  psnr                  10 log10(1 / MSE) in dB: the peak is display white (1.0)\n"
+         "  ssim                  mean SSIM (Wang et al. 2004; 11x11 Gaussian window, sigma\n"
+         "                        1.5) of luminance clamped to the display range [0, 1]\n"
+         "  mean_luminance_ratio  mean luminance of TEST / mean luminance of REF\n"
+         "\n"
+         "options:\n"
+         "  --json            print the metrics as one JSON object\n"
+         "  -h, --help        this text\n"
+         "\n"
+         "Exit status: 0 on success, 1 on bad input, 2 on a usage error.\n";
 }
 
 namespace {
@@ -236,6 +266,31 @@ Invocation parseView(const std::vector<std::string>& args) {
   return inv;
 }
 
+Invocation parseCompare(const std::vector<std::string>& args) {
+  Invocation inv;
+  inv.command = Command::kCompare;
+  std::vector<std::string> files;
+  for (size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      inv.command = Command::kHelp;
+      inv.helpTopic = "compare";
+      return inv;
+    } else if (a == "--json") {
+      inv.compare.json = true;
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError("unknown option '" + a + "' (see voxgi compare --help)");
+    } else {
+      files.push_back(a);
+    }
+  }
+  if (files.size() != 2)
+    throw UsageError(strf("compare: needs two images, TEST and REF (got %zu)", files.size()));
+  inv.compare.test = files[0];
+  inv.compare.reference = files[1];
+  return inv;
+}
+
 }  // namespace
 
 Invocation parseCommandLine(const std::vector<std::string>& args) {
@@ -288,6 +343,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     inv.command = Command::kBench;
     return inv;
   }
+  if (cmd == "compare") return parseCompare(args);
   if (cmd != "render") {
     if (!cmd.empty() && cmd[0] == '-')
       throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");
@@ -324,6 +380,16 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     } else if (a == "--fps") {
       o.fps = parseFloat("--fps", value());
       if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
+    } else if (a == "--spp") {
+      o.render.spp = parseInt("--spp", value(), 1, 1 << 20);
+    } else if (a == "--seed") {
+      o.render.pathtrace.seed = static_cast<uint32_t>(parseInt("--seed", value(), 0, 2147483647));
+    } else if (a == "--max-depth") {
+      o.render.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
+    } else if (a == "--rr-depth") {
+      o.render.pathtrace.rrDepth = parseInt("--rr-depth", value(), 1, 1024);
+    } else if (a == "--no-progress") {
+      o.progress = false;
     } else if (a == "--verbose" || a == "-v") {
       o.verbose = true;
     } else if (a == "--quiet" || a == "-q") {

@@ -29,6 +29,7 @@ struct RenderOptions {
   double fps = 30.0;  // animated scenes: frame f shows time + f / fps
   bool verbose = false;
   bool quiet = false;
+  bool progress = true;  // pathtrace: a progress bar on stderr when it is a terminal
 };
 
 struct BenchOptions {
@@ -37,14 +38,21 @@ struct BenchOptions {
   std::string json;         // results file
 };
 
-enum class Command { kHelp, kVersion, kRender, kView, kBench };
+struct CompareOptions {
+  std::string test;
+  std::string reference;
+  bool json = false;
+};
+
+enum class Command { kHelp, kVersion, kRender, kView, kBench, kCompare };
 
 struct Invocation {
   Command command = Command::kHelp;
   RenderOptions render;
   ViewOptions view;
   BenchOptions bench;
-  std::string helpTopic;  // "", "render" or "view"
+  CompareOptions compare;
+  std::string helpTopic;  // "", "render", "view", "bench" or "compare"
 };
 
 Invocation parseCommandLine(const std::vector<std::string>& args);
@@ -53,6 +61,7 @@ std::string mainHelp();
 std::string renderHelp();
 std::string viewHelp();
 std::string benchHelp();
+std::string compareHelp();
 std::string versionText();
 
 // The built-in default scene (scenes/cornell_room/cornell_room.gltf).
@@ -62,6 +71,7 @@ std::string shaderRoot();
 
 int runRender(const RenderOptions& options);
 int runBench(const BenchOptions& options);
+int runCompare(const CompareOptions& options);
 
 }  // namespace voxgi::app
 

@@ -13,10 +13,11 @@ int main(int argc, char** argv) {
     const app::Invocation inv = app::parseCommandLine(args);
     switch (inv.command) {
       case app::Command::kHelp:
-        std::fputs(inv.helpTopic == "render"  ? app::renderHelp().c_str()
-                   : inv.helpTopic == "view"  ? app::viewHelp().c_str()
-                   : inv.helpTopic == "bench" ? app::benchHelp().c_str()
-                                              : app::mainHelp().c_str(),
+        std::fputs(inv.helpTopic == "render"    ? app::renderHelp().c_str()
+                   : inv.helpTopic == "view"    ? app::viewHelp().c_str()
+                   : inv.helpTopic == "bench"   ? app::benchHelp().c_str()
+                   : inv.helpTopic == "compare" ? app::compareHelp().c_str()
+                                                : app::mainHelp().c_str(),
                    stdout);
         return 0;
       case app::Command::kVersion:
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
         return app::runView(inv.view);
       case app::Command::kBench:
         return app::runBench(inv.bench);
+      case app::Command::kCompare:
+        return app::runCompare(inv.compare);
     }
   } catch (const app::UsageError& e) {
     std::fprintf(stderr, "voxgi: error: %s\n", e.what());

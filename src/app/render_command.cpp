@@ -1,4 +1,6 @@
 // `voxgi render`: context, scene, frames, images, stats.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -29,6 +31,38 @@ std::string shaderRoot() {
   return VOXGI_SHADER_DIR;
 }
 
+namespace {
+
+// A one-line progress bar with rate and ETA, redrawn in place on stderr.
+class ProgressBar {
+ public:
+  explicit ProgressBar(int64_t pixels) : pixels_(pixels) {}
+  void update(int done, int total) {
+    const auto now = Clock::now();
+    if (done == 0) start_ = now;
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double s = std::chrono::duration<double>(now - start_).count();
+    const double rate = s > 0.0 ? static_cast<double>(pixels_) * done / s : 0.0;
+    const double eta = done > 0 ? s * (total - done) / done : 0.0;
+    constexpr int kWidth = 30;
+    const int filled = total > 0 ? kWidth * done / total : kWidth;
+    std::fprintf(stderr, "\r[%s%s] %3d%% %d/%d spp  %.2f M samples/s  ETA %.0f s ",
+                 std::string(static_cast<size_t>(filled), '#').c_str(),
+                 std::string(static_cast<size_t>(kWidth - filled), '.').c_str(),
+                 total > 0 ? 100 * done / total : 100, done, total, rate * 1e-6, eta);
+    if (done >= total) std::fputs("\n", stderr);
+    std::fflush(stderr);
+  }
+  void begin() { start_ = last_ = Clock::now(); }
+
+ private:
+  int64_t pixels_;
+  Clock::time_point start_ = Clock::now(), last_;
+};
+
+}  // namespace
+
 int runRender(const RenderOptions& o) {
   if (o.verbose) setLogLevel(LogLevel::kDebug);
   if (o.quiet) setLogLevel(LogLevel::kError);
@@ -56,10 +90,16 @@ int runRender(const RenderOptions& o) {
 
   gl::ProgramCache programs(shaderRoot());
   render::Renderer renderer(programs, scene, o.render);
-  // One untimed frame: drivers compile shader variants at first draw (llvmpipe
-  // JIT-compiles them), which is start-up cost, not frame cost.
-  renderer.renderFrame();
+  // Untimed warm-up: drivers compile shader variants at first draw (llvmpipe
+  // JIT-compiles them), which is start-up cost, not frame cost. The path tracer
+  // warms up on one work group, not a whole image.
+  renderer.warmUp();
   const double startupMs = msSince(start);
+  const bool pathtrace = o.render.mode == render::Mode::kPathtrace;
+  ProgressBar bar(static_cast<int64_t>(o.render.width) * o.render.height);
+  if (pathtrace && o.progress && !o.quiet && isatty(STDERR_FILENO)) {
+    renderer.setProgress([&bar](int done, int total) { bar.update(done, total); });
+  }
 
   std::vector<double> frameMs;
   std::map<std::string, std::vector<double>> stageMs;
@@ -70,6 +110,7 @@ int runRender(const RenderOptions& o) {
       scene.pose(o.time + f / o.fps);
       renderer.geometryChanged();
     }
+    bar.begin();
     renderer.renderFrame();
     frameMs.push_back(msSince(t));
     for (const gl::StageTime& s : renderer.lastStages()) {
@@ -104,6 +145,30 @@ int runRender(const RenderOptions& o) {
   stats["total_ms"] = totalMs;
   stats["startup_ms"] = startupMs;
   stats["load_ms"] = loadMs;
+  nlohmann::ordered_json startupStages = nlohmann::ordered_json::object();
+  for (const gl::StageTime& st : renderer.startupStages()) startupStages[st.name] = st.cpuMs;
+  stats["startup_stages"] = startupStages;
+  // Pixel samples (whole paths) per second of wall clock, over the median frame.
+  const double samplesPerSecond = pathtrace && median(frameMs) > 0.0
+                                      ? static_cast<double>(o.render.width) * o.render.height *
+                                            o.render.spp / (median(frameMs) * 1e-3)
+                                      : 0.0;
+  if (pathtrace) {
+    stats["spp"] = o.render.spp;
+    stats["samples_per_second"] = samplesPerSecond;
+    stats["seed"] = o.render.pathtrace.seed;
+    stats["max_depth"] = o.render.pathtrace.maxDepth;
+    stats["rr_depth"] = o.render.pathtrace.rrDepth;
+    stats["bvh_nodes"] = renderer.pathtrace()->bvh().nodes().size();
+    stats["emissive_triangles"] = renderer.pathtrace()->emissiveTriangles();
+    const uint64_t truncated = renderer.pathtrace()->truncatedPaths();
+    stats["truncated_paths"] = truncated;
+    if (truncated > 0)
+      logWarning(
+          strf("pathtrace: %llu of the last frame's paths ran out of loop budget and were "
+               "cut short (the image is biased dark)",
+               static_cast<unsigned long long>(truncated)));
+  }
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);
   stats["stages"] = stages;
@@ -157,7 +222,13 @@ int runRender(const RenderOptions& o) {
     }
     std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
                 o.frames);
-    std::printf("  load %.1f ms, start-up %.1f ms\n", loadMs, startupMs);
+    if (pathtrace)
+      std::printf("  %d spp, %.2f M samples/s (pixel samples, whole paths)\n", o.render.spp,
+                  samplesPerSecond * 1e-6);
+    std::printf("  load %.1f ms, start-up %.1f ms", loadMs, startupMs);
+    for (const gl::StageTime& st : renderer.startupStages())
+      std::printf(" (%s %.1f ms)", st.name.c_str(), st.cpuMs);
+    std::printf("\n");
     for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
     if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
     if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");

@@ -492,6 +492,10 @@ int Viewer::run() {
   glfwGetFramebufferSize(window_, &settings.width, &settings.height);
   settings.width = std::max(settings.width, 1);
   settings.height = std::max(settings.height, 1);
+  // Interactive: a path-traced frame adds one sample per pixel to the image while
+  // nothing changes, instead of a whole image of --spp samples per frame.
+  settings.progressive = true;
+  settings.spp = 1;
   programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
   camera_ = std::make_unique<FlyCamera>(scene_->camera, scene_->bounds, scene_->scale.cameraSpeed);

@@ -1,4 +1,5 @@
-// Differences between two images of the same size and channel count.
+// Differences between two images of the same size and channel count, and the error
+// metrics of `voxgi compare` (tested on known inputs in tests/image/metrics_test.cpp).
 #ifndef VOXGI_IMAGE_METRICS_H
 #define VOXGI_IMAGE_METRICS_H
 
@@ -17,6 +18,31 @@ struct Difference {
 // Throws voxgi::Error if sizes or channel counts differ. Compares the first
 // min(channels, 3) channels (colour, not alpha).
 Difference compare(const Image& a, const Image& b, double threshold);
+
+// Error of a linear image against a reference, over the first min(channels, 3)
+// channels. Throws voxgi::Error (one line) if sizes or channel counts differ.
+struct ErrorMetrics {
+  double rmse = 0.0;
+  // Mean of (t - r)^2 / (r^2 + kRelMseEpsilon), the relative MSE of Rousselle et al.
+  // 2011: dark regions count as much as bright ones; epsilon keeps black finite.
+  double relMse = 0.0;
+  // 10 log10(1 / MSE): the peak is display white, 1.0 (the tonemap's clamp point);
+  // +inf for identical images.
+  double psnr = 0.0;
+  // Mean SSIM (Wang et al. 2004) of luminance clamped to [0, 1], dynamic range 1,
+  // 11x11 Gaussian window of sigma 1.5, K1 = 0.01, K2 = 0.03; windows that would
+  // cross the border are skipped (images under 11 pixels a side use the whole image).
+  double ssim = 0.0;
+  double meanLuminanceTest = 0.0;  // Rec. 709 luminance; one channel: the channel
+  double meanLuminanceReference = 0.0;
+  double meanLuminanceRatio = 0.0;  // test / reference (+inf when the reference is black)
+};
+inline constexpr double kRelMseEpsilon = 0.01;
+
+ErrorMetrics errorMetrics(const Image& test, const Image& reference);
+
+// Luminance per pixel (Rec. 709 weights on RGB; the channel itself when grey).
+std::vector<double> luminance(const Image& image);
 
 }  // namespace voxgi::image
 

@@ -11,6 +11,7 @@ namespace voxgi::render {
 std::optional<Mode> parseMode(const std::string& name) {
   if (name == "raster") return Mode::kRaster;
   if (name == "points") return Mode::kPoints;
+  if (name == "pathtrace") return Mode::kPathtrace;
   return std::nullopt;
 }
 
@@ -20,6 +21,8 @@ const char* modeName(Mode m) {
       return "raster";
     case Mode::kPoints:
       return "points";
+    case Mode::kPathtrace:
+      return "pathtrace";
   }
   return "?";
 }
@@ -29,7 +32,7 @@ bool modeUsesVoxels(Mode m) {
 }
 
 std::string availableModes() {
-  return "raster, points";
+  return "raster, points, pathtrace";
 }
 
 void checkImageSize(int width, int height) {
@@ -80,6 +83,10 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
+  if (mode == Mode::kPathtrace && !pathtrace_) {
+    pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, settings_.pathtrace);
+    startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
+  }
 }
 
 void Renderer::createTargets() {
@@ -139,7 +146,8 @@ std::vector<Knob> Renderer::knobs() {
   switch (settings_.mode) {
     case Mode::kRaster:
     case Mode::kPoints:
-      break;  // nothing to turn yet (the grid resolution is fixed at start)
+    case Mode::kPathtrace:
+      break;  // nothing to turn yet (grid resolution and spp are fixed at start)
   }
   tonemap_.appendKnobs(&out);
   for (Knob& k : out) {
@@ -161,6 +169,19 @@ void Renderer::setTonemapSettings(const TonemapPass::Settings& s) {
 size_t Renderer::targetBytes() const {
   return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
          (16 + 4 + 4);
+}
+
+void Renderer::warmUp() {
+  if (settings_.mode != Mode::kPathtrace) {
+    renderFrame();
+    return;
+  }
+  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  pathtrace_->warmUp(ctx, hdr_.id());
+  tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  timer_.resolve();
 }
 
 void Renderer::renderFrame() {
@@ -198,6 +219,10 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       break;
     case Mode::kPoints:
       points_->execute(ctx, *voxelize_, hdrFbo_.id());
+      break;
+    case Mode::kPathtrace:
+      pathtrace_->reset();
+      pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }
   tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());

@@ -1,8 +1,10 @@
 // Frame order for one render mode, and the targets the passes share:
-//   raster:  raster (HDR radiance + depth) -> tonemap (sRGB 8-bit)
-//   points:  [voxelize -> voxel_list, once per scene or every frame with
-//            revoxelize] -> points (HDR radiance + depth) -> tonemap
-// Only the passes the mode uses are built (their shaders compiled, memory taken).
+//   raster:    raster (HDR radiance + depth) -> tonemap (sRGB 8-bit)
+//   points:    [voxelize, once per scene or every frame with revoxelize]
+//              -> points (HDR radiance + depth) -> tonemap
+//   pathtrace: pathtrace (spp samples per pixel accumulated, the mean into the same
+//              HDR target) -> tonemap; its BVH is built once, when the mode is first used.
+// Only the passes a mode uses are built (their shaders compiled, memory taken).
 // Output sizes are checked against the driver's limits and a memory budget
 // before anything is allocated.
 //
@@ -14,6 +16,7 @@
 #define VOXGI_RENDER_RENDERER_H
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +27,7 @@
 #include "gl/stage_timer.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
+#include "render/pathtrace_pass.h"
 #include "render/points_pass.h"
 #include "render/raster_pass.h"
 #include "render/tonemap_pass.h"
@@ -31,7 +35,7 @@
 
 namespace voxgi::render {
 
-enum class Mode { kRaster, kPoints };
+enum class Mode { kRaster, kPoints, kPathtrace };
 // Whether the mode reads the voxel grid.
 bool modeUsesVoxels(Mode m);
 std::optional<Mode> parseMode(const std::string& name);
@@ -46,6 +50,11 @@ struct RenderSettings {
   TonemapPass::Settings tonemap;
   int voxels = 128;         // grid resolution N (N^3 voxels) for modes that use voxels
   bool revoxelize = false;  // voxelize every frame (animated scenes) instead of once
+  PathtracePass::Settings pathtrace;
+  int spp = 64;  // pathtrace: samples per pixel of one frame
+  // pathtrace: frames add their samples to the image until accumulation restarts
+  // (the viewer); otherwise each frame is a whole image of `spp` samples.
+  bool progressive = false;
 };
 
 // Throws voxgi::Error when width x height cannot be rendered on this context.
@@ -56,11 +65,19 @@ class Renderer {
   Renderer(gl::ProgramCache& programs, const scene::Scene& scene, const RenderSettings& settings);
 
   // Renders one frame from the scene's camera and waits for it; stage times land
-  // in lastStages().
+  // in lastStages(). A pathtrace frame is a whole image of `spp` samples per pixel,
+  // from sample 0.
   void renderFrame();
   // The same from another camera (the viewer's).
   void renderFrame(const scene::Camera& camera);
   const std::vector<gl::StageTime>& lastStages() const { return stages_; }
+  // What the driver compiles at first use, without a whole frame's work.
+  void warmUp();
+  // Pathtrace: called while a frame runs with samples per pixel done and total.
+  void setProgress(PathtracePass::Progress progress) { progress_ = std::move(progress); }
+  // Work done once at construction, by stage name and wall-clock ms ("bvh").
+  const std::vector<gl::StageTime>& startupStages() const { return startup_; }
+  const PathtracePass* pathtrace() const { return pathtrace_.get(); }
 
   // Re-creates the targets at width x height (checked as in the constructor).
   void resize(int width, int height);
@@ -102,6 +119,9 @@ class Renderer {
   TonemapPass tonemap_;
   bool voxelized_ = false;
   double lastVoxelizeMs_ = 0.0;
+  std::unique_ptr<PathtracePass> pathtrace_;
+  PathtracePass::Progress progress_;
+  std::vector<gl::StageTime> startup_;
   gl::StageTimer timer_;
   gl::Buffer frameUniforms_;
   gl::Texture hdr_, depth_, ldr_;

@@ -173,6 +173,61 @@ TEST(Cli, RendersPngExrAndStats) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
 }
 
+TEST(Cli, PathtraceWritesImagesAndThroughput) {
+  const std::string dir = scratchDir();
+  const auto r =
+      runCommand(voxgi("render --mode pathtrace --size 32x24 --spp 4 --seed 3 --out " + dir +
+                       "/p.exr --out " + dir + "/p.png --stats " + dir + "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("ETA"), std::string::npos) << "progress bar on a pipe: " << r.output;
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats["mode"], "pathtrace");
+  EXPECT_EQ(stats["spp"], 4);
+  EXPECT_GT(stats["samples_per_second"].get<double>(), 0.0);
+  EXPECT_EQ(stats["truncated_paths"], 0);
+  EXPECT_TRUE(stats["stages"].contains("pathtrace"));
+  EXPECT_TRUE(stats["stages"].contains("tonemap"));
+  EXPECT_FALSE(stats["stages"].contains("bvh"));  // start-up, not per frame
+  // Sane stage times: compute is timed at all, and the query after it is not garbage.
+  EXPECT_GT(stats["stages"]["pathtrace"].get<double>(), 0.0);
+  EXPECT_LT(stats["stages"]["tonemap"].get<double>(), 1000.0);
+  EXPECT_TRUE(stats["startup_stages"].contains("bvh"));
+  const image::Image exr = image::readImage(dir + "/p.exr");
+  EXPECT_EQ(exr.width, 32);
+  EXPECT_EQ(exr.height, 24);
+  float maxValue = 0.0f;
+  for (float v : exr.pixels) maxValue = std::max(maxValue, v);
+  EXPECT_NEAR(maxValue, 15.0f, 0.01f);  // the light seen directly, as in raster
+}
+
+TEST(Cli, CompareReportsMetricsAndRefusesMismatches) {
+  const std::string dir = scratchDir();
+  ASSERT_EQ(runCommand(voxgi("render --size 16x16 --out " + dir + "/a.exr --out " + dir + "/a.png"))
+                .exitCode,
+            0);
+  ASSERT_EQ(runCommand(voxgi("render --size 16x8 --out " + dir + "/b.exr")).exitCode, 0);
+  auto r = runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/a.exr"));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  for (const char* key : {"rmse", "rel_mse", "psnr", "ssim", "mean_luminance_ratio"})
+    EXPECT_NE(r.output.find(key), std::string::npos) << key;
+  r = runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/a.exr --json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j["rmse"], 0.0);
+  EXPECT_EQ(j["ssim"], 1.0);
+  EXPECT_TRUE(j["psnr"].is_null());  // identical: infinite PSNR
+  EXPECT_EQ(j["mean_luminance_ratio"], 1.0);
+  expectOneLineError(runCommand(voxgi("compare " + dir + "/nope.exr " + dir + "/a.exr")), 1,
+                     dir + "/nope.exr: no such file");
+  expectOneLineError(runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/b.exr")), 1,
+                     "differ in size: 16x16 vs 16x8");
+  ASSERT_EQ(runCommand("oiiotool " + dir + "/a.png --ch R -o " + dir + "/grey.png").exitCode, 0);
+  expectOneLineError(runCommand(voxgi("compare " + dir + "/grey.png " + dir + "/a.png")), 1,
+                     "differ in channel count: 1 vs 3");
+  expectOneLineError(runCommand(voxgi("compare " + dir + "/a.exr")), 2, "two images");
+}
+
 TEST(Cli, OsMesaBackendRenders) {
   const std::string dir = scratchDir();
   const auto r =

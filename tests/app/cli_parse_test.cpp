@@ -38,6 +38,37 @@ TEST(CliParse, AllOptions) {
   EXPECT_EQ(o.render.tonemap.op, render::Tonemap::kAces);
 }
 
+TEST(CliParse, PathtraceOptions) {
+  const Invocation inv = parse({"render", "--mode", "pathtrace", "--spp", "256", "--seed", "9",
+                                "--max-depth", "3", "--rr-depth", "2", "--no-progress"});
+  const RenderOptions& o = inv.render;
+  EXPECT_EQ(o.render.mode, render::Mode::kPathtrace);
+  EXPECT_EQ(o.render.spp, 256);
+  EXPECT_EQ(o.render.pathtrace.seed, 9u);
+  EXPECT_EQ(o.render.pathtrace.maxDepth, 3);
+  EXPECT_EQ(o.render.pathtrace.rrDepth, 2);
+  EXPECT_FALSE(o.progress);
+  // Defaults match scenes/reference_scenes.md: max depth 8, roulette from 5.
+  const Invocation d = parse({"render", "--mode", "pathtrace"});
+  EXPECT_EQ(d.render.render.pathtrace.maxDepth, 8);
+  EXPECT_EQ(d.render.render.pathtrace.rrDepth, 5);
+  EXPECT_EQ(d.render.render.spp, 64);
+}
+
+TEST(CliParse, Compare) {
+  Invocation inv = parse({"compare", "a.exr", "b.exr", "--json"});
+  EXPECT_EQ(inv.command, Command::kCompare);
+  EXPECT_EQ(inv.compare.test, "a.exr");
+  EXPECT_EQ(inv.compare.reference, "b.exr");
+  EXPECT_TRUE(inv.compare.json);
+  inv = parse({"compare", "--help"});
+  EXPECT_EQ(inv.command, Command::kHelp);
+  EXPECT_EQ(inv.helpTopic, "compare");
+  EXPECT_THROW(parse({"compare", "a.exr"}), UsageError);
+  EXPECT_THROW(parse({"compare", "a.exr", "b.exr", "c.exr"}), UsageError);
+  EXPECT_THROW(parse({"compare", "a.exr", "b.exr", "--bogus"}), UsageError);
+}
+
 TEST(CliParse, HelpAndVersion) {
   EXPECT_EQ(parse({}).command, Command::kHelp);
   EXPECT_EQ(parse({"--help"}).command, Command::kHelp);
@@ -61,6 +92,11 @@ TEST(CliParse, Rejects) {
            {"render", "--backend", "d3d"},
            {"render", "--tonemap", "filmic"},
            {"render", "--mode", "magic"},
+           {"render", "--spp", "0"},
+           {"render", "--spp", "many"},
+           {"render", "--seed", "-1"},
+           {"render", "--max-depth", "0"},
+           {"render", "--rr-depth", "0"},
            {"render", "a.gltf", "b.gltf"},
            {"render", "--out"},
            {"render", "--bogus"},

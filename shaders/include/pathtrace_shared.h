@@ -1,0 +1,109 @@
+// Path tracer data as the GPU reads it (std430 SSBOs, one std140 uniform block),
+// shared by C++ (src/render/bvh.*, src/render/pathtrace_pass.*) and GLSL
+// (shaders/render/pathtrace.comp). Sizes and offsets are asserted here and checked
+// against the linked program in tests/render/pathtrace_gltest.cpp.
+//
+// Integers that share a vec4 with floats are stored as their bit patterns
+// (floatBitsToUint in GLSL, std::bit_cast in C++).
+#ifndef VOXGI_PATHTRACE_SHARED_H
+#define VOXGI_PATHTRACE_SHARED_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+namespace voxgi::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define VOXGI_CONST constexpr
+#else
+#define VOXGI_CONST const
+#endif
+
+// Binding points (SSBOs; the uniform block is kPtParamsBinding).
+VOXGI_CONST uint kPtNodeBinding = 3u;
+VOXGI_CONST uint kPtTriangleBinding = 4u;
+VOXGI_CONST uint kPtShadingBinding = 5u;
+VOXGI_CONST uint kPtEmissiveBinding = 6u;
+VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
+VOXGI_CONST uint kPtParamsBinding = 1u;
+// Image units: the running sum, its Kahan compensation, and the resolved mean.
+VOXGI_CONST uint kPtSumImage = 0u;
+VOXGI_CONST uint kPtCompensationImage = 1u;
+VOXGI_CONST uint kPtOutputImage = 2u;
+
+// Work group: 8x8 pixels. On llvmpipe a group runs on one thread, 8 lanes at a time.
+VOXGI_CONST uint kPtGroupX = 8u;
+VOXGI_CONST uint kPtGroupY = 8u;
+VOXGI_CONST uint kPtStackSize = 48u;   // traversal stack (entries); the builder checks depth
+VOXGI_CONST uint kPtMaxLeafSize = 1u;  // leaves hold one triangle: fastest on llvmpipe
+// llvmpipe stops every loop of a shader invocation once the invocation has run
+// 65535 loop iterations in all (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops and
+// counted per SIMD vector), silently. Past it a path would come back truncated and
+// the image biased dark. So each dispatch traces one path per pixel, and a path
+// that runs past this per-lane budget of loop iterations stops and is counted
+// (the counter SSBO): the count is reported, and tests require it to be 0.
+VOXGI_CONST uint kPtLoopBudget = 8192u;
+
+// A BVH node stores the bounds of both children, so one fetch tests two boxes.
+// Child reference: count == 0 -> interior node `index`; else a leaf of `count`
+// triangles starting at `index`. Node 0 is the root, never a child: an interior
+// reference to node 0 marks an empty child.
+struct GpuBvhNode {
+  vec4 leftMin;   // xyz bounds, w: left index (bits)
+  vec4 leftMax;   // xyz bounds, w: left count (bits)
+  vec4 rightMin;  // w: right index (bits)
+  vec4 rightMax;  // w: right count (bits)
+};
+
+// Triangle in BVH order for intersection (Moeller-Trumbore): v0 and the two edges.
+struct GpuPtTriangle {
+  vec4 v0;  // w: unused
+  vec4 e1;  // v1 - v0
+  vec4 e2;  // v2 - v0
+};
+
+// Per-triangle shading data, same order as GpuPtTriangle.
+struct GpuPtShading {
+  vec4 n0;  // vertex normals; n0.w: material index (bits)
+  vec4 n1;  // n1.w: emitter pdf per unit area of this triangle when sampled by NEE (0: none)
+  vec4 n2;  // n2.w: unused
+};
+
+// An emissive triangle for next-event estimation, chosen by power through a
+// Walker alias table (Vose's construction).
+struct GpuPtEmissive {
+  vec4 v0;        // w: alias acceptance probability
+  vec4 e1;        // w: alias index (bits)
+  vec4 e2;        // w: probability of choosing this triangle
+  vec4 radiance;  // rgb, w: 1 if two-sided
+};
+
+struct GpuPtParams {
+  vec4 cameraPosition;  // w: ray epsilon (scene-scaled)
+  vec4 cameraRight;     // right * tan(fov/2) * aspect
+  vec4 cameraUp;        // up * tan(fov/2)
+  vec4 cameraForward;
+  uvec4 image;     // x width, y height, z first sample index of this dispatch, w samples per pass
+  uvec4 tile;      // x, y: tile origin in pixels; z seed; w: emissive triangle count
+  uvec4 depth;     // x max depth (Mitsuba's convention), y roulette depth, z light count
+  uvec4 reserved;  // unused
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(GpuBvhNode) == 64);
+static_assert(offsetof(GpuBvhNode, rightMin) == 32);
+static_assert(sizeof(GpuPtTriangle) == 48);
+static_assert(sizeof(GpuPtShading) == 48);
+static_assert(sizeof(GpuPtEmissive) == 64);
+static_assert(offsetof(GpuPtEmissive, radiance) == 48);
+static_assert(sizeof(GpuPtParams) == 128);
+static_assert(offsetof(GpuPtParams, image) == 64);
+static_assert(offsetof(GpuPtParams, depth) == 96);
+}  // namespace voxgi::gpu
+#endif
+#undef VOXGI_CONST
+
+#endif  // VOXGI_PATHTRACE_SHARED_H

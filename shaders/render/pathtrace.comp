@@ -1,0 +1,430 @@
+#version 450 core
+// Reference path tracer over the exact triangles (see src/render/pathtrace_pass.h).
+// One invocation owns one pixel and adds `samples per pass` paths to its running
+// sum (Kahan-compensated), then writes the mean. Unidirectional path tracing with
+// next-event estimation and multiple importance sampling (Veach 1997, power
+// heuristic), Russian roulette, depths in Mitsuba's convention: the vertex the
+// camera ray hits is depth 1; emission seen there is a path of depth 1, light
+// gathered there by NEE a path of depth 2.
+#include "scene_shared.h"
+#include "pathtrace_shared.h"
+#include "lighting.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;  // kPtGroupX x kPtGroupY
+
+layout(std140, binding = kPtParamsBinding) uniform PtParamsBlock { GpuPtParams params; };
+layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kPtNodeBinding) readonly buffer Nodes { GpuBvhNode nodes[]; };
+layout(std430, binding = kPtTriangleBinding) readonly buffer Triangles { GpuPtTriangle tris[]; };
+layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
+layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
+layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
+layout(binding = 0, rgba32f) uniform image2D sumImage;           // kPtSumImage
+layout(binding = 1, rgba32f) uniform image2D compensationImage;  // kPtCompensationImage
+layout(binding = 2, rgba32f) uniform writeonly image2D outImage; // kPtOutputImage
+
+const float kInf = 1.0 / 0.0;
+
+// --- random numbers ---------------------------------------------------------------
+// PCG (RXS-M-XS 32) as a hash and as a stream (Jarzynski and Olano 2020, "Hash
+// Functions for GPU Rendering"); each path gets its own stream from (seed, pixel,
+// sample index), so samples never repeat across pixels, passes or runs.
+uint rngState;
+// Loop iterations this path may still run (see kPtLoopBudget).
+uint loopBudget;
+
+uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+float rand01() {
+  rngState = rngState * 747796405u + 2891336453u;
+  uint s = rngState;
+  uint word = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+  word = (word >> 22u) ^ word;
+  return float(word >> 8u) * (1.0 / 16777216.0);  // [0, 1)
+}
+
+// --- ray casting --------------------------------------------------------------------
+// Slab test against one box; the entry distance, or +inf on a miss.
+float hitBox(vec3 lo, vec3 hi, vec3 o, vec3 inv, float tMax) {
+  vec3 t0 = (lo - o) * inv;
+  vec3 t1 = (hi - o) * inv;
+  vec3 tn = min(t0, t1);
+  vec3 tf = max(t0, t1);
+  float enter = max(max(tn.x, tn.y), max(tn.z, 0.0));
+  float exit = min(min(tf.x, tf.y), min(tf.z, tMax));
+  return enter <= exit ? enter : kInf;
+}
+
+// Closest hit (anyHit false) or any hit in (0, tMax). Short-stack traversal of the
+// two-children nodes: descend into the nearer child, push the farther one.
+bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint triHit,
+           out vec2 bary) {
+  tHit = tMax;
+  triHit = 0u;
+  bary = vec2(0.0);
+  bool found = false;
+  vec3 safe = vec3(abs(d.x) > 1e-20 ? d.x : 1e-20, abs(d.y) > 1e-20 ? d.y : 1e-20,
+                   abs(d.z) > 1e-20 ? d.z : 1e-20);
+  vec3 inv = 1.0 / safe;
+  uint stack[kPtStackSize];
+  int sp = 0;
+  uint node = 0u;
+  while (loopBudget > 0u) {
+    --loopBudget;
+    GpuBvhNode n = nodes[node];
+    float tl = hitBox(n.leftMin.xyz, n.leftMax.xyz, o, inv, tHit);
+    float tr = hitBox(n.rightMin.xyz, n.rightMax.xyz, o, inv, tHit);
+    uint li = floatBitsToUint(n.leftMin.w), lc = floatBitsToUint(n.leftMax.w);
+    uint ri = floatBitsToUint(n.rightMin.w), rc = floatBitsToUint(n.rightMax.w);
+    for (int side = 0; side < 2; ++side) {
+      uint first = side == 0 ? li : ri;
+      uint count = side == 0 ? lc : rc;
+      float tb = side == 0 ? tl : tr;
+      if (count == 0u || tb == kInf) continue;
+      // A fixed trip count: unrolled, so it does not spend the driver's loop budget.
+      for (uint j = 0u; j < kPtMaxLeafSize; ++j) {
+        if (j >= count) break;
+        uint i = first + j;
+        // Moeller-Trumbore; NaN (a ray in the triangle's plane) fails every test.
+        GpuPtTriangle t = tris[i];
+        vec3 p = cross(d, t.e2.xyz);
+        float inv_det = 1.0 / dot(t.e1.xyz, p);
+        vec3 s = o - t.v0.xyz;
+        float u = dot(s, p) * inv_det;
+        vec3 q = cross(s, t.e1.xyz);
+        float v = dot(d, q) * inv_det;
+        float th = dot(t.e2.xyz, q) * inv_det;
+        if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && th > 0.0 && th < tHit) {
+          tHit = th;
+          triHit = i;
+          bary = vec2(u, v);
+          found = true;
+        }
+      }
+      if (anyHit && found) return true;
+    }
+    bool goL = lc == 0u && li != 0u && tl < tHit;  // node 0 as a child: empty
+    bool goR = rc == 0u && ri != 0u && tr < tHit;
+    if (goL && goR) {
+      bool rFirst = tr < tl;
+      node = rFirst ? ri : li;
+      stack[sp++] = rFirst ? li : ri;
+    } else if (goL) {
+      node = li;
+    } else if (goR) {
+      node = ri;
+    } else {
+      if (sp == 0) break;
+      node = stack[--sp];
+    }
+  }
+  return found;
+}
+
+bool occluded(vec3 o, vec3 d, float tMax) {
+  float t;
+  uint tri;
+  vec2 b;
+  return trace(o, d, tMax, true, t, tri, b);
+}
+
+// --- materials ----------------------------------------------------------------------
+// Three kinds, as in scenes/reference_scenes.md: metallic 0 + roughness 1 is pure
+// Lambert (albedo = base colour); metallic 1 + roughness 0 is a perfect mirror of
+// reflectance = base colour, no Fresnel; anything else is the glTF metallic-roughness
+// BRDF of lighting.glsl (Lambert + GGX, height-correlated Smith, Schlick's Fresnel).
+const int kLambert = 0;
+const int kMirror = 1;
+const int kGgx = 2;
+
+struct Bsdf {
+  int kind;
+  vec3 base;
+  vec3 diffuse;
+  vec3 f0;
+  float alpha;
+  float specularChance;  // probability of sampling the GGX lobe (kGgx only)
+};
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+Bsdf makeBsdf(GpuMaterial m, float nv) {
+  Bsdf b;
+  float metallic = m.params.x;
+  float roughness = m.params.y;
+  b.base = m.baseColor.rgb;
+  b.kind = (metallic <= 0.0 && roughness >= 1.0) ? kLambert
+           : (metallic >= 1.0 && roughness <= 0.0) ? kMirror
+                                                   : kGgx;
+  b.diffuse = b.base * (1.0 - metallic);
+  b.f0 = mix(vec3(0.04), b.base, metallic);
+  b.alpha = clamp(roughness * roughness, 1e-3, 1.0);
+  vec3 fv = b.f0 + (1.0 - b.f0) * pow(1.0 - nv, 5.0);
+  float ws = luminance(fv);
+  float wd = luminance(b.diffuse) * (1.0 - ws);
+  b.specularChance = ws + wd > 0.0 ? clamp(ws / (ws + wd), 0.1, 1.0) : 1.0;
+  if (wd <= 0.0) b.specularChance = 1.0;
+  return b;
+}
+
+float smithG1(float nv, float alpha) {
+  float a2 = alpha * alpha;
+  return 2.0 * nv / (nv + sqrt(a2 + (1.0 - a2) * nv * nv));
+}
+
+// BSDF x cos(wi) and the pdf (solid angle) of sampling wi, for non-delta kinds.
+vec3 evalBsdf(Bsdf b, vec3 n, vec3 wo, vec3 wi, out float pdf) {
+  float nl = dot(n, wi);
+  float nv = dot(n, wo);
+  pdf = 0.0;
+  if (nl <= 0.0 || nv <= 0.0) return vec3(0.0);
+  if (b.kind == kLambert) {
+    pdf = nl / kPi;
+    return b.base * (nl / kPi);
+  }
+  vec3 h = normalize(wi + wo);
+  float nh = max(dot(n, h), 0.0);
+  float vh = max(dot(wo, h), 0.0);
+  float d = ggxD(nh, b.alpha);
+  vec3 f = b.f0 + (1.0 - b.f0) * pow(1.0 - vh, 5.0);
+  vec3 spec = f * d * smithVisibility(nl, nv, b.alpha);
+  vec3 diff = (1.0 - f) * b.diffuse / kPi;
+  // Visible-normal sampling: pdf(wi) = G1(wo) D(h) / (4 n.wo).
+  float pdfSpec = smithG1(nv, b.alpha) * d / (4.0 * nv);
+  pdf = b.specularChance * pdfSpec + (1.0 - b.specularChance) * nl / kPi;
+  return (spec + diff) * nl;
+}
+
+void basis(vec3 n, out vec3 t, out vec3 bt) {
+  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+  float s = n.z >= 0.0 ? 1.0 : -1.0;
+  float a = -1.0 / (s + n.z);
+  float b = n.x * n.y * a;
+  t = vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+  bt = vec3(b, s + n.y * n.y * a, -n.y);
+}
+
+vec3 cosineSample(vec3 n, vec2 u) {
+  vec3 t, bt;
+  basis(n, t, bt);
+  float r = sqrt(u.x);
+  float phi = 2.0 * kPi * u.y;
+  return normalize(t * (r * cos(phi)) + bt * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u.x)));
+}
+
+// Heitz 2018, "Sampling the GGX Distribution of Visible Normals"; ve in the local
+// frame (z = normal). Returns the micro-normal.
+vec3 sampleVndf(vec3 ve, float alpha, vec2 u) {
+  vec3 vh = normalize(vec3(alpha * ve.x, alpha * ve.y, ve.z));
+  float lensq = vh.x * vh.x + vh.y * vh.y;
+  vec3 t1 = lensq > 0.0 ? vec3(-vh.y, vh.x, 0.0) * inversesqrt(lensq) : vec3(1.0, 0.0, 0.0);
+  vec3 t2 = cross(vh, t1);
+  float r = sqrt(u.x);
+  float phi = 2.0 * kPi * u.y;
+  float p1 = r * cos(phi);
+  float p2 = r * sin(phi);
+  float s = 0.5 * (1.0 + vh.z);
+  p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
+  vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+  return normalize(vec3(alpha * nh.x, alpha * nh.y, max(1e-6, nh.z)));
+}
+
+// Samples wi for a non-delta kind; false when the sample is below the surface.
+bool sampleBsdf(Bsdf b, vec3 n, vec3 wo, out vec3 wi) {
+  vec2 u = vec2(rand01(), rand01());
+  if (b.kind == kLambert || rand01() >= b.specularChance) {
+    wi = cosineSample(n, u);
+  } else {
+    vec3 t, bt;
+    basis(n, t, bt);
+    vec3 ve = vec3(dot(wo, t), dot(wo, bt), dot(wo, n));
+    vec3 m = sampleVndf(ve, b.alpha, u);
+    vec3 h = normalize(t * m.x + bt * m.y + n * m.z);
+    wi = reflect(-wo, h);
+  }
+  return dot(n, wi) > 0.0;
+}
+
+// --- lights -------------------------------------------------------------------------
+float powerHeuristic(float a, float b) {
+  float a2 = a * a;
+  return a2 / (a2 + b * b);
+}
+
+// One emissive triangle chosen by power (alias table), one point on it uniformly.
+vec3 sampleEmissive(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
+  uint count = params.tile.w;
+  float u = rand01() * float(count);
+  uint i = min(uint(u), count - 1u);
+  GpuPtEmissive e = emissive[i];
+  if (u - float(i) >= e.v0.w) e = emissive[floatBitsToUint(e.e1.w)];
+  float s = sqrt(rand01());
+  float r = rand01();
+  vec3 q = e.v0.xyz + e.e1.xyz * (s * (1.0 - r)) + e.e2.xyz * (s * r);
+  vec3 c = cross(e.e1.xyz, e.e2.xyz);
+  float area2 = length(c);
+  vec3 nl = c / area2;
+  vec3 toL = q - p;
+  float dist2 = dot(toL, toL);
+  float dist = sqrt(dist2);
+  vec3 wi = toL / dist;
+  float cosL = -dot(nl, wi);
+  if (e.radiance.w > 0.5) cosL = abs(cosL);
+  if (cosL <= 0.0 || !(dist > 0.0)) return vec3(0.0);
+  float pdfBsdf;
+  vec3 f = evalBsdf(b, n, wo, wi, pdfBsdf);
+  if (f == vec3(0.0) || dot(ng, wi) <= 0.0) return vec3(0.0);
+  float pdfLight = e.e2.w / (0.5 * area2) * dist2 / cosL;
+  if (occluded(p + ng * eps, wi, dist * (1.0 - 1e-4) - eps)) return vec3(0.0);
+  return f * e.radiance.rgb * (powerHeuristic(pdfLight, pdfBsdf) / pdfLight);
+}
+
+// Every punctual light (delta lights: NEE only), with its shadow ray.
+vec3 samplePunctual(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
+  vec3 sum = vec3(0.0);
+  int count = int(params.depth.z);
+  for (int i = 0; i < count; ++i) {
+    if (loopBudget == 0u) break;
+    --loopBudget;
+    GpuLight light = lights[i];
+    uint type = uint(light.positionType.w);
+    vec3 wi;
+    float atten = 1.0;
+    float dist = 1e30;
+    if (type == kLightDirectional) {
+      wi = -normalize(light.directionRange.xyz);
+    } else {
+      vec3 d = light.positionType.xyz - p;
+      float dist2 = max(dot(d, d), 1e-30);
+      dist = sqrt(dist2);
+      wi = d / dist;
+      atten = 1.0 / dist2;
+      float range = light.directionRange.w;
+      if (range > 0.0) {  // the glTF spec's recommended smooth window, as in raster
+        float x = dist / range;
+        atten *= clamp(1.0 - x * x * x * x, 0.0, 1.0);
+      }
+      if (type == kLightSpot) {
+        float cd = dot(normalize(light.directionRange.xyz), -wi);
+        atten *= smoothstep(light.cone.y, light.cone.x, cd);
+      }
+    }
+    if (atten <= 0.0 || dot(ng, wi) <= 0.0) continue;
+    float pdf;
+    vec3 f = evalBsdf(b, n, wo, wi, pdf);
+    if (f == vec3(0.0)) continue;
+    if (occluded(p + ng * eps, wi, dist * (1.0 - 1e-4) - eps)) continue;
+    sum += f * light.radiance.rgb * atten;
+  }
+  return sum;
+}
+
+// --- one path -----------------------------------------------------------------------
+vec3 radiance(vec3 o, vec3 d) {
+  vec3 result = vec3(0.0);
+  vec3 throughput = vec3(1.0);
+  float eps = params.cameraPosition.w;
+  int maxDepth = int(params.depth.x);
+  int rrDepth = int(params.depth.y);
+  bool lightsByNee = params.tile.w > 0u;
+  float lastPdf = 0.0;  // solid-angle pdf of the BSDF sample that led here
+  bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
+  for (int depth = 1; depth <= maxDepth; ++depth) {
+    if (loopBudget == 0u) break;
+    --loopBudget;
+    float t;
+    uint tri;
+    vec2 bc;
+    if (!trace(o, d, kInf, false, t, tri, bc)) break;  // black background
+    GpuPtTriangle T = tris[tri];
+    GpuPtShading S = shading[tri];
+    GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+    vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
+    vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
+    bool front = dot(ng, d) < 0.0;
+    if (m.emission.rgb != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
+      float w = 1.0;
+      if (!lastDelta && lightsByNee && S.n1.w > 0.0) {
+        float cosL = abs(dot(ng, d));
+        float pdfLight = S.n1.w * t * t / max(cosL, 1e-20);
+        w = powerHeuristic(lastPdf, pdfLight);
+      }
+      result += throughput * m.emission.rgb * w;
+    }
+    if (depth == maxDepth) break;
+
+    // Shade on the side the ray arrived from.
+    vec3 ns = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
+    if (!front) {
+      ng = -ng;
+      ns = -ns;
+    }
+    vec3 wo = -d;
+    if (dot(ns, wo) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;  // shading normal past the silhouette
+    Bsdf b = makeBsdf(m, dot(ns, wo));
+    if (b.kind != kGgx && b.base == vec3(0.0)) break;  // black: reflects nothing (the lights of the reference scenes)
+
+    if (b.kind == kMirror) {
+      d = reflect(d, ns);
+      if (dot(d, ng) <= 0.0) break;
+      throughput *= b.base;
+      lastDelta = true;
+    } else {
+      if (lightsByNee) result += throughput * sampleEmissive(p, ns, wo, b, ng, eps);
+      result += throughput * samplePunctual(p, ns, wo, b, ng, eps);
+      vec3 wi;
+      if (!sampleBsdf(b, ns, wo, wi) || dot(wi, ng) <= 0.0) break;
+      vec3 f = evalBsdf(b, ns, wo, wi, lastPdf);
+      if (!(lastPdf > 0.0)) break;
+      throughput *= f / lastPdf;
+      d = wi;
+      lastDelta = false;
+    }
+    o = p + ng * eps;
+    // Russian roulette from rrDepth on, as Mitsuba does it.
+    if (depth >= rrDepth) {
+      float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
+      if (!(rand01() < q)) break;
+      throughput /= q;
+    }
+  }
+  return result;
+}
+
+void main() {
+  ivec2 pixel = ivec2(params.tile.xy + gl_GlobalInvocationID.xy);
+  uint width = params.image.x;
+  uint height = params.image.y;
+  if (pixel.x >= int(width) || pixel.y >= int(height)) return;
+  uint pixelIndex = uint(pixel.y) * width + uint(pixel.x);
+  uint firstSample = params.image.z;
+  uint samples = params.image.w;
+
+  precise vec4 sum = imageLoad(sumImage, pixel);
+  precise vec4 comp = imageLoad(compensationImage, pixel);
+  for (uint k = 0u; k < samples; ++k) {
+    rngState = pcgHash(pcgHash(pcgHash(params.tile.z) + pixelIndex) + firstSample + k);
+    loopBudget = kPtLoopBudget;
+    // Box filter: a uniform point in the pixel's footprint. Image y grows upwards.
+    vec2 jitter = vec2(rand01(), rand01());
+    vec2 ndc = (vec2(pixel) + jitter) / vec2(width, height) * 2.0 - 1.0;
+    vec3 dir = normalize(params.cameraForward.xyz + ndc.x * params.cameraRight.xyz +
+                         ndc.y * params.cameraUp.xyz);
+    vec4 value = vec4(radiance(params.cameraPosition.xyz, dir), 1.0);
+    if (loopBudget == 0u) atomicAdd(truncatedPaths, 1u);
+    // Kahan summation: float sums of thousands of samples keep their low bits.
+    precise vec4 y = value - comp;
+    precise vec4 next = sum + y;
+    comp = (next - sum) - y;
+    sum = next;
+  }
+  imageStore(sumImage, pixel, sum);
+  imageStore(compensationImage, pixel, comp);
+  float n = float(firstSample + samples);
+  imageStore(outImage, pixel, vec4((sum.rgb - comp.rgb) / n, 1.0));
+}

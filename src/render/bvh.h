@@ -1,0 +1,90 @@
+// Bounding volume hierarchy over the scene's exact triangles, for the path tracer.
+//
+// Built on the CPU by binned SAH (Wald 2007, "On fast construction of SAH-based
+// bounding volume hierarchies": 16 bins per axis over the centroid bounds, leaf when
+// no split is cheaper than the leaf), then flattened into the layout of
+// shaders/include/pathtrace_shared.h: each node holds both children's bounds, so the
+// GPU tests two boxes per fetch and visits the nearer child first. Triangles are
+// reordered so every leaf is a contiguous run; order()[i] is the input index of the
+// i-th triangle in BVH order.
+//
+// The CPU traversal here walks the same flattened nodes as the compute shader and is
+// what the tests check against brute force (tests/render/bvh_test.cpp).
+#ifndef VOXGI_RENDER_BVH_H
+#define VOXGI_RENDER_BVH_H
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "pathtrace_shared.h"
+
+namespace voxgi::render {
+
+struct BvhTriangle {
+  glm::vec3 v0, v1, v2;
+};
+
+struct BvhRay {
+  glm::vec3 origin;
+  glm::vec3 direction;  // need not be unit length; t is in its units
+  float tMin = 0.0f;
+  float tMax = 1e30f;
+};
+
+struct BvhHit {
+  float t = 0.0f;
+  float u = 0.0f, v = 0.0f;  // barycentrics of v1 and v2
+  int triangle = -1;         // input index
+};
+
+// Moeller-Trumbore; the same arithmetic as the shader. Both faces hit.
+bool intersectTriangle(const BvhRay& ray, const glm::vec3& v0, const glm::vec3& e1,
+                       const glm::vec3& e2, float* t, float* u, float* v);
+
+class Bvh {
+ public:
+  struct Options {
+    // A leaf never holds more; the GPU tests exactly kPtMaxLeafSize per leaf.
+    int maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);
+    float traversalCost = 1.0f;  // SAH cost of visiting a node, relative to one triangle test
+    int bins = 16;
+  };
+
+  Bvh() = default;
+  explicit Bvh(const std::vector<BvhTriangle>& triangles, const Options& options);
+  explicit Bvh(const std::vector<BvhTriangle>& triangles) : Bvh(triangles, Options{}) {}
+
+  // Closest hit in (tMin, tMax); false when nothing is hit.
+  bool intersect(const BvhRay& ray, BvhHit* hit) const;
+  // Any hit in (tMin, tMax).
+  bool occluded(const BvhRay& ray) const;
+
+  const std::vector<gpu::GpuBvhNode>& nodes() const { return nodes_; }
+  const std::vector<uint32_t>& order() const { return order_; }
+  // BVH-ordered triangles as the GPU reads them.
+  std::vector<gpu::GpuPtTriangle> gpuTriangles() const;
+
+  int depth() const { return depth_; }     // deepest node, root = 1
+  double sahCost() const { return sah_; }  // expected cost of a random ray, in triangle tests
+  size_t triangleCount() const { return order_.size(); }
+
+ private:
+  struct Child {
+    glm::vec3 lo{1.0f}, hi{-1.0f};
+    uint32_t index = 0, count = 0;
+  };
+  template <bool kAnyHit>
+  bool traverse(const BvhRay& ray, BvhHit* hit) const;
+
+  std::vector<gpu::GpuBvhNode> nodes_;
+  std::vector<uint32_t> order_;
+  std::vector<glm::vec3> v0_, e1_, e2_;  // BVH order
+  int depth_ = 0;
+  double sah_ = 0.0;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_BVH_H

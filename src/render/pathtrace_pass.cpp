@@ -1,0 +1,261 @@
+#include "render/pathtrace_pass.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+
+#include "core/log.h"
+#include "pathtrace_shared.h"
+
+namespace voxgi::render {
+namespace {
+
+float luminance(const glm::vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+// Vose's alias method: prob[i] is the chance of keeping i, alias[i] the other choice.
+void buildAliasTable(const std::vector<double>& weights, std::vector<float>* prob,
+                     std::vector<uint32_t>* alias) {
+  const size_t n = weights.size();
+  prob->assign(n, 1.0f);
+  alias->resize(n);
+  double total = 0.0;
+  for (double w : weights) total += w;
+  std::vector<double> scaled(n);
+  std::vector<uint32_t> small, large;
+  for (size_t i = 0; i < n; ++i) {
+    (*alias)[i] = static_cast<uint32_t>(i);
+    scaled[i] = weights[i] / total * static_cast<double>(n);
+    (scaled[i] < 1.0 ? small : large).push_back(static_cast<uint32_t>(i));
+  }
+  while (!small.empty() && !large.empty()) {
+    const uint32_t s = small.back(), l = large.back();
+    small.pop_back();
+    (*prob)[s] = static_cast<float>(scaled[s]);
+    (*alias)[s] = l;
+    scaled[l] = (scaled[l] + scaled[s]) - 1.0;
+    if (scaled[l] < 1.0) {
+      large.pop_back();
+      small.push_back(l);
+    }
+  }
+  // What is left holds (up to rounding) exactly 1.
+}
+
+}  // namespace
+
+PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
+                             const Settings& settings)
+    : settings_(settings),
+      scene_(gs),
+      program_(programs.get({{"render/pathtrace.comp"}, {}})),
+      camera_(gs.scene().camera) {
+  const scene::Scene& s = gs.scene();
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<BvhTriangle> tris;
+  std::vector<int> material;
+  tris.reserve(s.triangleCount());
+  material.reserve(s.triangleCount());
+  for (const scene::Draw& d : s.draws) {
+    for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3) {
+      tris.push_back({s.vertices[s.indices[i]].position, s.vertices[s.indices[i + 1]].position,
+                      s.vertices[s.indices[i + 2]].position});
+      material.push_back(d.material);
+    }
+  }
+  Bvh::Options options;
+  options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
+  bvh_ = Bvh(tris, options);
+  for (const gpu::GpuBvhNode& n : bvh_.nodes()) {
+    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.leftMax.w), gpu::kPtMaxLeafSize);
+    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.rightMax.w), gpu::kPtMaxLeafSize);
+  }
+  bvhMs_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+  // Emissive triangles, chosen in proportion to their power (area x luminance).
+  const std::vector<uint32_t>& order = bvh_.order();
+  std::vector<gpu::GpuPtShading> shade(order.size());
+  std::vector<gpu::GpuPtEmissive> emitters;
+  std::vector<double> power;
+  std::vector<size_t> emitterSlot;  // BVH slot of each emitter
+  for (size_t slot = 0; slot < order.size(); ++slot) {
+    const uint32_t t = order[slot];
+    const scene::Material& m = s.materials[static_cast<size_t>(material[t])];
+    gpu::GpuPtShading& g = shade[slot];
+    g.n0.w = std::bit_cast<float>(static_cast<uint32_t>(material[t]));
+    if (!m.isEmissive()) continue;
+    const BvhTriangle& tri = tris[t];
+    const glm::vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
+    const float area = 0.5f * glm::length(glm::cross(e1, e2));
+    const double p =
+        static_cast<double>(area) * luminance(m.emission) * (m.doubleSided ? 2.0 : 1.0);
+    if (!(p > 0.0)) continue;
+    gpu::GpuPtEmissive e{};
+    e.v0 = glm::vec4(tri.v0, 0.0f);
+    e.e1 = glm::vec4(e1, 0.0f);
+    e.e2 = glm::vec4(e2, 0.0f);
+    e.radiance = glm::vec4(m.emission, m.doubleSided ? 1.0f : 0.0f);
+    emitters.push_back(e);
+    power.push_back(p);
+    emitterSlot.push_back(slot);
+  }
+  // Vertex normals in BVH order: triangle t is the t-th triple over the draws.
+  {
+    std::vector<uint32_t> firstIndexOf;
+    firstIndexOf.reserve(tris.size());
+    for (const scene::Draw& d : s.draws)
+      for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3)
+        firstIndexOf.push_back(i);
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t i = firstIndexOf[order[slot]];
+      gpu::GpuPtShading& g = shade[slot];
+      g.n0 = glm::vec4(s.vertices[s.indices[i]].normal, g.n0.w);
+      g.n1 = glm::vec4(s.vertices[s.indices[i + 1]].normal, 0.0f);
+      g.n2 = glm::vec4(s.vertices[s.indices[i + 2]].normal, 0.0f);
+    }
+  }
+  if (!emitters.empty()) {
+    std::vector<float> prob;
+    std::vector<uint32_t> alias;
+    buildAliasTable(power, &prob, &alias);
+    double total = 0.0;
+    for (double p : power) total += p;
+    for (size_t i = 0; i < emitters.size(); ++i) {
+      const float pmf = static_cast<float>(power[i] / total);
+      emitters[i].v0.w = prob[i];
+      emitters[i].e1.w = std::bit_cast<float>(alias[i]);
+      emitters[i].e2.w = pmf;
+      const float area =
+          0.5f * glm::length(glm::cross(glm::vec3(emitters[i].e1), glm::vec3(emitters[i].e2)));
+      shade[emitterSlot[i]].n1.w = pmf / area;
+    }
+  }
+  emissiveCount_ = static_cast<int>(emitters.size());
+
+  const auto triangles = bvh_.gpuTriangles();
+  const auto& nodes = bvh_.nodes();
+  auto upload = [](const void* data, size_t bytes) {
+    return gl::createBuffer(static_cast<GLsizeiptr>(bytes), bytes ? data : nullptr);
+  };
+  nodes_ = upload(nodes.data(), nodes.size() * sizeof(gpu::GpuBvhNode));
+  triangles_ = upload(triangles.data(), triangles.size() * sizeof(gpu::GpuPtTriangle));
+  shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
+  emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
+  params_ = gl::createBuffer(sizeof(gpu::GpuPtParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const uint32_t zero = 0;
+  counter_ = gl::createBuffer(sizeof(uint32_t), &zero, GL_DYNAMIC_STORAGE_BIT);
+  // Ray offsets scaled to the scene: 1e-5 of its diagonal.
+  epsilon_ = 1e-5f * std::max(s.bounds.diagonal(), 1e-20f);
+  logDebug(strf(
+      "pathtrace: BVH of %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d "
+      "emissive triangles",
+      bvh_.triangleCount(), nodes.size(), bvh_.depth(), bvh_.sahCost(), bvhMs_, emissiveCount_));
+}
+
+void PathtracePass::allocate(int width, int height) {
+  if (width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  for (gl::Texture* t : {&sum_, &compensation_}) {
+    *t = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t->id(), 1, GL_RGBA32F, width, height);
+  }
+  reset();
+}
+
+void PathtracePass::reset() {
+  samples_ = 0;
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (gl::Texture* t : {&sum_, &compensation_})
+    if (*t) glClearTexImage(t->id(), 0, GL_RGBA, GL_FLOAT, zero);
+  const uint32_t none = 0;
+  glNamedBufferSubData(counter_.id(), 0, sizeof(none), &none);
+}
+
+uint64_t PathtracePass::truncatedPaths() const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t n = 0;
+  glGetNamedBufferSubData(counter_.id(), 0, sizeof(n), &n);
+  return n;
+}
+
+void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h,
+                             int firstSample, int samples) {
+  const scene::Camera& cam = camera_;
+  const float aspect = static_cast<float>(ctx.width) / static_cast<float>(ctx.height);
+  const float tanHalf = std::tan(0.5f * cam.yfov);
+  const glm::vec3 forward = glm::normalize(cam.forward);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, cam.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  gpu::GpuPtParams p{};
+  p.cameraPosition = glm::vec4(cam.position, epsilon_);
+  p.cameraRight = glm::vec4(right * (tanHalf * aspect), 0.0f);
+  p.cameraUp = glm::vec4(up * tanHalf, 0.0f);
+  p.cameraForward = glm::vec4(forward, 0.0f);
+  p.image = glm::uvec4(ctx.width, ctx.height, firstSample, samples);
+  p.tile = glm::uvec4(x0, y0, settings_.seed, settings_.nextEventEstimation ? emissiveCount_ : 0);
+  p.depth = glm::uvec4(settings_.maxDepth, settings_.rrDepth, scene_.lightCount(), 0);
+  glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
+
+  glUseProgram(program_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kPtParamsBinding, params_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, scene_.materials());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, scene_.lights());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtNodeBinding, nodes_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTriangleBinding, triangles_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, shading_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, emissive_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
+  glBindImageTexture(gpu::kPtSumImage, sum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(gpu::kPtCompensationImage, compensation_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                     GL_RGBA32F);
+  glBindImageTexture(gpu::kPtOutputImage, hdrTexture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  const auto groups = [](int n, uint32_t g) {
+    return static_cast<GLuint>((static_cast<uint32_t>(n) + g - 1) / g);
+  };
+  glDispatchCompute(groups(w, gpu::kPtGroupX), groups(h, gpu::kPtGroupY), 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                  GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+void PathtracePass::warmUp(FrameContext& ctx, GLuint hdrTexture) {
+  allocate(ctx.width, ctx.height);
+  dispatch(ctx, hdrTexture, 0, 0, std::min<int>(ctx.width, gpu::kPtGroupX),
+           std::min<int>(ctx.height, gpu::kPtGroupY), 0, 1);
+  glFinish();
+  reset();
+}
+
+void PathtracePass::execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+                            const Progress& progress) {
+  gl::StageScope stage(ctx.timer, "pathtrace");
+  allocate(ctx.width, ctx.height);
+  const int64_t pixels = static_cast<int64_t>(ctx.width) * ctx.height;
+  const int64_t budget = std::max<int64_t>(settings_.pixelsPerDispatch, 1);
+  // One sample per pixel per pass; large images in bands of whole rows (multiples
+  // of the group height).
+  int rowsPerTile = ctx.height;
+  constexpr int perPass = 1;
+  if (pixels > budget) {
+    const auto g = static_cast<int>(gpu::kPtGroupY);
+    rowsPerTile = std::max<int>(g, static_cast<int>(budget / ctx.width) / g * g);
+  }
+  const int target = samples_ + spp;
+  while (samples_ < target) {
+    const int n = std::min(perPass, target - samples_);
+    for (int y = 0; y < ctx.height; y += rowsPerTile)
+      dispatch(ctx, hdrTexture, 0, y, ctx.width, std::min(rowsPerTile, ctx.height - y), samples_,
+               n);
+    samples_ += n;
+    if (progress) {
+      glFinish();
+      progress(samples_ - (target - spp), spp);
+    }
+  }
+  glUseProgram(0);
+}
+
+}  // namespace voxgi::render

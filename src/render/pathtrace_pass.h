@@ -1,0 +1,98 @@
+// Reference path tracer (`--mode pathtrace`): Monte Carlo path tracing over the
+// scene's exact triangles in a compute shader, so it runs on any GL 4.5 device
+// (llvmpipe included).
+//
+// Reads: the scene (triangles, materials, punctual lights, emissive triangles) and a
+// BVH built on the CPU at construction (render/bvh.h; the "bvh" start-up stage).
+// Writes: linear radiance, the mean of all samples so far, into the caller's RGBA32F
+// texture at the frame size; it keeps the running sum (and its Kahan compensation)
+// in two RGBA32F images of its own, so samples accumulate progressively across calls
+// to execute() until reset().
+//
+// Transport (shaders/render/pathtrace.comp): unidirectional path tracing with
+// next-event estimation and MIS (Veach 1997, power heuristic) between light and
+// BSDF sampling; emissive triangles are area lights chosen in proportion to power
+// (area x luminance) through an alias table; punctual lights by NEE only. Depths in
+// Mitsuba's convention (1 = emitters seen directly, 2 = direct light), Russian
+// roulette from rrDepth. Materials as scenes/reference_scenes.md reads glTF:
+// metallic 0 + roughness 1 is Lambert, metallic 1 + roughness 0 a perfect mirror of
+// reflectance = base colour (no Fresnel), anything else the glTF metallic-roughness
+// BRDF (Lambert + GGX with visible-normal sampling, Heitz 2018). An emissive surface
+// emits from its front face (both faces when double-sided) and reflects by its
+// material like any other. Base-colour textures and alpha masks are not read.
+// Camera: the scene camera at the image aspect, box pixel filter (uniform jitter).
+//
+// Tested by tests/render/pathtrace_gltest.cpp: white furnace, a plane under a point
+// light against the closed form, energy per bounce, no NaN, seeds, convergence.
+#ifndef VOXGI_RENDER_PATHTRACE_PASS_H
+#define VOXGI_RENDER_PATHTRACE_PASS_H
+
+#include <cstdint>
+#include <functional>
+
+#include "gl/handles.h"
+#include "render/bvh.h"
+#include "render/frame_context.h"
+#include "render/gpu_scene.h"
+
+namespace voxgi::render {
+
+class PathtracePass {
+ public:
+  struct Settings {
+    int maxDepth = 8;  // Mitsuba's convention: 8 allows 7 bounces (reference_scenes.md)
+    int rrDepth = 5;   // Russian roulette from this depth on (reference_scenes.md)
+    uint32_t seed = 0;
+    // false: emissive surfaces are found by BSDF sampling alone (no light sampling,
+    // no MIS); tests compare the two estimators, which must agree.
+    bool nextEventEstimation = true;
+    // Pixels per dispatch (one path each; see kPtLoopBudget for why one): small
+    // enough that a dispatch stays well under a second on llvmpipe, so progress
+    // stays live; larger images are cut into bands of whole rows.
+    int64_t pixelsPerDispatch = 1 << 18;
+  };
+  // Called after each batch of dispatches with the samples per pixel done so far.
+  using Progress = std::function<void(int done, int total)>;
+
+  PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings);
+
+  // Clears the accumulation (the next execute() starts from sample 0).
+  void reset();
+  // The camera of the next samples (default: the scene's); a change needs reset().
+  void setCamera(const scene::Camera& camera) { camera_ = camera; }
+  // Adds `spp` samples per pixel and writes the mean of all samples so far into
+  // `hdrTexture` (RGBA32F, ctx.width x ctx.height).
+  void execute(FrameContext& ctx, int spp, GLuint hdrTexture, const Progress& progress = {});
+  // Compiles the kernel and runs one work group, so the driver's JIT is start-up.
+  void warmUp(FrameContext& ctx, GLuint hdrTexture);
+
+  int samplesSoFar() const { return samples_; }
+  // Paths stopped by the loop budget since reset() (waits for the GPU); should be 0.
+  uint64_t truncatedPaths() const;
+  const Bvh& bvh() const { return bvh_; }
+  double bvhBuildMs() const { return bvhMs_; }
+  int emissiveTriangles() const { return emissiveCount_; }
+  Settings& settings() { return settings_; }
+
+ private:
+  void allocate(int width, int height);
+  void dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h, int firstSample,
+                int samples);
+
+  Settings settings_;
+  const GpuScene& scene_;
+  const gl::Program& program_;
+  Bvh bvh_;
+  double bvhMs_ = 0.0;
+  gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
+  int emissiveCount_ = 0;
+  gl::Texture sum_, compensation_;
+  int width_ = 0, height_ = 0;
+  int samples_ = 0;
+  float epsilon_ = 1e-5f;
+  scene::Camera camera_;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_PATHTRACE_PASS_H

@@ -1,0 +1,431 @@
+// The path tracer against answers known in closed form, on llvmpipe at tiny sizes:
+//  - white furnace: a closed sphere that emits Le and reflects with albedo a on its
+//    inside has radiance Le / (1 - a) everywhere; with max depth d (no roulette) it is
+//    Le (1 - a^d) / (1 - a), so each added bounce adds exactly Le a^(d-1): energy
+//    never grows beyond what a bounce can carry;
+//  - a Lambertian plane under a point light: L = albedo I h / (pi d^3);
+//  - no NaN or Inf at grazing angles, at a light, or next to a point light;
+//  - a seed fixes the image; the Cornell room's mean converges;
+//  - the std430/std140 layouts of pathtrace_shared.h agree with C++.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <random>
+#include <utility>
+
+#include "pathtrace_shared.h"
+#include "render/bvh.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "support/gl_fixture.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+scene::Scene sceneOf(std::vector<scene::Vertex> vertices, std::vector<uint32_t> indices,
+                     const scene::Material& material, const scene::Camera& camera) {
+  scene::Scene s;
+  s.path = "test";
+  s.vertices = std::move(vertices);
+  s.indices = std::move(indices);
+  s.materials.push_back(material);
+  s.draws.push_back({0, static_cast<uint32_t>(s.indices.size()), 0, -1, -1});
+  s.camera = camera;
+  s.camera.fromFile = true;
+  s.finalize();
+  return s;
+}
+
+// A UV sphere with flat facets (each triangle its own vertices and normal), so the
+// enclosure is exactly what the path tracer sees.
+scene::Scene furnace(float albedo, float le) {
+  constexpr int kSeg = 24, kRings = 12;
+  auto point = [](int i, int j) {
+    const float phi = 2.0f * kPi * static_cast<float>(i) / kSeg;
+    const float theta = kPi * static_cast<float>(j) / kRings;
+    return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                     std::sin(theta) * std::sin(phi));
+  };
+  std::vector<scene::Vertex> v;
+  std::vector<uint32_t> idx;
+  auto tri = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    if (glm::length(n) < 1e-9f) return;
+    for (const glm::vec3& p : {a, b, c}) {
+      idx.push_back(static_cast<uint32_t>(v.size()));
+      v.push_back({p, glm::normalize(n), glm::vec2(0.0f)});
+    }
+  };
+  for (int j = 0; j < kRings; ++j)
+    for (int i = 0; i < kSeg; ++i) {
+      tri(point(i, j), point(i + 1, j + 1), point(i, j + 1));
+      tri(point(i, j), point(i + 1, j), point(i + 1, j + 1));
+    }
+  scene::Material m;
+  m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  m.emission = glm::vec3(le);
+  m.doubleSided = true;
+  scene::Camera cam;
+  cam.position = glm::vec3(0.1f, -0.2f, 0.3f);
+  cam.forward = glm::normalize(glm::vec3(0.2f, 0.1f, -1.0f));
+  cam.yfov = 1.2f;
+  return sceneOf(std::move(v), std::move(idx), m, cam);
+}
+
+struct Settings {
+  int size = 16;
+  int spp = 16;
+  int maxDepth = 8;
+  int rrDepth = 5;
+  uint32_t seed = 0;
+  bool nee = true;
+};
+
+std::vector<float> renderLinear(const scene::Scene& s, const Settings& t) {
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  render::RenderSettings rs;
+  rs.width = rs.height = t.size;
+  rs.mode = render::Mode::kPathtrace;
+  rs.spp = t.spp;
+  rs.pathtrace.maxDepth = t.maxDepth;
+  rs.pathtrace.rrDepth = t.rrDepth;
+  rs.pathtrace.seed = t.seed;
+  rs.pathtrace.nextEventEstimation = t.nee;
+  render::Renderer r(programs, s, rs);
+  r.renderFrame();
+  EXPECT_EQ(r.pathtrace()->truncatedPaths(), 0u) << "paths cut short by the loop budget";
+  return r.readLinear();
+}
+
+// Mean over pixels of the RGB average.
+double meanRgb(const std::vector<float>& px) {
+  double sum = 0.0;
+  for (size_t i = 0; i < px.size(); i += 4) sum += (px[i] + px[i + 1] + px[i + 2]) / 3.0;
+  return sum / static_cast<double>(px.size() / 4);
+}
+
+bool allFinite(const std::vector<float>& px) {
+  for (float v : px)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+class PathtraceTest : public GlTest {};
+
+TEST_F(PathtraceTest, WhiteFurnaceConvergesToClosedForm) {
+  const float a = 0.5f, le = 1.0f;
+  const scene::Scene s = furnace(a, le);
+  Settings t;
+  t.size = 32;
+  t.spp = 32;
+  t.maxDepth = 1024;  // long enough that the truncated series is within 1e-9 of the limit
+  const auto px = renderLinear(s, t);
+  ASSERT_TRUE(allFinite(px));
+  const double expected = le / (1.0 - a);
+  const double got = meanRgb(px);
+  std::printf("furnace a=%.2f: mean %.5f, expected %.5f (%.3f%% off)\n", a, got, expected,
+              100.0 * (got / expected - 1.0));
+  EXPECT_NEAR(got, expected, 0.01 * expected);
+}
+
+TEST_F(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
+  const float a = 0.6f, le = 1.0f;
+  const scene::Scene s = furnace(a, le);
+  Settings t;
+  t.spp = 16;
+  t.rrDepth = 1000;  // no roulette: each depth is the exact truncated series
+  double previous = 0.0, previousStep = 1e30;
+  for (int depth = 1; depth <= 6; ++depth) {
+    t.maxDepth = depth;
+    const double got = meanRgb(renderLinear(s, t));
+    const double expected = le * (1.0 - std::pow(a, depth)) / (1.0 - a);
+    std::printf("furnace max depth %d: %.5f, expected %.5f\n", depth, got, expected);
+    EXPECT_NEAR(got, expected, 0.01 * expected) << "max depth " << depth;
+    const double step = got - previous;
+    EXPECT_GT(step, 0.0) << "max depth " << depth;
+    EXPECT_LT(step, previousStep) << "bounce " << depth << " carried more than the one before";
+    previous = got;
+    previousStep = step;
+  }
+}
+
+// A mirror enclosure (metallic 1, roughness 0: reflectance = base colour, no
+// Fresnel) obeys the same series; every path is deterministic after the first ray.
+TEST_F(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
+  const float rho = 0.5f;
+  scene::Scene s = furnace(rho, 1.0f);
+  s.materials[0].metallic = 1.0f;
+  s.materials[0].roughness = 0.0f;
+  Settings t;
+  t.maxDepth = 6;
+  t.rrDepth = 1000;
+  const double got = meanRgb(renderLinear(s, t));
+  const double expected = (1.0 - std::pow(rho, 6)) / (1.0 - rho);
+  std::printf("mirror furnace: %.6f, expected %.6f\n", got, expected);
+  EXPECT_NEAR(got, expected, 1e-4 * expected);
+}
+
+// Light sampling with MIS and BSDF sampling alone are two estimators of the same
+// integral: they agree only if every pdf (GGX visible normals, the lobe mix, the
+// emitters' area pdf) is right. A furnace of glTF metallic-roughness material.
+TEST_F(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
+  scene::Scene s = furnace(0.8f, 1.0f);
+  for (auto [metallic, roughness] :
+       {std::pair{0.0f, 0.3f}, std::pair{0.5f, 0.5f}, std::pair{1.0f, 0.2f}}) {
+    s.materials[0].metallic = metallic;
+    s.materials[0].roughness = roughness;
+    Settings t;
+    t.size = 24;
+    t.spp = 32;
+    t.maxDepth = 4;
+    const double withNee = meanRgb(renderLinear(s, t));
+    t.nee = false;
+    t.seed = 1;
+    const double bsdfOnly = meanRgb(renderLinear(s, t));
+    std::printf("metallic %.1f roughness %.1f: NEE + MIS %.5f, BSDF sampling %.5f\n", metallic,
+                roughness, withNee, bsdfOnly);
+    EXPECT_NEAR(withNee, bsdfOnly, 0.01 * bsdfOnly) << metallic << " " << roughness;
+    EXPECT_GT(withNee, 1.0);  // emission plus something reflected
+  }
+}
+
+// A 20 m Lambertian plane seen from above, lit by a point light at height h.
+scene::Scene planeUnderPointLight(float albedo, float intensity, float h,
+                                  const scene::Camera& cam) {
+  const float r = 10.0f;
+  std::vector<scene::Vertex> v = {{{-r, 0, r}, {0, 1, 0}, {}},
+                                  {{r, 0, r}, {0, 1, 0}, {}},
+                                  {{r, 0, -r}, {0, 1, 0}, {}},
+                                  {{-r, 0, -r}, {0, 1, 0}, {}}};
+  scene::Material m;
+  m.baseColor = glm::vec4(glm::vec3(albedo), 1.0f);
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  scene::Scene s = sceneOf(std::move(v), {0, 1, 2, 0, 2, 3}, m, cam);
+  scene::Light l;
+  l.type = scene::LightType::kPoint;
+  l.intensity = intensity;
+  l.position = glm::vec3(0.0f, h, 0.0f);
+  s.lights.push_back(l);
+  return s;
+}
+
+TEST_F(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
+  const float albedo = 0.8f, intensity = 2.0f, h = 1.0f;
+  scene::Camera cam;
+  cam.position = glm::vec3(0.0f, 3.0f, 0.0f);
+  cam.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+  cam.up = glm::vec3(0.0f, 0.0f, -1.0f);
+  cam.yfov = 1.0f;
+  const scene::Scene s = planeUnderPointLight(albedo, intensity, h, cam);
+  Settings t;
+  t.size = 24;
+  t.spp = 1024;  // the footprint average: per-pixel jitter noise well under 1%
+  const auto px = renderLinear(s, t);
+  ASSERT_TRUE(allFinite(px));
+  // The closed form averaged over each pixel's footprint (box filter), 16x16 points.
+  const float tanHalf = std::tan(0.5f * cam.yfov);
+  double worst = 0.0, sumGot = 0.0, sumExpected = 0.0;
+  for (int row = 0; row < t.size; ++row) {
+    const int y = t.size - 1 - row;  // readLinear is top-down; GL y grows upwards
+    for (int x = 0; x < t.size; ++x) {
+      double expected = 0.0;
+      for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i) {
+          const float nx = ((static_cast<float>(x) + (i + 0.5f) / 16.0f) / t.size) * 2.0f - 1.0f;
+          const float ny = ((static_cast<float>(y) + (j + 0.5f) / 16.0f) / t.size) * 2.0f - 1.0f;
+          const glm::vec3 d = glm::normalize(glm::vec3(nx * tanHalf, -1.0f, -ny * tanHalf));
+          const glm::vec3 p = cam.position + d * (cam.position.y / -d.y);
+          const float dist = glm::length(glm::vec3(0.0f, h, 0.0f) - p);
+          expected += albedo * intensity * h / (kPi * dist * dist * dist) / 256.0;
+        }
+      const size_t k = (static_cast<size_t>(row) * t.size + static_cast<size_t>(x)) * 4;
+      sumGot += px[k];
+      sumExpected += expected;
+      for (int c = 0; c < 3; ++c) {
+        const double err = std::abs(px[k + static_cast<size_t>(c)] / expected - 1.0);
+        worst = std::max(worst, err);
+      }
+    }
+  }
+  std::printf("plane under a point light: worst pixel %.3f%%, mean %.4f%% off the closed form\n",
+              100 * worst, 100 * (sumGot / sumExpected - 1.0));
+  EXPECT_LT(worst, 0.01);
+  EXPECT_NEAR(sumGot / sumExpected, 1.0, 0.002);
+}
+
+TEST_F(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
+  // Grazing: the camera 1 mm above the plane, looking along it; a second point light
+  // lies in the plane itself.
+  scene::Camera cam;
+  cam.position = glm::vec3(0.0f, 0.001f, 5.0f);
+  cam.forward = glm::normalize(glm::vec3(0.0f, -0.0001f, -1.0f));
+  scene::Scene s = planeUnderPointLight(0.8f, 5.0f, 0.5f, cam);
+  scene::Light inPlane = s.lights[0];
+  inPlane.position = glm::vec3(0.0f, 0.0f, 2.0f);
+  s.lights.push_back(inPlane);
+  Settings t;
+  t.size = 16;
+  t.spp = 8;
+  EXPECT_TRUE(allFinite(renderLinear(s, t))) << "grazing";
+
+  // At the light: the Cornell room seen from 1 mm below its panel, and from above it.
+  VOXGI_REQUIRE_SAMPLES();
+  scene::Scene room = scene::loadGltf(cornellRoom());
+  for (float y : {1.989f, 1.995f}) {
+    room.camera.position = glm::vec3(0.0f, y, 0.0f);
+    room.camera.forward = glm::normalize(glm::vec3(0.01f, 1.0f, 0.0f));
+    room.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);
+    EXPECT_TRUE(allFinite(renderLinear(room, t))) << "camera at y = " << y;
+  }
+}
+
+TEST_F(PathtraceTest, SeedFixesTheImage) {
+  const scene::Scene s = furnace(0.7f, 1.0f);
+  Settings t;
+  t.size = 16;
+  t.spp = 4;
+  t.seed = 5;
+  const auto a = renderLinear(s, t);
+  const auto b = renderLinear(s, t);
+  EXPECT_EQ(a, b);
+  t.seed = 6;
+  EXPECT_NE(a, renderLinear(s, t));
+}
+
+// The Cornell room's mean: independent low-spp estimates agree with a higher-spp
+// one within their spread (the 1024-spp figure in the README uses the same check).
+TEST_F(PathtraceTest, CornellMeanConverges) {
+  VOXGI_REQUIRE_SAMPLES();
+  const scene::Scene s = scene::loadGltf(cornellRoom());
+  Settings t;
+  t.size = 32;
+  t.spp = 32;
+  std::vector<double> means;
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    t.seed = seed;
+    means.push_back(meanRgb(renderLinear(s, t)));
+  }
+  const double m = std::accumulate(means.begin(), means.end(), 0.0) / 4.0;
+  double var = 0.0;
+  for (double x : means) var += (x - m) * (x - m) / 3.0;
+  const double se = std::sqrt(var / 4.0);
+  t.seed = 100;
+  t.spp = 256;
+  const double hi = meanRgb(renderLinear(s, t));
+  // The 256-spp estimate has about a third of the spread of one 32-spp estimate.
+  const double tolerance = 4.0 * std::sqrt(se * se + var / 8.0) + 1e-4;
+  std::printf("cornell_room 32x32: mean of 4 x 32 spp %.5f +- %.5f, 256 spp %.5f\n", m, se, hi);
+  EXPECT_NEAR(hi, m, tolerance);
+  EXPECT_GT(m, 0.05);
+  EXPECT_LT(se / m, 0.05);
+}
+
+// The GPU traversal against the CPU one: a soup of emissive triangles seen directly
+// (max depth 1) covers each pixel exactly as much as CPU rays through the same
+// footprint find; a dropped leaf or a wrong box test leaves holes.
+TEST_F(PathtraceTest, GpuCoverageMatchesCpuTraversal) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> pos(-1.0f, 1.0f), off(-0.12f, 0.12f);
+  std::vector<scene::Vertex> v;
+  std::vector<uint32_t> idx;
+  std::vector<render::BvhTriangle> tris;
+  for (int i = 0; i < 1500; ++i) {
+    const glm::vec3 c(pos(rng), pos(rng), pos(rng));
+    render::BvhTriangle t{c + glm::vec3(off(rng), off(rng), off(rng)),
+                          c + glm::vec3(off(rng), off(rng), off(rng)),
+                          c + glm::vec3(off(rng), off(rng), off(rng))};
+    const glm::vec3 n = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+    if (glm::length(n) < 1e-4f) continue;
+    tris.push_back(t);
+    for (const glm::vec3& p : {t.v0, t.v1, t.v2}) {
+      idx.push_back(static_cast<uint32_t>(v.size()));
+      v.push_back({p, glm::normalize(n), glm::vec2(0.0f)});
+    }
+  }
+  scene::Material m;
+  m.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  m.emission = glm::vec3(1.0f);
+  m.doubleSided = true;
+  scene::Camera cam;
+  cam.position = glm::vec3(0.0f, 0.0f, 4.0f);
+  cam.yfov = 0.8f;
+  const scene::Scene s = sceneOf(std::move(v), std::move(idx), m, cam);
+  Settings t;
+  t.size = 24;
+  t.spp = 256;
+  t.maxDepth = 1;
+  const auto px = renderLinear(s, t);
+  const render::Bvh bvh(tris);
+  const float tanHalf = std::tan(0.5f * cam.yfov);
+  double sum = 0.0, worst = 0.0, covered = 0.0;
+  for (int row = 0; row < t.size; ++row) {
+    const int y = t.size - 1 - row;
+    for (int x = 0; x < t.size; ++x) {
+      int hits = 0;
+      for (int j = 0; j < 16; ++j)
+        for (int i = 0; i < 16; ++i) {
+          const float nx = ((static_cast<float>(x) + (i + 0.5f) / 16.0f) / t.size) * 2.0f - 1.0f;
+          const float ny = ((static_cast<float>(y) + (j + 0.5f) / 16.0f) / t.size) * 2.0f - 1.0f;
+          const glm::vec3 d = glm::normalize(glm::vec3(nx * tanHalf, ny * tanHalf, -1.0f));
+          if (bvh.occluded({cam.position, d})) ++hits;
+        }
+      const double expected = hits / 256.0;
+      const double got = px[(static_cast<size_t>(row) * t.size + static_cast<size_t>(x)) * 4];
+      sum += got - expected;
+      covered += expected;
+      worst = std::max(worst, std::abs(got - expected));
+    }
+  }
+  const double bias = sum / (t.size * t.size);
+  std::printf("coverage %.3f: mean GPU - CPU %.5f, worst pixel %.4f\n", covered / (t.size * t.size),
+              bias, worst);
+  EXPECT_LT(std::abs(bias), 0.003);  // one missing triangle of this soup costs more
+  EXPECT_LT(worst, 0.2);             // jitter noise at a partly covered pixel: sd <= 0.5 / 16
+}
+
+TEST_F(PathtraceTest, SharedLayoutsMatchCpp) {
+  gl::ProgramCache cache(sourceDir() + "/shaders");
+  const GLuint p = cache.get({{"render/pathtrace.comp"}, {}}).id();
+  auto query = [&](GLenum iface, const char* name, GLenum prop) {
+    const GLuint index = glGetProgramResourceIndex(p, iface, name);
+    EXPECT_NE(index, GL_INVALID_INDEX) << name;
+    GLint v = -1;
+    if (index != GL_INVALID_INDEX)
+      glGetProgramResourceiv(p, iface, index, 1, &prop, 1, nullptr, &v);
+    return v;
+  };
+  const GLenum bv = GL_BUFFER_VARIABLE;
+  EXPECT_EQ(query(bv, "nodes[0].leftMin", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::GpuBvhNode)));
+  EXPECT_EQ(query(bv, "nodes[0].rightMin", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuBvhNode, rightMin)));
+  EXPECT_EQ(query(bv, "tris[0].v0", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::GpuPtTriangle)));
+  EXPECT_EQ(query(bv, "tris[0].e2", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtTriangle, e2)));
+  EXPECT_EQ(query(bv, "shading[0].n0", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::GpuPtShading)));
+  EXPECT_EQ(query(bv, "shading[0].n2", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtShading, n2)));
+  EXPECT_EQ(query(bv, "emissive[0].v0", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::GpuPtEmissive)));
+  EXPECT_EQ(query(bv, "emissive[0].radiance", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtEmissive, radiance)));
+  EXPECT_EQ(query(GL_UNIFORM, "params.image", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtParams, image)));
+  EXPECT_EQ(query(GL_UNIFORM, "params.depth", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtParams, depth)));
+  EXPECT_EQ(query(GL_UNIFORM, "params.reserved", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuPtParams, reserved)));
+}
+
+}  // namespace
+}  // namespace voxgi::test

@@ -1,0 +1,69 @@
+"""FLIP of a test image against a reference, on their sRGB 8-bit versions.
+
+Linear images (.exr) are converted the way `voxgi render --out x.png` converts
+them (clamp to [0, 1], the sRGB transfer function, 8 bits) by oiiotool; 8-bit
+images (.png) are read as they are. FLIP's LDR mode then compares them at its
+default viewing condition (67 pixels per degree).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+
+def srgb8(path, tmp):
+    """Float HxWx3 array in [0, 1] of the sRGB 8-bit version of `path`."""
+    import matplotlib.image as mpimg
+
+    if not os.path.isfile(path):
+        raise SystemExit(f"flip: error: {path}: no such file")
+    if path.lower().endswith(".exr"):
+        png = os.path.join(tmp, f"{len(os.listdir(tmp))}.png")
+        subprocess.run(["oiiotool", path, "--ch", "R,G,B", "--colorconvert", "linear", "sRGB",
+                        "-d", "uint8", "-o", png], check=True, capture_output=True)
+        path = png
+    img = mpimg.imread(path)
+    if img.dtype != np.float32 and img.dtype != np.float64:
+        img = img.astype(np.float32) / 255.0
+    if img.ndim == 2:
+        img = np.stack([img] * 3, axis=-1)
+    return np.ascontiguousarray(img[..., :3], dtype=np.float32)
+
+
+def flip(test, ref, error_map=None):
+    import flip_evaluator
+
+    with tempfile.TemporaryDirectory() as tmp:
+        t = srgb8(test, tmp)
+        r = srgb8(ref, tmp)
+        if t.shape != r.shape:
+            raise SystemExit(f"flip: error: {test} vs {ref}: images differ in size: "
+                             f"{t.shape[1]}x{t.shape[0]} vs {r.shape[1]}x{r.shape[0]}")
+        err, mean, _ = flip_evaluator.evaluate(r, t, "LDR", inputsRGB=True,
+                                               applyMagma=error_map is not None)
+        if error_map:
+            import matplotlib.image as mpimg
+            mpimg.imsave(error_map, np.clip(err, 0, 1))
+        return float(mean)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("test")
+    ap.add_argument("reference")
+    ap.add_argument("--json", action="store_true")
+    ap.add_argument("--map", help="write the FLIP error map (magma) as PNG")
+    a = ap.parse_args()
+    value = flip(a.test, a.reference, a.map)
+    if a.json:
+        print(json.dumps({"test": a.test, "reference": a.reference, "flip": value}))
+    else:
+        print(f"flip {value:.6f}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
