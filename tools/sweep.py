@@ -161,7 +161,8 @@ def plot(rows, outdir):
         ax.set_yscale("log")
         ax.set_xlabel("frame time (ms, wall clock)")
         ax.set_ylabel("RMSE vs path-traced reference (linear)")
-        ax.set_title(f"{scene} {REF_SIZE}: error against time (lines: Pareto fronts)")
+        ax.set_title(f"{scene} {REF_SIZE}: error against time\n(lines: each mode's Pareto front)",
+                     fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
         fig.tight_layout()
@@ -231,6 +232,9 @@ def main():
                                  epilog="\n".join(__doc__.splitlines()[1:]))
     ap.add_argument("--quick", action="store_true", help="the CI grid (under 5 minutes)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "sweep"))
+    ap.add_argument("--scene", action="append", choices=SCENES,
+                    help="only this scene (repeatable); the other scene's rows are kept "
+                         "from an earlier sweep.csv in --out")
     ap.add_argument("--max-spp", type=int, default=None,
                     help="drop path tracer points above this spp (time-boxed runs)")
     a = ap.parse_args()
@@ -243,7 +247,25 @@ def main():
           f" (not offered, skipped: {', '.join(m for m in spec if m not in modes) or 'none'})")
     start = time.time()
     rows, refs = [], {}
-    for scene in SCENES:
+    scenes = a.scene or SCENES
+    kept = []
+    old_csv = os.path.join(a.out, "sweep.csv")
+    if a.scene and os.path.exists(old_csv):
+        with open(old_csv) as f:
+            kept = [r for r in csv.DictReader(f) if r["scene"] not in scenes]
+        for r in kept:
+            for k, v in r.items():
+                if v not in ("", None):
+                    try:
+                        r[k] = float(v) if k not in ("scene", "mode", "params") else v
+                    except ValueError:
+                        pass
+            if r.get("spp") not in ("", None):
+                r["spp"] = int(r["spp"])
+            for k in ("width", "height"):
+                r[k] = int(r[k])
+            refs[r["scene"]] = int(r.get("reference_spp") or 0)
+    for scene in scenes:
         ref_exr, ref_png, ref_spp = reference(scene, a.quick)
         refs[scene] = ref_spp
         for mode in [m for m in spec if m in modes]:
@@ -251,7 +273,8 @@ def main():
                 if a.max_spp and spp != "" and spp > a.max_spp:
                     continue
                 base, stats = render(scene, mode, size, extra, a.out, tag)
-                row = {"scene": scene, "mode": mode, "width": stats["size"]["width"],
+                row = {"scene": scene, "mode": mode, "reference_spp": ref_spp,
+                       "width": stats["size"]["width"],
                        "height": stats["size"]["height"], "params": " ".join(extra),
                        "spp": stats.get("spp", ""), "frame_ms": stats["frame_ms"],
                        "startup_ms": stats["startup_ms"],
@@ -270,6 +293,7 @@ def main():
                 print(f"  {scene:12s} {mode:9s} {size:9s} {' '.join(extra):40s} "
                       f"{stats['frame_ms']:9.1f} ms  rmse {row['rmse'] if row['rmse'] == '' else round(row['rmse'], 5)}",
                       flush=True)
+    rows = kept + rows
     keys = []
     for r in rows:
         keys += [k for k in r if k not in keys]

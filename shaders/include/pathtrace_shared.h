@@ -34,7 +34,8 @@ VOXGI_CONST uint kPtSumImage = 0u;
 VOXGI_CONST uint kPtCompensationImage = 1u;
 VOXGI_CONST uint kPtOutputImage = 2u;
 
-// Work group: 8x8 pixels. On llvmpipe a group runs on one thread, 8 lanes at a time.
+// Work group: 8x8 pixels (the kernel's local size). On llvmpipe a group runs on one
+// thread, 8 lanes at a time.
 VOXGI_CONST uint kPtGroupX = 8u;
 VOXGI_CONST uint kPtGroupY = 8u;
 VOXGI_CONST uint kPtStackSize = 48u;   // traversal stack (entries); the builder checks depth

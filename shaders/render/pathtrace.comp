@@ -10,7 +10,7 @@
 #include "pathtrace_shared.h"
 #include "lighting.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;  // kPtGroupX x kPtGroupY
+layout(local_size_x = kPtGroupX, local_size_y = kPtGroupY) in;
 
 layout(std140, binding = kPtParamsBinding) uniform PtParamsBlock { GpuPtParams params; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
@@ -20,9 +20,9 @@ layout(std430, binding = kPtTriangleBinding) readonly buffer Triangles { GpuPtTr
 layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
 layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
 layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
-layout(binding = 0, rgba32f) uniform image2D sumImage;           // kPtSumImage
-layout(binding = 1, rgba32f) uniform image2D compensationImage;  // kPtCompensationImage
-layout(binding = 2, rgba32f) uniform writeonly image2D outImage; // kPtOutputImage
+layout(binding = kPtSumImage, rgba32f) uniform image2D sumImage;
+layout(binding = kPtCompensationImage, rgba32f) uniform image2D compensationImage;
+layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
 
 const float kInf = 1.0 / 0.0;
 

@@ -419,6 +419,10 @@ TEST_F(PathtraceTest, SharedLayoutsMatchCpp) {
             static_cast<GLint>(sizeof(gpu::GpuPtEmissive)));
   EXPECT_EQ(query(bv, "emissive[0].radiance", GL_OFFSET),
             static_cast<GLint>(offsetof(gpu::GpuPtEmissive, radiance)));
+  GLint group[3] = {0, 0, 0};
+  glGetProgramiv(p, GL_COMPUTE_WORK_GROUP_SIZE, group);
+  EXPECT_EQ(group[0], static_cast<GLint>(gpu::kPtGroupX));
+  EXPECT_EQ(group[1], static_cast<GLint>(gpu::kPtGroupY));
   EXPECT_EQ(query(GL_UNIFORM, "params.image", GL_OFFSET),
             static_cast<GLint>(offsetof(gpu::GpuPtParams, image)));
   EXPECT_EQ(query(GL_UNIFORM, "params.depth", GL_OFFSET),
