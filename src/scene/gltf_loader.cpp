@@ -175,6 +175,17 @@ class Loader {
     readMaterials();
     readNodesAndAnimations();
     traverse();
+    // One line each, however many primitives share the problem.
+    if (dropped_)
+      warn_(strf("dropped %zu zero-area triangles (%s%s)", dropped_, droppedIn_.front().c_str(),
+                 droppedIn_.size() > 1
+                     ? strf(" and %zu more primitives", droppedIn_.size() - 1).c_str()
+                     : ""));
+    if (repaired_)
+      warn_(strf("repaired %zu zero or NaN normals (%s%s)", repaired_, repairedIn_.front().c_str(),
+                 repairedIn_.size() > 1
+                     ? strf(" and %zu more primitives", repairedIn_.size() - 1).c_str()
+                     : ""));
     if (scene_.animated()) boundMotion();
     if (scene_.draws.empty()) warn_("no triangles to draw");
     scene_.finalize();
@@ -769,7 +780,10 @@ class Loader {
         kept.insert(kept.end(), {a, b, c});
         for (uint32_t k : {a, b, c}) faceSum[k] += e;
       }
-      if (degenerate) warn_(strf("%s: dropped %zu zero-area triangles", where.c_str(), degenerate));
+      if (degenerate) {
+        dropped_ += degenerate;
+        droppedIn_.push_back(where);
+      }
       size_t repaired = 0;
       for (size_t i = 0; i < p.count; ++i) {
         Vertex& v = scene_.vertices[base + i];
@@ -783,7 +797,10 @@ class Loader {
                                                    : glm::vec3(0, 1, 0);
         }
       }
-      if (repaired) warn_(strf("%s: repaired %zu zero or NaN normals", where.c_str(), repaired));
+      if (repaired) {
+        repaired_ += repaired;
+        repairedIn_.push_back(where);
+      }
       if (kept.empty()) continue;
       if (moving_[static_cast<size_t>(nodeIndex)]) {
         // Kept in the node's own space, to be re-posed (Scene::pose).
@@ -823,6 +840,8 @@ class Loader {
   std::map<int, int> textureMap_;
   std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
   std::vector<char> moving_;       // per node: it or an ancestor is animated
+  size_t dropped_ = 0, repaired_ = 0;
+  std::vector<std::string> droppedIn_, repairedIn_;
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };
