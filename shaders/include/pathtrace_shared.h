@@ -8,18 +8,10 @@
 #ifndef VOXGI_PATHTRACE_SHARED_H
 #define VOXGI_PATHTRACE_SHARED_H
 
-#ifdef __cplusplus
-#include <cstddef>
-#include <cstdint>
+#include "gpu_types.h"
 
-#include <glm/glm.hpp>
+#ifdef __cplusplus
 namespace voxgi::gpu {
-using vec4 = glm::vec4;
-using uvec4 = glm::uvec4;
-using uint = uint32_t;
-#define VOXGI_CONST constexpr
-#else
-#define VOXGI_CONST const
 #endif
 
 // Binding points (SSBOs; the uniform block is kPtParamsBinding).
@@ -105,6 +97,5 @@ static_assert(offsetof(GpuPtParams, image) == 64);
 static_assert(offsetof(GpuPtParams, depth) == 96);
 }  // namespace voxgi::gpu
 #endif
-#undef VOXGI_CONST
 
 #endif  // VOXGI_PATHTRACE_SHARED_H

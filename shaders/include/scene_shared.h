@@ -5,17 +5,10 @@
 #ifndef VOXGI_SCENE_SHARED_H
 #define VOXGI_SCENE_SHARED_H
 
-#ifdef __cplusplus
-#include <cstddef>
-#include <cstdint>
+#include "gpu_types.h"
 
-#include <glm/glm.hpp>
+#ifdef __cplusplus
 namespace voxgi::gpu {
-using vec4 = glm::vec4;
-using uint = uint32_t;
-#define VOXGI_CONST constexpr
-#else
-#define VOXGI_CONST const
 #endif
 
 // Binding points.
@@ -89,6 +82,5 @@ static_assert(sizeof(GpuFrame) == 96);
 static_assert(offsetof(GpuFrame, cameraPosition) == 64);
 }  // namespace voxgi::gpu
 #endif
-#undef VOXGI_CONST
 
 #endif  // VOXGI_SCENE_SHARED_H

@@ -2,18 +2,10 @@
 #ifndef VOXGI_VOXEL_SHARED_H
 #define VOXGI_VOXEL_SHARED_H
 
-#ifdef __cplusplus
-#include <cstddef>
-#include <cstdint>
+#include "gpu_types.h"
 
-#include <glm/glm.hpp>
+#ifdef __cplusplus
 namespace voxgi::gpu {
-using vec4 = glm::vec4;
-using uvec4 = glm::uvec4;
-using uint = uint32_t;
-#define VOXGI_CONST constexpr
-#else
-#define VOXGI_CONST const
 #endif
 
 // Fixed-point sums: each fragment adds value x kFixedOne x weight (weight = covered
@@ -61,6 +53,5 @@ static_assert(sizeof(VoxelParams) == 32);
 static_assert(sizeof(VoxelStats) == 16);
 }  // namespace voxgi::gpu
 #endif
-#undef VOXGI_CONST
 
 #endif  // VOXGI_VOXEL_SHARED_H

@@ -12,28 +12,33 @@ namespace {
 
 class RevoxelizeTest : public GlTest {};
 
-uint64_t freshChecksum(double t) {
-  scene::Scene s = scene::loadGltf(testDataDir() + "/animated/moving_box.gltf");
-  s.pose(t);
-  gl::ProgramCache programs(sourceDir() + "/shaders");
+scene::Scene movingBox() {
+  return scene::loadGltf(testDataDir() + "/animated/moving_box.gltf");
+}
+
+// Voxels as cubes, 64^3, on a 32x32 image.
+render::RenderSettings pointsSettings(bool revoxelize) {
   render::RenderSettings rs;
   rs.width = rs.height = 32;
   rs.mode = render::Mode::kPoints;
   rs.voxels = 64;
-  render::Renderer r(programs, s, rs);
+  rs.revoxelize = revoxelize;
+  return rs;
+}
+
+uint64_t freshChecksum(double t) {
+  scene::Scene s = movingBox();
+  s.pose(t);
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  render::Renderer r(programs, s, pointsSettings(false));
   r.renderFrame();
   return r.voxelGrid()->stats().checksum;
 }
 
 TEST_F(RevoxelizeTest, EveryPoseMatchesAFreshVoxelization) {
-  scene::Scene s = scene::loadGltf(testDataDir() + "/animated/moving_box.gltf");
+  scene::Scene s = movingBox();
   gl::ProgramCache programs(sourceDir() + "/shaders");
-  render::RenderSettings rs;
-  rs.width = rs.height = 32;
-  rs.mode = render::Mode::kPoints;
-  rs.voxels = 64;
-  rs.revoxelize = true;
-  render::Renderer r(programs, s, rs);
+  render::Renderer r(programs, s, pointsSettings(true));
   std::vector<uint64_t> seen;
   for (double t : {0.0, 0.4, 1.0, 1.7, 0.0}) {
     s.pose(t);
@@ -48,13 +53,9 @@ TEST_F(RevoxelizeTest, EveryPoseMatchesAFreshVoxelization) {
 }
 
 TEST_F(RevoxelizeTest, WithoutRevoxelizeTheGridStays) {
-  scene::Scene s = scene::loadGltf(testDataDir() + "/animated/moving_box.gltf");
+  scene::Scene s = movingBox();
   gl::ProgramCache programs(sourceDir() + "/shaders");
-  render::RenderSettings rs;
-  rs.width = rs.height = 32;
-  rs.mode = render::Mode::kPoints;
-  rs.voxels = 64;
-  render::Renderer r(programs, s, rs);
+  render::Renderer r(programs, s, pointsSettings(false));
   r.renderFrame();
   const uint64_t first = r.voxelGrid()->stats().checksum;
   s.pose(1.0);
