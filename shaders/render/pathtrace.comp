@@ -9,6 +9,10 @@
 #include "scene_shared.h"
 #include "pathtrace_shared.h"
 #include "lighting.glsl"
+#include "sampling.glsl"
+
+// Loop iterations this path may still run (see kPtLoopBudget).
+uint loopBudget;
 
 layout(local_size_x = kPtGroupX, local_size_y = kPtGroupY) in;
 
@@ -25,28 +29,6 @@ layout(binding = kPtCompensationImage, rgba32f) uniform image2D compensationImag
 layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
 
 const float kInf = 1.0 / 0.0;
-
-// --- random numbers ---------------------------------------------------------------
-// PCG (RXS-M-XS 32) as a hash and as a stream (Jarzynski and Olano 2020, "Hash
-// Functions for GPU Rendering"); each path gets its own stream from (seed, pixel,
-// sample index), so samples never repeat across pixels, passes or runs.
-uint rngState;
-// Loop iterations this path may still run (see kPtLoopBudget).
-uint loopBudget;
-
-uint pcgHash(uint v) {
-  uint state = v * 747796405u + 2891336453u;
-  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return (word >> 22u) ^ word;
-}
-
-float rand01() {
-  rngState = rngState * 747796405u + 2891336453u;
-  uint s = rngState;
-  uint word = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
-  word = (word >> 22u) ^ word;
-  return float(word >> 8u) * (1.0 / 16777216.0);  // [0, 1)
-}
 
 // --- ray casting --------------------------------------------------------------------
 // Slab test against one box; the entry distance, or +inf on a miss.
@@ -200,39 +182,6 @@ vec3 evalBsdf(Bsdf b, vec3 n, vec3 wo, vec3 wi, out float pdf) {
   return (spec + diff) * nl;
 }
 
-void basis(vec3 n, out vec3 t, out vec3 bt) {
-  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
-  float s = n.z >= 0.0 ? 1.0 : -1.0;
-  float a = -1.0 / (s + n.z);
-  float b = n.x * n.y * a;
-  t = vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
-  bt = vec3(b, s + n.y * n.y * a, -n.y);
-}
-
-vec3 cosineSample(vec3 n, vec2 u) {
-  vec3 t, bt;
-  basis(n, t, bt);
-  float r = sqrt(u.x);
-  float phi = 2.0 * kPi * u.y;
-  return normalize(t * (r * cos(phi)) + bt * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u.x)));
-}
-
-// Heitz 2018, "Sampling the GGX Distribution of Visible Normals"; ve in the local
-// frame (z = normal). Returns the micro-normal.
-vec3 sampleVndf(vec3 ve, float alpha, vec2 u) {
-  vec3 vh = normalize(vec3(alpha * ve.x, alpha * ve.y, ve.z));
-  float lensq = vh.x * vh.x + vh.y * vh.y;
-  vec3 t1 = lensq > 0.0 ? vec3(-vh.y, vh.x, 0.0) * inversesqrt(lensq) : vec3(1.0, 0.0, 0.0);
-  vec3 t2 = cross(vh, t1);
-  float r = sqrt(u.x);
-  float phi = 2.0 * kPi * u.y;
-  float p1 = r * cos(phi);
-  float p2 = r * sin(phi);
-  float s = 0.5 * (1.0 + vh.z);
-  p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
-  vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
-  return normalize(vec3(alpha * nh.x, alpha * nh.y, max(1e-6, nh.z)));
-}
 
 // Samples wi for a non-delta kind; false when the sample is below the surface.
 bool sampleBsdf(Bsdf b, vec3 n, vec3 wo, out vec3 wi) {

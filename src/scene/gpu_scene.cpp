@@ -55,6 +55,32 @@ std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<Emitter>& 
   return out;
 }
 
+std::vector<float> GpuScene::emitterPowerCdf(const std::vector<gpu::GpuEmitter>& emitters) {
+  std::vector<float> cdf;
+  double total = 0.0;
+  std::vector<double> power;
+  for (const gpu::GpuEmitter& e : emitters) {
+    const bool cluster = static_cast<uint32_t>(e.a.w) == gpu::kEmitterCluster;
+    const double area = cluster ? e.b.w
+                                : 0.5 * glm::length(glm::cross(glm::vec3(e.b) - glm::vec3(e.a),
+                                                               glm::vec3(e.c) - glm::vec3(e.a)));
+    const glm::vec3 l = glm::vec3(e.radiance);
+    const double lum = 0.2126 * l.r + 0.7152 * l.g + 0.0722 * l.b;
+    const double p = std::max(0.0, lum * area * (e.radiance.w > 0.5f ? 2.0 : 1.0));
+    power.push_back(std::isfinite(p) ? p : 0.0);
+    total += power.back();
+  }
+  double run = 0.0;
+  for (size_t i = 0; i < power.size(); ++i) {
+    run += power[i];
+    // Emitters of no power at all are chosen uniformly.
+    cdf.push_back(total > 0.0 ? static_cast<float>(run / total)
+                              : static_cast<float>(i + 1) / static_cast<float>(power.size()));
+  }
+  if (!cdf.empty()) cdf.back() = 1.0f;
+  return cdf;
+}
+
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
   const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(Vertex));
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
@@ -84,6 +110,11 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   emitters_ = gl::createBuffer(static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
                                emitters.empty() ? nullptr : emitters.data(),
                                s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
+  emitterData_ = emitters;
+  auto cdf = emitterPowerCdf(emitters);
+  if (cdf.empty()) cdf.push_back(0.0f);
+  emitterCdf_ = gl::createBuffer(static_cast<GLsizeiptr>(cdf.size() * sizeof(float)), cdf.data(),
+                                 s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
   bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
@@ -118,10 +149,15 @@ void GpuScene::updateGeometry() {
                        scene_.vertices.data() + lo);
   // Moving emissive surfaces move their light.
   const auto emitters = packEmitters(buildEmitters(scene_));
-  if (static_cast<int>(emitters.size()) == emitterCount_ && !emitters.empty())
+  if (static_cast<int>(emitters.size()) == emitterCount_ && !emitters.empty()) {
     glNamedBufferSubData(emitters_.id(), 0,
                          static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
                          emitters.data());
+    const auto cdf = emitterPowerCdf(emitters);
+    glNamedBufferSubData(emitterCdf_.id(), 0, static_cast<GLsizeiptr>(cdf.size() * sizeof(float)),
+                         cdf.data());
+    emitterData_ = emitters;
+  }
 }
 
 }  // namespace voxgi::scene

@@ -23,6 +23,10 @@ class GpuScene {
   GLuint materials() const { return materials_.id(); }
   GLuint lights() const { return lights_.id(); }
   GLuint emitters() const { return emitters_.id(); }
+  // Emitters chosen for light sampling by power: cumulative distribution, one
+  // float per emitter, the last 1 (std430 float[]; empty scene: one 0).
+  GLuint emitterCdf() const { return emitterCdf_.id(); }
+  const std::vector<gpu::GpuEmitter>& emitterData() const { return emitterData_; }
   int lightCount() const { return lightCount_; }
   int emitterCount() const { return emitterCount_; }
   // 0 when the material has no texture.
@@ -35,10 +39,13 @@ class GpuScene {
   static std::vector<gpu::GpuMaterial> packMaterials(const Scene& s);
   static std::vector<gpu::GpuLight> packLights(const Scene& s);
   static std::vector<gpu::GpuEmitter> packEmitters(const std::vector<Emitter>& e);
+  // Cumulative emitted power (radiance luminance x area x sides), normalised.
+  static std::vector<float> emitterPowerCdf(const std::vector<gpu::GpuEmitter>& e);
 
  private:
   const Scene& scene_;
-  gl::Buffer vertices_, indices_, materials_, lights_, emitters_;
+  gl::Buffer vertices_, indices_, materials_, lights_, emitters_, emitterCdf_;
+  std::vector<gpu::GpuEmitter> emitterData_;
   gl::VertexArray vao_;
   std::vector<gl::Texture> textures_;
   gl::Sampler sampler_;

@@ -1,0 +1,84 @@
+// The octree as shaders read it: bindings, the shared traversal (octree_march.h),
+// and helpers in world (scene-relative) space. A shader that writes the nodes
+// defines OCTREE_NODES_WRITABLE before including this.
+#ifndef VOXGI_OCTREE_GLSL
+#define VOXGI_OCTREE_GLSL
+
+#include "octree_shared.h"
+
+layout(std140, binding = kOctreeParamsBinding) uniform OctreeBlock { OctreeParams octree; };
+#ifdef OCTREE_NODES_WRITABLE
+layout(std430, binding = kOctreeNodeBinding) coherent buffer OctreeNodes { uint octreeNodes[]; };
+#else
+layout(std430, binding = kOctreeNodeBinding) readonly buffer OctreeNodes { uint octreeNodes[]; };
+#endif
+
+#include "octree_march.h"
+
+// Invocation index of a 1D job spread over a 2D dispatch (more than 65535 groups).
+uint octreeInvocation() {
+  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kOctreeGroupSize +
+         gl_LocalInvocationID.x;
+}
+
+int octreeDepth() { return int(octree.info.x); }
+int octreeRootSize() { return int(octree.info.y); }
+float octreeVoxelSize() { return octree.origin.w; }
+
+vec3 octreeToGrid(vec3 p) { return (p - octree.origin.xyz) / octree.origin.w; }
+vec3 octreeToWorld(vec3 g) { return octree.origin.xyz + g * octree.origin.w; }
+
+uvec2 packHalf4(vec4 v) { return uvec2(packHalf2x16(v.xy), packHalf2x16(v.zw)); }
+vec4 unpackHalf4(uvec2 v) { return vec4(unpackHalf2x16(v.x), unpackHalf2x16(v.y)); }
+
+// Shared-exponent RGB (9-bit mantissas, 5-bit exponent), the layout of
+// GL_RGB9_E5 (EXT_texture_shared_exponent): 4 bytes, relative precision 2^-9 of the
+// largest channel, range [0, 65408]. Negative and NaN channels become 0.
+const float kRgb9e5Max = 65408.0;
+uint packRgb9e5(vec3 c) {
+  c = clamp(mix(c, vec3(0.0), isnan(c)), vec3(0.0), vec3(kRgb9e5Max));
+  float m = max(c.r, max(c.g, c.b));
+  int e = max(-16, int(floor(log2(max(m, 1e-30))))) + 16;
+  float scale = exp2(float(e - 24));
+  if (floor(m / scale + 0.5) >= 512.0) {
+    scale *= 2.0;
+    ++e;
+  }
+  uvec3 q = uvec3(floor(c / scale + 0.5));
+  return q.r | (q.g << 9) | (q.b << 18) | (uint(e) << 27);
+}
+vec3 unpackRgb9e5(uint v) {
+  float scale = exp2(float(int(v >> 27) - 24));
+  return vec3(float(v & 511u), float((v >> 9) & 511u), float((v >> 18) & 511u)) * scale;
+}
+
+uint childIndex(ivec3 v, int depth, int level) {
+  int shift = depth - 1 - level;
+  return uint((v.x >> shift) & 1) | (uint((v.y >> shift) & 1) << 1) |
+         (uint((v.z >> shift) & 1) << 2);
+}
+
+// A ray in world space from p along unit direction dir, skipping the first tStart
+// voxels and ending after tEnd voxels.
+MarchRay octreeWorldRay(vec3 p, vec3 dir, float tEnd) {
+  // Components too small to invert are treated as parallel to the axis.
+  vec3 d = mix(dir, vec3(0.0), lessThan(abs(dir), vec3(1e-20)));
+  return marchRay(octreeToGrid(p), d, vec3(1.0) / d, tEnd);
+}
+
+// First occupied leaf along the ray from tStart (voxels) on.
+MarchHit octreeTrace(MarchRay r, float tStart, int maxSteps) {
+  MarchState s;
+  if (!marchBegin(r, tStart, octreeRootSize(), s)) {
+    MarchHit h;
+    h.hit = false;
+    h.voxel = ivec3(0);
+    h.node = 0u;
+    h.t = r.tEnd;
+    h.steps = 0;
+    return h;
+  }
+  return octreeFirstHit(r, octreeDepth(), s, maxSteps);
+}
+
+#endif  // VOXGI_OCTREE_GLSL

@@ -1,0 +1,76 @@
+// Direct light with visibility marched through the octree: shadow rays, emitters
+// chosen by power, points on emitters. Shared by light injection (irradiance at a
+// voxel) and rtgi (reflected radiance at a pixel). Include after octree.glsl,
+// scene_shared.h, lighting.glsl and sampling.glsl.
+#ifndef VOXGI_OCTREE_LIGHT_GLSL
+#define VOXGI_OCTREE_LIGHT_GLSL
+
+layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kEmitterBinding) readonly buffer Emitters { GpuEmitter emitters[]; };
+layout(std430, binding = kOctreeLightCdfBinding) readonly buffer EmitterCdf { float emitterCdf[]; };
+
+// Cells one shadow or bounce ray may visit; past them it counts as unoccluded.
+const int kRaySteps = 1024;
+// Rays leave a surface this many voxels along its normal, so they do not hit the
+// voxels of the surface they start from; and stop short of an emitter by as much,
+// so they do not hit the voxels of the light they aim at.
+const float kSurfaceOffsetVoxels = 1.5;
+
+// 1 if no voxel lies on the segment from p along unit dir, dist world units long,
+// between startVoxels and dist - endVoxels (in voxels).
+float octreeVisible(vec3 p, vec3 dir, float dist, float startVoxels, float endVoxels) {
+  float tEnd = min(dist / octreeVoxelSize(), 3.0e38) - endVoxels;
+  if (!(tEnd > startVoxels)) return 1.0;
+  MarchHit h = octreeTrace(octreeWorldRay(p, dir, tEnd), startVoxels, kRaySteps);
+  return h.hit ? 0.0 : 1.0;
+}
+
+// Direction and distance from p to a punctual light (directional: infinite).
+void punctualDirection(GpuLight light, vec3 p, out vec3 l, out float dist) {
+  if (uint(light.positionType.w) == kLightDirectional) {
+    l = -normalize(light.directionRange.xyz);
+    dist = 3.0e38;
+  } else {
+    vec3 d = light.positionType.xyz - p;
+    dist = length(d);
+    l = dist > 0.0 ? d / dist : vec3(0.0, 1.0, 0.0);
+  }
+}
+
+// An emitter drawn with probability proportional to its power.
+int pickEmitter(float u, int count, out float pmf) {
+  int lo = 0, hi = count - 1;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (emitterCdf[mid] > u)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  pmf = emitterCdf[lo] - (lo > 0 ? emitterCdf[lo - 1] : 0.0);
+  return lo;
+}
+
+// A point on the emitter, uniform over its area (a cluster: its disk).
+vec3 emitterPoint(GpuEmitter e, vec2 u) {
+  if (uint(e.a.w) == kEmitterCluster) {
+    vec3 t, bt;
+    basis(e.b.xyz, t, bt);
+    float r = sqrt(e.b.w / kPi) * sqrt(u.x);
+    float phi = 2.0 * kPi * u.y;
+    return e.a.xyz + r * (cos(phi) * t + sin(phi) * bt);
+  }
+  float s = sqrt(u.x);
+  return e.a.xyz * (1.0 - s) + e.b.xyz * (s * (1.0 - u.y)) + e.c.xyz * (s * u.y);
+}
+
+// Visibility of emitter e from p through one shadow ray to a random point on it.
+float emitterVisible(GpuEmitter e, vec3 p, float startVoxels) {
+  vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
+  vec3 d = q - p;
+  float dist = length(d);
+  if (!(dist > 0.0)) return 1.0;
+  return octreeVisible(p, d / dist, dist, startVoxels, kSurfaceOffsetVoxels);
+}
+
+#endif  // VOXGI_OCTREE_LIGHT_GLSL

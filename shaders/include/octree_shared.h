@@ -1,0 +1,76 @@
+// Sparse voxel octree layout shared by C++ (src/voxel/octree.*) and GLSL.
+//
+// The root cube holds 2^depth voxels a side over the voxel grid's origin (the grid's
+// N <= 2^depth; voxels past N are empty). Node 0 is the root. Every node has one
+// 32-bit word in `nodes`:
+//   inner node: 0 = empty (no occupied voxel below it), else the index of its first
+//               child; the 8 children are contiguous (a tile), child c = x | y<<1 | z<<2
+//               of the bit of the voxel coordinate at that level;
+//   leaf (level == depth): 0 = empty, kOctreeLeafOccupied = an occupied voxel.
+// Per-node data lives in parallel arrays indexed by the node:
+//   radiance: rgb9e5 (shared exponent, 4 bytes): outgoing diffuse radiance reflected
+//             by the voxel (light injected, plus bounces);
+//   material: rgba8 albedo + opacity (coverage), rgba8 snorm normal (0 where two
+//             sides cancel);
+//   emission: rgb9e5 emitted radiance.
+// Inner nodes hold their children filtered for cone tracing: opacity is the mean of
+// the 8 children's (an empty child counts 0) and colours are opacity-weighted means
+// (Crassin & Green, "Octree-Based Sparse Voxelization Using the GPU Hardware
+// Rasterizer", OpenGL Insights ch. 22, 2012).
+#ifndef VOXGI_OCTREE_SHARED_H
+#define VOXGI_OCTREE_SHARED_H
+
+#include "gpu_types.h"
+
+#ifdef __cplusplus
+namespace voxgi::gpu {
+#endif
+
+VOXGI_CONST uint kOctreeMaxDepth = 9u;  // 512^3
+VOXGI_CONST uint kOctreeLeafOccupied = 0x80000000u;
+VOXGI_CONST uint kOctreeGroupSize = 64u;
+
+// Bindings (SSBOs unless noted).
+VOXGI_CONST uint kOctreeParamsBinding = 2u;  // uniform block
+VOXGI_CONST uint kOctreeNodeBinding = 5u;
+VOXGI_CONST uint kOctreeRadianceBinding = 6u;
+VOXGI_CONST uint kOctreeMaterialBinding = 7u;
+VOXGI_CONST uint kOctreeEmissionBinding = 8u;
+VOXGI_CONST uint kOctreeCounterBinding = 9u;
+VOXGI_CONST uint kOctreeScratchBinding = 10u;  // radiance of the previous bounce
+VOXGI_CONST uint kOctreeLightCdfBinding = 11u;
+VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, while bouncing
+VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
+VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
+
+struct OctreeParams {
+  vec4 origin;  // xyz world corner of the root cube, w voxel size
+  uvec4 info;   // x depth, y root size in voxels (2^depth), z grid resolution N, w node capacity
+  uvec4 pass;   // x level (build/filter), y first node of the level, z nodes in the level, w seed
+  uvec4 light;  // x rays per voxel (inject / bounce), y light count, z emitter count, w bounce
+};
+
+// Written by the build passes; read back once per build.
+struct OctreeCounters {
+  uint nodeCount;  // nodes allocated (root included)
+  uint overflow;   // allocations refused for lack of capacity
+  uint pad0;
+  uint pad1;
+  uint levelStart[12];  // first node of each level; levelStart[depth + 1] = nodeCount
+};
+
+// A ray for octree_raycast.comp, in voxels of the root cube.
+struct OctreeRay {
+  vec4 origin;     // w: where the ray ends (t)
+  vec4 direction;  // w: where it starts (t)
+  vec4 invDirection;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(OctreeRay) == 48);
+static_assert(sizeof(OctreeParams) == 64);
+static_assert(sizeof(OctreeCounters) == 64);
+}  // namespace voxgi::gpu
+#endif
+
+#endif  // VOXGI_OCTREE_SHARED_H

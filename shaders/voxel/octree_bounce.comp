@@ -1,0 +1,60 @@
+#version 450 core
+// One more bounce of diffuse light between the octree's leaves, one invocation per
+// listed voxel: cosine-distributed rays from the voxel (uniform over the sphere
+// where its normals cancel: averaged over orientations, E / pi is the sphere's mean
+// radiance too) pick up the radiance of the leaves they hit, as left by
+// the previous bounce (a separate buffer: the result does not depend on the order
+// threads run in). The leaf's radiance becomes its direct light plus albedo x the
+// mean of what the rays brought (cosine sampling: E / pi = mean radiance). Rays that
+// leave the grid see no light (the background emits nothing).
+#include "scene_shared.h"
+#include "voxel_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "octree_light.glsl"
+
+layout(local_size_x = kOctreeGroupSize) in;
+layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
+layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
+layout(std430, binding = kOctreeScratchBinding) readonly buffer Previous { uint previous[]; };
+layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint directIn[]; };
+
+void main() {
+  uint i = octreeInvocation();
+  if (i >= octree.pass.z) return;
+  uint code = voxels[i];
+  ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
+  int depth = octreeDepth();
+  uint node = 0u;
+  for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
+  rngState = pcgHash(pcgHash(octree.pass.w + 7919u * octree.light.w) ^ code);
+
+  uvec2 m = material[node];
+  vec4 albedo = unpackUnorm4x8(m.x);
+  vec3 n = unpackSnorm4x8(m.y).xyz;
+  bool oriented = dot(n, n) > 0.25;
+  n = oriented ? normalize(n) : vec3(0.0);
+  vec3 centre = octreeToWorld(vec3(v) + 0.5);
+  vec3 p = centre + n * (kSurfaceOffsetVoxels * octreeVoxelSize());
+  float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
+
+  int rays = int(octree.light.x);
+  vec3 gathered = vec3(0.0);
+  for (int r = 0; r < rays; ++r) {
+    vec2 u = vec2(rand01(), rand01());
+    vec3 dir;
+    if (oriented) {
+      dir = cosineSample(n, u);
+    } else {
+      float z = 1.0 - 2.0 * u.x;
+      float s = sqrt(max(0.0, 1.0 - z * z));
+      dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
+    }
+    MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
+    if (h.hit) gathered += unpackRgb9e5(previous[h.node]);
+  }
+  vec3 direct = unpackRgb9e5(directIn[node]);
+  radiance[node] = packRgb9e5(direct + albedo.rgb * gathered / float(max(rays, 1)));
+}

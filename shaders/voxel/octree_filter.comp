@@ -1,0 +1,38 @@
+#version 450 core
+// Inner nodes of one level from their 8 children, one invocation per node of the
+// level: opacity is the children's mean (an empty child counts 0); radiance,
+// albedo and emission are opacity-weighted means; normals an opacity-weighted sum,
+// renormalised (zero where they cancel). The cone tracer composites
+// colour x opacity front to back, so a half-empty node weighs half.
+#include "octree.glsl"
+
+layout(local_size_x = kOctreeGroupSize) in;
+layout(std430, binding = kOctreeRadianceBinding) buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeMaterialBinding) buffer Material { uvec2 material[]; };
+layout(std430, binding = kOctreeEmissionBinding) buffer Emission { uint emission[]; };
+
+void main() {
+  uint i = octreeInvocation();
+  if (i >= octree.pass.z) return;
+  uint node = octree.pass.y + i;
+  uint first = octreeNodes[node];
+  if (first == 0u) return;
+  vec3 rad = vec3(0.0), alb = vec3(0.0), em = vec3(0.0), nrm = vec3(0.0);
+  float opacity = 0.0;
+  for (uint c = 0u; c < 8u; ++c) {
+    uvec2 m = material[first + c];
+    vec4 a = unpackUnorm4x8(m.x);
+    float w = a.a;
+    rad += unpackRgb9e5(radiance[first + c]) * w;
+    alb += a.rgb * w;
+    em += unpackRgb9e5(emission[first + c]) * w;
+    nrm += unpackSnorm4x8(m.y).xyz * w;
+    opacity += w;
+  }
+  float inv = opacity > 0.0 ? 1.0 / opacity : 0.0;
+  float len = length(nrm);
+  radiance[node] = packRgb9e5(rad * inv);
+  material[node] = uvec2(packUnorm4x8(vec4(alb * inv, opacity / 8.0)),
+                         packSnorm4x8(vec4(len > 1e-3 ? nrm / len : vec3(0.0), 0.0)));
+  emission[node] = packRgb9e5(em * inv);
+}

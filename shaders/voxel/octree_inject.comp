@@ -1,0 +1,96 @@
+#version 450 core
+// Direct light injected into the octree's leaves, one invocation per listed voxel.
+// Irradiance at the voxel centre, offset along the voxel's normal: punctual lights
+// with one shadow ray each; emissive surfaces by their exact unshadowed irradiance
+// (emitterFactor) times the visible fraction of sample points, every emitter
+// sampled in turn when there are few, else emitters drawn by power. The leaf's
+// radiance becomes albedo / pi x irradiance (Lambertian exitance over pi). A voxel
+// whose normals cancel (both sides of a thin wall) is lit as if it faced each
+// light: it cannot tell its sides apart, which is how a 1-voxel wall leaks.
+#include "scene_shared.h"
+#include "voxel_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "octree_light.glsl"
+
+layout(local_size_x = kOctreeGroupSize) in;
+layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
+layout(std430, binding = kOctreeRadianceBinding) buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
+layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint directOut[]; };
+
+void main() {
+  uint i = octreeInvocation();
+  if (i >= octree.pass.z) return;
+  uint code = voxels[i];
+  ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
+  int depth = octreeDepth();
+  uint node = 0u;
+  for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
+  rngState = pcgHash(pcgHash(octree.pass.w) ^ code);
+
+  uvec2 m = material[node];
+  vec4 albedo = unpackUnorm4x8(m.x);
+  vec3 n = unpackSnorm4x8(m.y).xyz;
+  bool oriented = dot(n, n) > 0.25;
+  n = oriented ? normalize(n) : vec3(0.0);
+  vec3 centre = octreeToWorld(vec3(v) + 0.5);
+  // Rays start off the surface; an unoriented voxel starts at its centre and skips
+  // its own cell and neighbours by distance instead.
+  vec3 p = centre + n * (kSurfaceOffsetVoxels * octreeVoxelSize());
+  float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
+
+  vec3 irradiance = vec3(0.0);
+  int lightCount = int(octree.light.y);
+  for (int k = 0; k < lightCount; ++k) {
+    GpuLight light = lights[k];
+    vec3 l;
+    float dist;
+    punctualDirection(light, centre, l, dist);
+    float cosine = oriented ? dot(n, l) : 1.0;
+    if (cosine <= 0.0) continue;
+    // The unshadowed irradiance, with the light's falloff and cone, as the raster
+    // baseline computes it for a white Lambertian surface facing the light.
+    Surface s;
+    s.p = centre;
+    s.n = oriented ? n : l;
+    s.v = s.n;
+    s.diffuse = vec3(1.0);
+    s.f0 = vec3(0.0);
+    s.alpha = 1.0;
+    vec3 e = punctualLight(light, s) * kPi;
+    if (all(equal(e, vec3(0.0)))) continue;
+    irradiance += e * octreeVisible(p, l, dist, start, 0.0);
+  }
+
+  int emitterCount = int(octree.light.z);
+  int rays = int(octree.light.x);
+  if (emitterCount > 0 && rays > 0) {
+    if (emitterCount <= rays) {
+      int perEmitter = rays / emitterCount;
+      for (int k = 0; k < emitterCount; ++k) {
+        GpuEmitter e = emitters[k];
+        float g = oriented ? emitterFactor(e, centre, n)
+                           : emitterFactor(e, centre, normalize(emitterCenter(e) - centre));
+        if (g <= 0.0) continue;
+        float visible = 0.0;
+        for (int r = 0; r < perEmitter; ++r) visible += emitterVisible(e, p, start);
+        irradiance += e.radiance.rgb * g * (visible / float(perEmitter));
+      }
+    } else {
+      for (int r = 0; r < rays; ++r) {
+        float pmf;
+        GpuEmitter e = emitters[pickEmitter(rand01(), emitterCount, pmf)];
+        float g = oriented ? emitterFactor(e, centre, n)
+                           : emitterFactor(e, centre, normalize(emitterCenter(e) - centre));
+        if (g <= 0.0 || pmf <= 0.0) continue;
+        irradiance += e.radiance.rgb * g * emitterVisible(e, p, start) / (pmf * float(rays));
+      }
+    }
+  }
+  vec3 direct = albedo.rgb / kPi * irradiance;
+  uint word = packRgb9e5(direct);
+  radiance[node] = word;
+  if (octree.light.w != 0u) directOut[node] = word;  // bounces follow
+}

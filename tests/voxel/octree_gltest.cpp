@@ -1,0 +1,318 @@
+// The sparse voxel octree on llvmpipe: its traversal (the C++ twin and the GLSL
+// shader) against a plain dense-grid DDA, its memory against the dense grid, its
+// leaves against the grid, filtering, and light injection with shadows.
+#include "voxel/octree.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include <glm/gtc/packing.hpp>
+
+#include "octree_march.h"
+#include "scene/gltf_loader.h"
+#include "support/cpu_voxelizer.h"
+#include "support/gl_fixture.h"
+#include "support/scene_builder.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+namespace {
+
+struct Built {
+  std::unique_ptr<gl::ProgramCache> programs;
+  gl::StageTimer timer;
+  std::unique_ptr<scene::GpuScene> gpuScene;
+  std::unique_ptr<voxel::VoxelizePass> grid;
+  std::unique_ptr<voxel::Octree> octree;
+};
+
+// Voxelizes `s` at n^3 and builds (and, if asked, lights) its octree.
+std::unique_ptr<Built> build(const scene::Scene& s, int n, bool light,
+                             voxel::Octree::Settings settings = {}) {
+  auto b = std::make_unique<Built>();
+  b->programs = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
+  b->gpuScene = std::make_unique<scene::GpuScene>(s);
+  gl::FrameContext ctx{*b->programs, b->timer, n, n, 0};
+  b->grid = std::make_unique<voxel::VoxelizePass>(*b->programs, "llvmpipe",
+                                                  voxel::VoxelizePass::Settings{n, false});
+  b->grid->execute(ctx, *b->gpuScene);
+  b->octree = std::make_unique<voxel::Octree>(*b->programs, settings);
+  b->octree->build(ctx, *b->grid);
+  if (light) b->octree->inject(ctx, *b->gpuScene);
+  b->timer.resolve();
+  return b;
+}
+
+// The reference: a unit-step DDA over the dense occupancy grid (n^3, x fastest).
+gpu::MarchHit denseFirstHit(const std::vector<uint8_t>& occupied, int n, int rootSize,
+                            const gpu::MarchRay& r, float tStart) {
+  gpu::MarchHit h{};
+  gpu::MarchState s{};
+  if (!gpu::marchBegin(r, tStart, rootSize, s)) return h;
+  for (;;) {
+    const glm::ivec3 v = s.voxel;
+    if (v.x < n && v.y < n && v.z < n && occupied[static_cast<size_t>(v.x + n * (v.y + n * v.z))]) {
+      h.hit = true;
+      h.voxel = v;
+      h.t = s.t;
+      return h;
+    }
+    if (!gpu::marchExitCell(r, 1, rootSize, s)) return h;
+  }
+}
+
+// Rays that stress the traversal: random, parallel to the axes along voxel faces and
+// edges, diagonal through voxel corners, nearly parallel, starting inside.
+std::vector<gpu::OctreeRay> testRays(int rootSize, size_t count) {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const float size = static_cast<float>(rootSize);
+  auto randomPoint = [&] {
+    return glm::vec3(unit(rng), unit(rng), unit(rng)) * (size * 1.25f) - size * 0.125f;
+  };
+  auto latticePoint = [&] { return glm::floor(glm::vec3(unit(rng), unit(rng), unit(rng)) * size); };
+  auto randomDir = [&] {
+    glm::vec3 d;
+    do d = glm::vec3(unit(rng), unit(rng), unit(rng)) * 2.0f - 1.0f;
+    while (glm::dot(d, d) > 1.0f || glm::dot(d, d) < 1e-4f);
+    return glm::normalize(d);
+  };
+  std::vector<gpu::OctreeRay> rays;
+  auto add = [&](glm::vec3 o, glm::vec3 d, float tStart, float tEnd) {
+    gpu::OctreeRay r{};
+    r.origin = glm::vec4(o, tEnd);
+    r.direction = glm::vec4(d, tStart);
+    for (int a = 0; a < 3; ++a) r.invDirection[a] = d[a] != 0.0f ? 1.0f / d[a] : 0.0f;
+    rays.push_back(r);
+  };
+  const glm::vec3 diagonals[] = {{1, 1, 0},   {1, 0, 1}, {0, 1, 1}, {1, 1, 1},   {1, -1, 1},
+                                 {-1, -1, 1}, {1, 2, 0}, {2, 1, 1}, {-1, 1, -1}, {1, 1, -2}};
+  for (size_t i = 0; rays.size() < count; ++i) {
+    switch (i % 6) {
+      case 0:
+      case 1:  // random
+        add(randomPoint(), randomDir(), 0.0f, 1e30f);
+        break;
+      case 2: {  // along an axis, from a lattice point (on voxel edges) or a face
+        glm::vec3 d(0.0f);
+        d[static_cast<int>(i / 6 % 3)] = (i / 18) % 2 ? 1.0f : -1.0f;
+        glm::vec3 o = latticePoint();
+        if (i % 4 == 2) o.x += 0.5f;
+        add(o, d, 0.0f, 1e30f);
+        break;
+      }
+      case 3: {  // diagonal from a lattice point: through voxel corners and edges
+        glm::vec3 d = diagonals[i / 6 % 10];
+        if ((i / 60) % 2) d = -d;
+        add(latticePoint(), glm::normalize(d), 0.0f, 1e30f);
+        break;
+      }
+      case 4: {  // nearly parallel to an axis
+        glm::vec3 d(1e-6f * (unit(rng) - 0.5f), 1e-6f * (unit(rng) - 0.5f), 1.0f);
+        add(randomPoint(), glm::normalize(i % 12 == 4 ? d : glm::vec3(d.z, d.x, d.y)), 0.0f, 1e30f);
+        break;
+      }
+      default:  // a short segment, starting part-way
+        add(randomPoint(), randomDir(), 2.0f * unit(rng), size * unit(rng));
+        break;
+    }
+  }
+  return rays;
+}
+
+class OctreeTest : public GlTest {};
+
+// On 12,000 rays, the octree (its C++ twin and the GLSL shader) finds the same first
+// occupied voxel as a dense DDA: empty-space skipping never skips a voxel.
+TEST_F(OctreeTest, TraversalMatchesDenseDda) {
+  struct Case {
+    scene::Scene scene;
+    int n;
+  };
+  std::vector<Case> cases;
+  cases.push_back({scene::loadGltf(cornellRoom()), 64});
+  {
+    // Boxes whose faces lie on voxel boundaries and in voxel middles; n not a
+    // power of two (the root cube is larger than the grid).
+    SceneBuilder b;
+    const int m = b.addMaterial(glm::vec3(0.6f));
+    b.addBox({4.0f, 4.0f, 4.0f}, {20.0f, 9.0f, 30.0f}, m);
+    b.addBox({10.5f, 12.5f, 3.5f}, {30.5f, 20.5f, 40.5f}, m);
+    b.addBox({25.0f, 2.0f, 20.0f}, {26.0f, 44.0f, 21.0f}, m);
+    scene::Scene s = b.finish();
+    s.scale.gridOrigin = glm::vec3(0.0f);
+    s.scale.gridSize = 48.0f;
+    cases.push_back({s, 48});
+  }
+  for (const Case& c : cases) {
+    auto b = build(c.scene, c.n, false);
+    const int depth = b->octree->depth();
+    const int root = 1 << depth;
+    const std::vector<uint32_t> nodes = b->octree->readNodes();
+    const std::vector<uint8_t> occupied = occupancyFromAlbedo(b->grid->readAlbedo());
+    const std::vector<gpu::OctreeRay> rays = testRays(root, 12000);
+    const std::vector<glm::ivec4> gpuHits = b->octree->raycast(rays);
+    size_t hits = 0, cpuMismatch = 0, gpuMismatch = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const gpu::OctreeRay& q = rays[i];
+      gpu::MarchRay r = gpu::marchRay(glm::vec3(q.origin), glm::vec3(q.direction),
+                                      glm::vec3(q.invDirection), q.origin.w);
+      const gpu::MarchHit ref = denseFirstHit(occupied, c.n, root, r, q.direction.w);
+      gpu::MarchState s{};
+      gpu::MarchHit tree{};
+      if (gpu::marchBegin(r, q.direction.w, root, s))
+        tree = gpu::octreeFirstHit(nodes.data(), r, depth, s, 1 << 30);
+      hits += ref.hit;
+      const bool cpuSame = tree.hit == ref.hit && (!ref.hit || tree.voxel == ref.voxel);
+      const bool gpuSame =
+          (gpuHits[i].w != 0) == ref.hit && (!ref.hit || glm::ivec3(gpuHits[i]) == ref.voxel);
+      if (!cpuSame && cpuMismatch++ < 5)
+        ADD_FAILURE() << "C++ twin, ray " << i << ": o " << q.origin.x << "," << q.origin.y << ","
+                      << q.origin.z << " d " << q.direction.x << "," << q.direction.y << ","
+                      << q.direction.z << " hit " << tree.hit << " vs dense " << ref.hit;
+      if (!gpuSame && gpuMismatch++ < 5)
+        ADD_FAILURE() << "GLSL, ray " << i << ": hit " << gpuHits[i].w << " at " << gpuHits[i].x
+                      << "," << gpuHits[i].y << "," << gpuHits[i].z << " vs dense " << ref.hit
+                      << " at " << ref.voxel.x << "," << ref.voxel.y << "," << ref.voxel.z;
+    }
+    EXPECT_EQ(cpuMismatch, 0u);
+    EXPECT_EQ(gpuMismatch, 0u);
+    // The set is not trivial: many rays hit, many miss.
+    EXPECT_GT(hits, rays.size() / 20);
+    EXPECT_LT(hits, rays.size() - rays.size() / 20);
+  }
+}
+
+// Every occupied voxel is a leaf holding the grid's albedo; nothing else is.
+TEST_F(OctreeTest, LeavesAreTheOccupiedVoxels) {
+  auto b = build(scene::loadGltf(cornellRoom()), 64, false);
+  const int depth = b->octree->depth();
+  const std::vector<uint32_t> nodes = b->octree->readNodes();
+  const std::vector<uint32_t> material = b->octree->readMaterial();
+  const std::vector<uint8_t> albedo = b->grid->readAlbedo();
+  const std::vector<uint8_t> occupied = occupancyFromAlbedo(albedo);
+  size_t leaves = 0, wrong = 0;
+  for (int z = 0; z < 64; ++z)
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        int reached = 0;
+        const uint32_t node = gpu::octreeLookup(nodes.data(), depth, {x, y, z}, depth, reached);
+        const bool leaf = reached == depth && nodes[node] != 0;
+        const size_t i = static_cast<size_t>(x + 64 * (y + 64 * z));
+        leaves += leaf;
+        if (leaf != (occupied[i] != 0)) ++wrong;
+        if (leaf) {
+          uint32_t packed = 0;
+          std::memcpy(&packed, &albedo[i * 4], 4);
+          if (material[node * 2] != packed) ++wrong;
+        }
+      }
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(leaves, b->octree->stats().leaves);
+  EXPECT_EQ(leaves, b->grid->stats().occupied);
+  // Level sizes add up; the last level holds the leaves in tiles of 8.
+  uint32_t total = 0;
+  for (uint32_t l : b->octree->stats().levelNodes) total += l;
+  EXPECT_EQ(total, b->octree->stats().nodes);
+  EXPECT_GE(b->octree->stats().levelNodes.back(), leaves);
+}
+
+// cornell_room at 256^3: the octree takes at most 10% of the dense grid's memory.
+TEST_F(OctreeTest, MemoryIsAFractionOfTheDenseGrid) {
+  auto b = build(scene::loadGltf(cornellRoom()), 256, false);
+  const voxel::OctreeStats& st = b->octree->stats();
+  std::printf("cornell_room 256^3: %u nodes, %u leaves, %.1f MiB vs dense %.1f MiB (%.1f%%)\n",
+              st.nodes, st.leaves, st.bytes / 1048576.0, st.denseBytes / 1048576.0,
+              100.0 * static_cast<double>(st.bytes) / static_cast<double>(st.denseBytes));
+  EXPECT_LE(st.bytes * 10, st.denseBytes);
+  EXPECT_GE(st.bytes, uint64_t{st.nodes} * 20);  // honest: every node's words counted
+}
+
+// Inner nodes: opacity the mean of the 8 children's, radiance the opacity-weighted mean.
+TEST_F(OctreeTest, InnerNodesFilterTheirChildren) {
+  auto b = build(scene::loadGltf(cornellRoom()), 64, true);
+  const std::vector<uint32_t> nodes = b->octree->readNodes();
+  const std::vector<uint32_t> rad = b->octree->readRadiance();
+  const std::vector<uint32_t> material = b->octree->readMaterial();
+  const uint32_t leafFirst = b->octree->stats().nodes - b->octree->stats().levelNodes.back();
+  auto half4 = [&](uint32_t node) {  // radiance, opacity
+    return glm::vec4(glm::unpackF3x9_E1x5(rad[node]),
+                     static_cast<float>(material[node * 2] >> 24) / 255.0f);
+  };
+  size_t checked = 0;
+  for (uint32_t node = 0; node < leafFirst; ++node) {
+    if (nodes[node] == 0) continue;
+    glm::vec3 weighted(0.0f);
+    float opacity = 0.0f;
+    for (uint32_t c = 0; c < 8; ++c) {
+      const glm::vec4 r = half4(nodes[node] + c);
+      weighted += glm::vec3(r) * r.w;
+      opacity += r.w;
+    }
+    const glm::vec4 p = half4(node);
+    // rgba8 opacity: within one step; rgb9e5 radiance: within 2^-8 of the largest channel.
+    ASSERT_NEAR(p.w, opacity / 8.0f, 1.01f / 255.0f) << "node " << node;
+    const glm::vec3 mean = weighted / std::max(opacity, 1e-6f);
+    const float largest = std::max({mean.x, mean.y, mean.z});
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(p[k], mean[k], largest / 256.0f + 1e-6f);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100u);
+}
+
+// A floor under a point light with a box between: voxels in the box's shadow get no
+// direct light, voxels in the open get albedo / pi x I cos / d^2 (within the voxel's
+// extent); two builds give bit-identical light.
+TEST_F(OctreeTest, InjectionCastsShadows) {
+  SceneBuilder b;
+  const int m = b.addMaterial(glm::vec3(0.5f));
+  b.addTriangles({{0.5f, 0.5f, 0.5f},
+                  {63.5f, 0.5f, 63.5f},
+                  {63.5f, 0.5f, 0.5f},
+                  {0.5f, 0.5f, 0.5f},
+                  {0.5f, 0.5f, 63.5f},
+                  {63.5f, 0.5f, 63.5f}},
+                 m);  // facing up
+  b.addBox({24.0f, 10.0f, 24.0f}, {40.0f, 14.0f, 40.0f}, m);
+  scene::Scene s = b.finish();
+  s.scale.gridOrigin = glm::vec3(0.0f);
+  s.scale.gridSize = 64.0f;
+  scene::Light light;
+  light.type = scene::LightType::kPoint;
+  light.position = glm::vec3(32.0f, 40.0f, 32.0f);
+  light.intensity = 1000.0f;
+  s.lights = {light};
+  voxel::Octree::Settings settings;
+  settings.bounces = 1;
+  auto built = build(s, 64, true, settings);
+  const std::vector<uint32_t> nodes = built->octree->readNodes();
+  const std::vector<uint32_t> rad = built->octree->readRadiance();
+  const int depth = built->octree->depth();
+  auto floorRadiance = [&](int x, int z) {
+    int reached = 0;
+    const uint32_t node = gpu::octreeLookup(nodes.data(), depth, {x, 0, z}, depth, reached);
+    EXPECT_EQ(reached, depth);
+    EXPECT_NE(nodes[node], 0u) << x << "," << z;
+    return glm::unpackF3x9_E1x5(rad[node]).x;
+  };
+  // Under the box's centre: shadow (the box spans 24..40, the light is above its centre).
+  EXPECT_EQ(floorRadiance(32, 32), 0.0f);
+  EXPECT_EQ(floorRadiance(28, 35), 0.0f);
+  // In the open: 0.5 / pi x 1000 x cos / d^2 at the voxel centre (0.5 above the plane).
+  for (glm::ivec2 xz : {glm::ivec2(5, 5), glm::ivec2(60, 10), glm::ivec2(12, 50)}) {
+    const glm::vec3 c(static_cast<float>(xz.x) + 0.5f, 0.5f, static_cast<float>(xz.y) + 0.5f);
+    const glm::vec3 toLight = light.position - c;
+    const float d2 = glm::dot(toLight, toLight);
+    const float expected = 0.5f / 3.14159265f * 1000.0f * (toLight.y / std::sqrt(d2)) / d2;
+    EXPECT_NEAR(floorRadiance(xz.x, xz.y), expected, expected * 0.01f) << xz.x << "," << xz.y;
+  }
+  auto again = build(s, 64, true, settings);
+  EXPECT_EQ(again->octree->readRadiance(), rad);
+}
+
+}  // namespace
+}  // namespace voxgi::test
