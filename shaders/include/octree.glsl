@@ -15,6 +15,14 @@ layout(std430, binding = kOctreeNodeBinding) readonly buffer OctreeNodes { uint 
 
 #include "octree_march.h"
 
+// Cells one ray may visit; past them a shadow ray counts as unoccluded and
+// other rays as escaped.
+const int kRaySteps = 1024;
+// Rays leave a surface this many voxels along its normal, so they do not hit the
+// voxels of the surface they start from; and stop short of an emitter by as much,
+// so they do not hit the voxels of the light they aim at.
+const float kSurfaceOffsetVoxels = 1.5;
+
 // Invocation index of a 1D job spread over a 2D dispatch (more than 65535 groups).
 uint octreeInvocation() {
   return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kOctreeGroupSize +

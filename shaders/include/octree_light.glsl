@@ -9,13 +9,6 @@ layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights
 layout(std430, binding = kEmitterBinding) readonly buffer Emitters { GpuEmitter emitters[]; };
 layout(std430, binding = kOctreeLightCdfBinding) readonly buffer EmitterCdf { float emitterCdf[]; };
 
-// Cells one shadow or bounce ray may visit; past them it counts as unoccluded.
-const int kRaySteps = 1024;
-// Rays leave a surface this many voxels along its normal, so they do not hit the
-// voxels of the surface they start from; and stop short of an emitter by as much,
-// so they do not hit the voxels of the light they aim at.
-const float kSurfaceOffsetVoxels = 1.5;
-
 // 1 if no voxel lies on the segment from p along unit dir, dist world units long,
 // between startVoxels and dist - endVoxels (in voxels).
 float octreeVisible(vec3 p, vec3 dir, float dist, float startVoxels, float endVoxels) {

@@ -31,11 +31,18 @@
 namespace voxgi::gpu {
 using vec3 = glm::vec3;
 using ivec3 = glm::ivec3;
+using uvec3 = glm::uvec3;
+using bvec3 = glm::bvec3;
 using glm::clamp;
+using glm::equal;
 using glm::findMSB;
 using glm::floor;
+using glm::greaterThan;
+using glm::lessThan;
 using glm::max;
 using glm::min;
+using glm::mix;
+using glm::notEqual;
 #define VOXGI_FN inline
 #define VOXGI_INOUT(T) T&
 #define VOXGI_OUT(T) T&
@@ -115,43 +122,50 @@ VOXGI_FN bool marchBegin(MarchRay r, float tStart, int size, VOXGI_OUT(MarchStat
   return true;
 }
 
+// When the ray crosses each axis's plane `planes` (per component, as marchPlaneT).
+VOXGI_FN vec3 marchPlanesT(MarchRay r, ivec3 planes) {
+  VOXGI_PRECISE vec3 t = (vec3(planes) - r.o) * r.invD;
+  return t;
+}
+
+// Per component: whether a crossing at t on that axis comes before the crossing at
+// exitT on `axis` (ties: the lower axis first, as the DDA steps).
+VOXGI_FN uvec3 marchBefore(vec3 t, float exitT, int axis) {
+  return uvec3(lessThan(t, vec3(exitT))) |
+         (uvec3(equal(t, vec3(exitT))) & uvec3(lessThan(ivec3(0, 1, 2), ivec3(axis))));
+}
+
 // Moves s to the voxel a unit DDA reaches as it leaves the aligned cube of
 // `cellSize` voxels holding s.voxel. False when the ray ends or leaves the root cube.
+// Written with vector operations and no loops: on a SIMD software rasterizer this
+// is most of a step's cost.
 VOXGI_FN bool marchExitCell(MarchRay r, int cellSize, int rootSize, VOXGI_INOUT(MarchState) s) {
   ivec3 base = s.voxel & ivec3(-cellSize);
-  vec3 tExit = vec3(kMarchInf);
-  for (int a = 0; a < 3; ++a)
-    if (r.stepDir[a] != 0)
-      tExit[a] = marchPlaneT(r, a, r.stepDir[a] > 0 ? base[a] + cellSize : base[a]);
+  ivec3 up = ivec3(greaterThan(r.stepDir, ivec3(0)));  // 1 on axes the ray climbs
+  uvec3 moving = uvec3(notEqual(r.stepDir, ivec3(0)));
+  vec3 tExit = mix(vec3(kMarchInf), marchPlanesT(r, base + up * cellSize), bvec3(moving));
   int axis = (tExit.x <= tExit.y && tExit.x <= tExit.z) ? 0 : (tExit.y <= tExit.z ? 1 : 2);
-  float exitT = tExit[axis];
+  float exitT = axis == 0 ? tExit.x : (axis == 1 ? tExit.y : tExit.z);
   if (!(exitT <= r.tEnd)) return false;
-  ivec3 v = s.voxel;
-  v[axis] = r.stepDir[axis] > 0 ? base[axis] + cellSize : base[axis] - 1;
-  if (v[axis] < 0 || v[axis] >= rootSize) return false;
-  for (int b = 0; b < 3; ++b) {
-    if (b == axis || r.stepDir[b] == 0) continue;
-    int dir = r.stepDir[b];
-    int first = s.voxel[b];
-    int last = dir > 0 ? base[b] + cellSize - 1 : base[b];
-    int c = int(floor(r.o[b] + r.d[b] * exitT));
-    c = dir > 0 ? clamp(c, first, last) : clamp(c, last, first);
-    // Forward while the plane out of c is crossed before the exit (ties: lower axis first).
-    while (c != last) {
-      float tp = marchPlaneT(r, b, dir > 0 ? c + 1 : c);
-      if (tp < exitT || (tp == exitT && b < axis))
-        c += dir;
-      else
-        break;
-    }
-    // Back while the plane into c is not.
-    while (c != first) {
-      float tp = marchPlaneT(r, b, dir > 0 ? c : c + 1);
-      if (tp < exitT || (tp == exitT && b < axis)) break;
-      c -= dir;
-    }
-    v[b] = c;
-  }
+  bvec3 isAxis = equal(ivec3(0, 1, 2), ivec3(axis));
+  // On the exit axis: the voxel across the face.
+  ivec3 across = base + up * (cellSize + 1) - 1;
+  // On the others: where the DDA is by then. A guess from the position, clamped to
+  // the part of the cube still ahead, then corrected by one voxel either way by
+  // comparing exact crossing times (the guess is never further off).
+  ivec3 first = s.voxel;
+  ivec3 last = base + up * (cellSize - 1);
+  ivec3 c = clamp(ivec3(floor(r.o + r.d * exitT)), min(first, last), max(first, last));
+  uvec3 forward =
+      marchBefore(marchPlanesT(r, c + up), exitT, axis) & moving & uvec3(notEqual(c, last));
+  c += r.stepDir * ivec3(forward);
+  uvec3 back = (uvec3(1u) - marchBefore(marchPlanesT(r, c + 1 - up), exitT, axis)) & moving &
+               uvec3(notEqual(c, first));
+  c -= r.stepDir * ivec3(back);
+  c = mix(s.voxel, c, bvec3(moving));
+  ivec3 v = mix(c, across, isAxis);
+  int a = axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+  if (a < 0 || a >= rootSize) return false;
   s.voxel = v;
   s.t = exitT;
   return true;

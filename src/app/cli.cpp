@@ -83,16 +83,18 @@ std::string renderHelp() {
          "options:\n"
          "  --mode M          render mode: " +
          render::availableModes() +
-         " (default raster)\n"
+         " (default rtgi)\n"
          "  --size WxH        image size in pixels (default 512x512)\n"
          "  --out FILE        write the image; .png is tonemapped sRGB 8-bit, .exr linear\n"
          "                    float radiance. Repeat to write both. An existing file is\n"
          "                    replaced only once the new one is complete.\n"
          "  --stats FILE      write timings and scene facts as JSON\n"
-         "  --frames N        frames to render; timings are medians (default 1); a\n"
-         "                    pathtrace frame is a whole image of --spp samples\n"
+         "  --frames N        frames to render; timings are medians. rtgi accumulates\n"
+         "                    them into one image (default 64, a converged image); other\n"
+         "                    modes render each whole (default 1); a pathtrace frame is\n"
+         "                    an image of --spp samples\n"
          "  --voxels N        voxel grid resolution, N^3 voxels, 32..512 (default 128);\n"
-         "                    used by modes that voxelize (points)\n"
+         "                    used by modes that voxelize (points, dvr, rtgi)\n"
          "  --revoxelize      voxelize every frame instead of once per scene (animated scenes)\n"
          "  --time T          animated scenes: pose of the first frame, seconds (default 0)\n"
          "  --fps F           animated scenes: frame f shows T + f/F (default 30)\n"
@@ -103,6 +105,13 @@ std::string renderHelp() {
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
          "  -h, --help        this text\n"
+         "\n"
+         "rtgi and dvr:\n"
+         "  --bounces N       diffuse bounces of indirect light, 0..16 (default 2): the\n"
+         "                    pixel's ray gives one, the voxels hold the rest\n"
+         "  --inject-rays N   shadow rays per voxel towards emissive surfaces (default 16)\n"
+         "  --bounce-rays N   rays per voxel for each voxel bounce (default 32)\n"
+         "  --seed S          random seed (as for pathtrace)\n"
          "\n"
          "pathtrace:\n"
          "  --spp N           samples per pixel of one frame (default 64: enough to judge\n"
@@ -142,7 +151,7 @@ std::string viewHelp() {
          "options:\n"
          "  --mode M          start mode: " +
          render::availableModes() +
-         " (default raster)\n"
+         " (default rtgi)\n"
          "  --size WxH        window size at start (default 960x540); rendering follows\n"
          "                    the window's framebuffer\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
@@ -210,6 +219,12 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->voxels = parseInt("--voxels", value(), 32, 512);
   } else if (a == "--revoxelize") {
     rs->revoxelize = true;
+  } else if (a == "--bounces") {
+    rs->octree.bounces = parseInt("--bounces", value(), 0, 16);
+  } else if (a == "--inject-rays") {
+    rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
+  } else if (a == "--bounce-rays") {
+    rs->octree.bounceRays = parseInt("--bounce-rays", value(), 1, 1024);
   } else {
     return false;
   }
@@ -383,7 +398,10 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     } else if (a == "--spp") {
       o.render.spp = parseInt("--spp", value(), 1, 1 << 20);
     } else if (a == "--seed") {
-      o.render.pathtrace.seed = static_cast<uint32_t>(parseInt("--seed", value(), 0, 2147483647));
+      const auto seed = static_cast<uint32_t>(parseInt("--seed", value(), 0, 2147483647));
+      o.render.pathtrace.seed = seed;
+      o.render.rtgi.seed = seed;
+      o.render.octree.seed = seed;
     } else if (a == "--max-depth") {
       o.render.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
     } else if (a == "--rr-depth") {
@@ -402,6 +420,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       throw UsageError("more than one scene given ('" + o.scene + "' and '" + a + "')");
     }
   }
+  if (o.frames == 0) o.frames = render::defaultFrames(o.render.mode);
   return inv;
 }
 

@@ -24,9 +24,9 @@ struct RenderOptions {
   gl::Backend backend = gl::Backend::kEgl;
   std::vector<std::string> outputs;  // .png and/or .exr
   std::string stats;                 // .json
-  int frames = 1;
-  double time = 0.0;  // animated scenes: the pose of the first frame, seconds
-  double fps = 30.0;  // animated scenes: frame f shows time + f / fps
+  int frames = 0;                    // 0 until parsed: the mode's default (render::defaultFrames)
+  double time = 0.0;                 // animated scenes: the pose of the first frame, seconds
+  double fps = 30.0;                 // animated scenes: frame f shows time + f / fps
   bool verbose = false;
   bool quiet = false;
   bool progress = true;  // pathtrace: a progress bar on stderr when it is a terminal

@@ -195,9 +195,20 @@ int runRender(const RenderOptions& o) {
                        {"bytes", vs.bytes},
                        {"peak_bytes", vs.peakBytes},
                        {"revoxelize", o.render.revoxelize}};
-    // Voxelized once (in the untimed warm-up frame): report that run's time.
-    if (!stages.contains("voxelize")) stats["stages"]["voxelize"] = renderer.lastVoxelizeMs();
   }
+  if (const voxel::Octree* tree = renderer.octree()) {
+    const voxel::OctreeStats& os = tree->stats();
+    stats["octree"] = {{"nodes", os.nodes},
+                       {"leaves", os.leaves},
+                       {"depth", os.depth},
+                       {"bytes", os.bytes},
+                       {"dense_bytes", os.denseBytes},
+                       {"build_bytes", os.buildBytes},
+                       {"bounces", o.render.octree.bounces}};
+  }
+  // Stages run once per scene (in the untimed warm-up frame): that run's time.
+  for (const gl::StageTime& st : renderer.sceneStages())
+    if (!stages.contains(st.name)) stats["stages"][st.name] = st.gpuMs;
   stats["gl_errors"] = glErrors;
   if (!o.stats.empty()) image::writeText(o.stats, stats.dump(2) + "\n");
 
@@ -211,14 +222,22 @@ int runRender(const RenderOptions& o) {
     std::printf("  %-10s %10s   (%s)\n", "stage", "ms", gl::stageTimingMethod());
     for (const std::string& name : stageOrder)
       std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
+    for (const gl::StageTime& st : renderer.sceneStages())
+      if (!stageMs.count(st.name))
+        std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
+                    st.name.c_str(), st.gpuMs);
     if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
       const voxel::VoxelGridStats& vs = grid->stats();
-      if (!stageMs.count("voxelize"))
-        std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
-                    "voxelize", renderer.lastVoxelizeMs());
       std::printf("  voxels %d^3: %u occupied, %.1f MiB resident, %.1f MiB while voxelizing\n",
                   vs.resolution, vs.occupied, static_cast<double>(vs.bytes) / (1 << 20),
                   static_cast<double>(vs.peakBytes) / (1 << 20));
+    }
+    if (const voxel::Octree* tree = renderer.octree()) {
+      const voxel::OctreeStats& os = tree->stats();
+      std::printf("  octree depth %d: %u nodes, %.1f MiB (%.1f%% of the dense grid's %.1f MiB)\n",
+                  os.depth, os.nodes, static_cast<double>(os.bytes) / (1 << 20),
+                  100.0 * static_cast<double>(os.bytes) / static_cast<double>(os.denseBytes),
+                  static_cast<double>(os.denseBytes) / (1 << 20));
     }
     std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
                 o.frames);

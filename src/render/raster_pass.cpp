@@ -2,19 +2,8 @@
 
 namespace voxgi::render {
 
-RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
-    : settings_(settings),
-      program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
-
-void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
-  gl::StageScope stage(ctx.timer, "raster");
-  beginOpaquePass(ctx, framebuffer, settings_.clearColor);
-  glUseProgram(program_.id());
+void drawSceneGeometry(const GpuScene& gs) {
   glBindVertexArray(gs.vertexArray());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
   const scene::Scene& s = gs.scene();
   for (const scene::Draw& d : s.draws) {
@@ -31,9 +20,24 @@ void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuff
                    reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
   }
   glDisable(GL_CULL_FACE);
-  glDisable(GL_DEPTH_TEST);
   glBindTextureUnit(gpu::kBaseColorUnit, 0);
   glBindSampler(gpu::kBaseColorUnit, 0);
+}
+
+RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
+    : settings_(settings),
+      program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
+
+void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
+  gl::StageScope stage(ctx.timer, "raster");
+  beginOpaquePass(ctx, framebuffer, settings_.clearColor);
+  glUseProgram(program_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
+  drawSceneGeometry(gs);
+  glDisable(GL_DEPTH_TEST);
 }
 
 }  // namespace voxgi::render

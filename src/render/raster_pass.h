@@ -12,6 +12,11 @@
 
 namespace voxgi::render {
 
+// Draws every draw of the scene with the bound program (material index uniform,
+// base-colour texture, culling as the material asks); the frame's uniforms and
+// the material SSBO must be bound.
+void drawSceneGeometry(const GpuScene& gs);
+
 class RasterPass {
  public:
   struct Settings {

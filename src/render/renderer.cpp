@@ -11,6 +11,8 @@ namespace voxgi::render {
 std::optional<Mode> parseMode(const std::string& name) {
   if (name == "raster") return Mode::kRaster;
   if (name == "points") return Mode::kPoints;
+  if (name == "dvr") return Mode::kDvr;
+  if (name == "rtgi") return Mode::kRtgi;
   if (name == "pathtrace") return Mode::kPathtrace;
   return std::nullopt;
 }
@@ -21,6 +23,10 @@ const char* modeName(Mode m) {
       return "raster";
     case Mode::kPoints:
       return "points";
+    case Mode::kDvr:
+      return "dvr";
+    case Mode::kRtgi:
+      return "rtgi";
     case Mode::kPathtrace:
       return "pathtrace";
   }
@@ -28,11 +34,19 @@ const char* modeName(Mode m) {
 }
 
 bool modeUsesVoxels(Mode m) {
-  return m == Mode::kPoints;
+  return m == Mode::kPoints || modeUsesOctree(m);
+}
+
+bool modeUsesOctree(Mode m) {
+  return m == Mode::kDvr || m == Mode::kRtgi;
+}
+
+int defaultFrames(Mode m) {
+  return m == Mode::kRtgi ? kRtgiDefaultFrames : 1;
 }
 
 std::string availableModes() {
-  return "raster, points, pathtrace";
+  return "rtgi, raster, points, dvr, pathtrace";
 }
 
 void checkImageSize(int width, int height) {
@@ -83,6 +97,16 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
+  if (modeUsesOctree(mode) && !octree_) {
+    octree_ = std::make_unique<voxel::Octree>(programs_, settings_.octree);
+    octreeBuilt_ = false;
+  }
+  if (mode == Mode::kRtgi && !rtgi_) {
+    RtgiPass::Settings rs = settings_.rtgi;
+    rs.indirect = settings_.octree.bounces > 0;
+    rtgi_ = std::make_unique<RtgiPass>(programs_, rs);
+  }
+  if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
     pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, settings_.pathtrace);
     startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
@@ -146,8 +170,10 @@ std::vector<Knob> Renderer::knobs() {
   switch (settings_.mode) {
     case Mode::kRaster:
     case Mode::kPoints:
+    case Mode::kDvr:
+    case Mode::kRtgi:
     case Mode::kPathtrace:
-      break;  // nothing to turn yet (grid resolution and spp are fixed at start)
+      break;  // nothing to turn yet (grid resolution, bounces and spp are fixed at start)
   }
   tonemap_.appendKnobs(&out);
   for (Knob& k : out) {
@@ -174,6 +200,7 @@ size_t Renderer::targetBytes() const {
 void Renderer::warmUp() {
   if (settings_.mode != Mode::kPathtrace) {
     renderFrame();
+    accumulated_ = 0;  // the warm-up frame is not part of the image
     return;
   }
   FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
@@ -212,6 +239,13 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   if (voxelizing) {
     voxelize_->execute(ctx, gpuScene_);
     voxelized_ = true;
+    octreeBuilt_ = false;
+  }
+  const bool building = modeUsesOctree(settings_.mode) && !octreeBuilt_;
+  if (building) {
+    octree_->build(ctx, *voxelize_);
+    octree_->inject(ctx, gpuScene_);
+    octreeBuilt_ = true;
   }
   switch (settings_.mode) {
     case Mode::kRaster:
@@ -219,6 +253,12 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       break;
     case Mode::kPoints:
       points_->execute(ctx, *voxelize_, hdrFbo_.id());
+      break;
+    case Mode::kDvr:
+      dvr_->execute(ctx, *octree_, camera, hdr_.id());
+      break;
+    case Mode::kRtgi:
+      rtgi_->execute(ctx, gpuScene_, *octree_, camera.position, accumulated_, hdr_.id());
       break;
     case Mode::kPathtrace:
       pathtrace_->reset();
@@ -229,10 +269,25 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   stages_ = timer_.resolve();
-  if (voxelizing)
-    for (const gl::StageTime& t : stages_)
-      if (t.name == "voxelize") lastVoxelizeMs_ = t.gpuMs;
+  if (voxelizing || building) {
+    if (voxelizing) sceneStages_.clear();
+    for (const gl::StageTime& t : stages_) {
+      if (t.name != "voxelize" && t.name != "octree" && t.name != "inject") continue;
+      auto same = std::find_if(sceneStages_.begin(), sceneStages_.end(),
+                               [&](const gl::StageTime& s) { return s.name == t.name; });
+      if (same != sceneStages_.end())
+        *same = t;
+      else
+        sceneStages_.push_back(t);
+    }
+  }
   ++accumulated_;
+}
+
+double Renderer::lastVoxelizeMs() const {
+  for (const gl::StageTime& t : sceneStages_)
+    if (t.name == "voxelize") return t.gpuMs;
+  return 0.0;
 }
 
 namespace {

@@ -2,6 +2,12 @@
 //   raster:    raster (HDR radiance + depth) -> tonemap (sRGB 8-bit)
 //   points:    [voxelize, once per scene or every frame with revoxelize]
 //              -> points (HDR radiance + depth) -> tonemap
+//   dvr:       [voxelize, octree, inject: once per scene, or every frame with
+//              revoxelize] -> dvr (HDR radiance) -> tonemap
+//   rtgi:      [voxelize, octree, inject as for dvr] -> gbuffer -> shadows ->
+//              indirect -> specular (scenes with specular materials) ->
+//              accumulate (the mean over frames since accumulation restarted)
+//              -> tonemap
 //   pathtrace: pathtrace (spp samples per pixel accumulated, the mean into the same
 //              HDR target) -> tonemap; its BVH is built once, when the mode is first used.
 // Only the passes a mode uses are built (their shaders compiled, memory taken).
@@ -25,19 +31,28 @@
 #include "gl/handles.h"
 #include "gl/program_cache.h"
 #include "gl/stage_timer.h"
+#include "render/dvr_pass.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
 #include "render/pathtrace_pass.h"
 #include "render/points_pass.h"
 #include "render/raster_pass.h"
+#include "render/rtgi_pass.h"
 #include "render/tonemap_pass.h"
+#include "voxel/octree.h"
 #include "voxel/voxelize_pass.h"
 
 namespace voxgi::render {
 
-enum class Mode { kRaster, kPoints, kPathtrace };
-// Whether the mode reads the voxel grid.
+enum class Mode { kRaster, kPoints, kDvr, kRtgi, kPathtrace };
+// Whether the mode reads the voxel grid, and the octree built from it.
 bool modeUsesVoxels(Mode m);
+bool modeUsesOctree(Mode m);
+// rtgi accumulates this many frames by default: its error against the reference
+// stops falling well before (README: "rtgi: frames").
+constexpr int kRtgiDefaultFrames = 64;
+// Frames `render` accumulates by default for a converged image (rtgi), else 1.
+int defaultFrames(Mode m);
 std::optional<Mode> parseMode(const std::string& name);
 const char* modeName(Mode m);
 // The modes this build has, comma separated (for --help and errors).
@@ -46,10 +61,12 @@ std::string availableModes();
 struct RenderSettings {
   int width = 256;
   int height = 256;
-  Mode mode = Mode::kRaster;
+  Mode mode = Mode::kRtgi;
   TonemapPass::Settings tonemap;
-  int voxels = 128;         // grid resolution N (N^3 voxels) for modes that use voxels
-  bool revoxelize = false;  // voxelize every frame (animated scenes) instead of once
+  int voxels = 128;                // grid resolution N (N^3 voxels) for modes that use voxels
+  bool revoxelize = false;         // voxelize every frame (animated scenes) instead of once
+  voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
+  RtgiPass::Settings rtgi;
   PathtracePass::Settings pathtrace;
   int spp = 64;  // pathtrace: samples per pixel of one frame
   // pathtrace: frames add their samples to the image until accumulation restarts
@@ -105,8 +122,12 @@ class Renderer {
   const GpuScene& gpuScene() const { return gpuScene_; }
   // Null unless the mode uses voxels.
   const voxel::VoxelizePass* voxelGrid() const { return voxelize_.get(); }
-  // GPU ms of the most recent voxelization (0 if none ran).
-  double lastVoxelizeMs() const { return lastVoxelizeMs_; }
+  // Null unless the mode uses the octree.
+  const voxel::Octree* octree() const { return octree_.get(); }
+  // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
+  // recent run, in order.
+  const std::vector<gl::StageTime>& sceneStages() const { return sceneStages_; }
+  double lastVoxelizeMs() const;
 
  private:
   gl::ProgramCache& programs_;
@@ -116,9 +137,13 @@ class Renderer {
   std::unique_ptr<RasterPass> raster_;
   std::unique_ptr<voxel::VoxelizePass> voxelize_;
   std::unique_ptr<PointsPass> points_;
+  std::unique_ptr<voxel::Octree> octree_;
+  std::unique_ptr<RtgiPass> rtgi_;
+  std::unique_ptr<DvrPass> dvr_;
+  bool octreeBuilt_ = false;
+  std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;
   bool voxelized_ = false;
-  double lastVoxelizeMs_ = 0.0;
   std::unique_ptr<PathtracePass> pathtrace_;
   PathtracePass::Progress progress_;
   std::vector<gl::StageTime> startup_;

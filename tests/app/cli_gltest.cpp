@@ -147,7 +147,7 @@ TEST(Cli, RendersPngExrAndStats) {
   const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " +
                                   dir + "/a.exr --stats " + dir + "/s.json"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_NE(r.output.find("raster"), std::string::npos);
+  EXPECT_NE(r.output.find("rtgi"), std::string::npos);  // the default mode
   const image::Image png = image::readImage(dir + "/a.png");
   EXPECT_EQ(png.width, 64);
   EXPECT_EQ(png.height, 48);
@@ -165,10 +165,15 @@ TEST(Cli, RendersPngExrAndStats) {
   EXPECT_EQ(stats["backend"], "egl");
   EXPECT_EQ(stats["size"]["width"], 64);
   EXPECT_EQ(stats["gl_errors"], 0);
-  EXPECT_TRUE(stats["stages"].contains("raster"));
-  EXPECT_TRUE(stats["stages"].contains("tonemap"));
+  for (const char* stage : {"voxelize", "octree", "inject", "gbuffer", "shadows", "indirect",
+                            "specular", "accumulate", "tonemap"})
+    EXPECT_TRUE(stats["stages"].contains(stage)) << stage;
+  EXPECT_EQ(stats["frames"], 2);
   EXPECT_GT(stats["frame_ms"].get<double>(), 0.0);
-  EXPECT_LT(stats["stages"]["raster"].get<double>(), 60000.0);  // a sane timer, not a stale clock
+  EXPECT_LT(stats["stages"]["gbuffer"].get<double>(), 60000.0);  // a sane timer, not a stale clock
+  for (const char* key : {"nodes", "bytes", "dense_bytes"})
+    EXPECT_GT(stats["octree"][key].get<double>(), 0.0) << key;
+  EXPECT_LT(stats["octree"]["bytes"].get<double>(), stats["octree"]["dense_bytes"].get<double>());
   // Nothing but the three outputs in the folder.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
 }

@@ -17,7 +17,14 @@ TEST(CliParse, Defaults) {
   EXPECT_EQ(inv.render.render.width, 512);
   EXPECT_EQ(inv.render.render.height, 512);
   EXPECT_EQ(inv.render.backend, gl::Backend::kEgl);
-  EXPECT_EQ(inv.render.frames, 1);
+  // rtgi is the default mode, accumulating enough frames for a converged image;
+  // other modes render one frame unless told.
+  EXPECT_EQ(inv.render.render.mode, render::Mode::kRtgi);
+  EXPECT_EQ(inv.render.frames, render::kRtgiDefaultFrames);
+  EXPECT_EQ(inv.render.render.octree.bounces, 2);
+  EXPECT_EQ(parse({"render", "--mode", "raster"}).render.frames, 1);
+  EXPECT_EQ(parse({"render", "--frames", "3"}).render.frames, 3);
+  EXPECT_EQ(parse({"render", "--bounces", "0"}).render.render.octree.bounces, 0);
   EXPECT_TRUE(inv.render.outputs.empty());
 }
 
@@ -93,6 +100,8 @@ TEST(CliParse, Rejects) {
            {"render", "--tonemap", "filmic"},
            {"render", "--mode", "magic"},
            {"render", "--spp", "0"},
+           {"render", "--bounces", "17"},
+           {"render", "--bounces", "-1"},
            {"render", "--spp", "many"},
            {"render", "--seed", "-1"},
            {"render", "--max-depth", "0"},

@@ -39,6 +39,7 @@ struct Rendered {
 Rendered render(const scene::Scene& s) {
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::RenderSettings settings;
+  settings.mode = render::Mode::kRaster;
   settings.width = kSize;
   settings.height = kSize;
   render::Renderer r(programs, s, settings);

@@ -25,6 +25,7 @@ class RendererTest : public GlTest {
   }
   render::RenderSettings settings(int w, int h) const {
     render::RenderSettings s;
+    s.mode = render::Mode::kRaster;
     s.width = w;
     s.height = h;
     return s;

@@ -1,0 +1,33 @@
+#version 450 core
+// rtgi primary visibility: the G-buffer (see rtgi_shared.h for the layout).
+#include "scene_shared.h"
+
+layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
+layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
+
+layout(location = kMaterialIndexLocation) uniform int materialIndex;
+layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+
+layout(location = 0) in vec3 vPosition;
+layout(location = 1) in vec3 vNormal;
+layout(location = 2) in vec2 vUv;
+
+layout(location = 0) out vec4 outPosition;
+layout(location = 1) out vec4 outNormal;
+layout(location = 2) out vec4 outAlbedo;
+layout(location = 3) out vec4 outEmission;
+
+void main() {
+  GpuMaterial m = materials[materialIndex];
+  vec4 base = m.baseColor;
+  if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+  vec3 n = normalize(vNormal);
+  if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
+  // Two-sided surfaces are shaded on the side the viewer sees.
+  if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) n = -n;
+  outPosition = vec4(vPosition, 1.0);
+  outNormal = vec4(n, m.params.y);
+  outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(m.params.x, 0.0, 1.0));
+  outEmission = vec4(m.emission.rgb, 0.0);
+}

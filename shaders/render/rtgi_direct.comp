@@ -1,0 +1,72 @@
+#version 450 core
+// rtgi stage "shadows": direct light at each pixel's surface with one shadow ray per
+// light through the octree. Punctual lights: their exact contribution x visibility.
+// Emissive surfaces, when there are few: their summed unshadowed contribution
+// (exact irradiance, GGX highlight) x the visibility of one random point on one of
+// them, drawn in proportion to its contribution (one shadow ray per pixel); with
+// many, one emitter drawn by power per pixel and frame (light importance
+// sampling), its contribution x visibility divided by its probability. Accumulation over frames turns the visibility samples into soft
+// shadows. Mirrors take no highlight here: their reflected ray sees the light.
+#include "scene_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "octree_light.glsl"
+#include "rtgi_common.glsl"
+
+layout(binding = kDirectImage, rgba16f) uniform writeonly image2D directOut;
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  if (outside(px)) return;
+  Pixel p = loadPixel(px);
+  vec3 result = vec3(0.0);
+  if (p.covered) {
+    seedPixel(px, 1u);
+    Surface s = p.s;
+    if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
+    vec3 o = rayOrigin(s);
+    int lightCount = int(rtgi.counts.x);
+    for (int k = 0; k < lightCount; ++k) {
+      vec3 c = punctualLight(lights[k], s);
+      if (all(equal(c, vec3(0.0)))) continue;
+      vec3 l;
+      float dist;
+      punctualDirection(lights[k], s.p, l, dist);
+      result += c * octreeVisible(o, l, dist, 0.0, 0.0);
+    }
+    int emitterCount = int(rtgi.counts.y);
+    if (emitterCount > 0 && emitterCount <= int(rtgi.counts.w)) {
+      // Few emitters: their exact unshadowed sum, times the visibility of one point
+      // on one of them, drawn in proportion to its share of the sum.
+      vec3 sum = vec3(0.0);
+      float weights[kMaxExactEmitters];
+      float total = 0.0;
+      for (int k = 0; k < emitterCount; ++k) {
+        vec3 c = areaLight(emitters[k], s);
+        sum += c;
+        weights[k] = dot(c, vec3(0.2126, 0.7152, 0.0722));
+        total += weights[k];
+      }
+      if (total > 0.0) {
+        float u = rand01() * total;
+        int pick = emitterCount - 1;
+        for (int k = 0; k < emitterCount; ++k) {
+          if (u < weights[k] && weights[k] > 0.0) {
+            pick = k;
+            break;
+          }
+          u -= weights[k];
+        }
+        result += sum * emitterVisible(emitters[pick], o, 0.0);
+      }
+    } else if (emitterCount > 0) {
+      float pmf;
+      GpuEmitter e = emitters[pickEmitter(rand01(), emitterCount, pmf)];
+      vec3 c = areaLight(e, s);
+      if (pmf > 0.0 && any(greaterThan(c, vec3(0.0))))
+        result += c * emitterVisible(e, o, 0.0) / pmf;
+    }
+  }
+  imageStore(directOut, px, vec4(result, 1.0));
+}

@@ -1,0 +1,51 @@
+#version 450 core
+// rtgi stage "specular": light along the reflection. Mirrors (roughness below
+// kMirrorRoughness) trace the reflected ray and see what the voxel it hits emits
+// and reflects; glossy surfaces trace one ray per frame towards a GGX micro-normal
+// drawn from the visible normals (Heitz 2018) and see reflected light only (their
+// highlight from the lights comes from the shadows stage). Weighted by Schlick's
+// Fresnel. Dielectrics rougher than kGlossyRoughness are skipped.
+#include "scene_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "octree_light.glsl"
+#include "rtgi_common.glsl"
+
+layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeEmissionBinding) readonly buffer Emission { uint emission[]; };
+layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  if (outside(px)) return;
+  Pixel p = loadPixel(px);
+  vec3 result = vec3(0.0);
+  bool mirror = p.roughness < kMirrorRoughness;
+  if (p.covered && (mirror || p.metallic > 0.5 || p.roughness < kGlossyRoughness)) {
+    seedPixel(px, 3u);
+    Surface s = p.s;
+    vec3 dir;
+    vec3 h = s.n;
+    if (mirror) {
+      dir = reflect(-s.v, s.n);
+    } else {
+      vec3 t, bt;
+      basis(s.n, t, bt);
+      vec3 ve = vec3(dot(s.v, t), dot(s.v, bt), dot(s.v, s.n));
+      vec3 m = sampleVndf(ve, max(s.alpha, 1e-3), vec2(rand01(), rand01()));
+      h = normalize(t * m.x + bt * m.y + s.n * m.z);
+      dir = reflect(-s.v, h);
+    }
+    if (dot(dir, s.n) > 0.0) {
+      vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, h), 0.0, 1.0), 5.0);
+      MarchHit hit = octreeTrace(octreeWorldRay(rayOrigin(s), dir, 3.0e38), 0.0, kRaySteps);
+      if (hit.hit) {
+        vec3 l = unpackRgb9e5(radiance[hit.node]);
+        if (mirror) l += unpackRgb9e5(emission[hit.node]);
+        result = f * l;
+      }
+    }
+  }
+  imageStore(specularOut, px, vec4(result, 1.0));
+}
