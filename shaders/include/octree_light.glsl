@@ -66,4 +66,46 @@ float emitterVisible(GpuEmitter e, vec3 p, float startVoxels) {
   return octreeVisible(p, d / dist, dist, startVoxels, kSurfaceOffsetVoxels);
 }
 
+// Where the ray from o along unit d meets emitter e's emitting side (a cluster: its
+// disk), or a negative value.
+float emitterHit(GpuEmitter e, vec3 o, vec3 d) {
+  bool twoSided = e.radiance.w > 0.5;
+  if (uint(e.a.w) == kEmitterCluster) {
+    vec3 n = e.b.xyz;
+    float dn = dot(d, n);
+    if (!(abs(dn) > 1e-12) || (!twoSided && dn > 0.0)) return -1.0;
+    float t = dot(e.a.xyz - o, n) / dn;
+    vec3 q = o + d * t - e.a.xyz;
+    return dot(q, q) <= e.b.w / kPi ? t : -1.0;
+  }
+  vec3 e1 = e.b.xyz - e.a.xyz;
+  vec3 e2 = e.c.xyz - e.a.xyz;
+  vec3 pv = cross(d, e2);
+  float det = dot(e1, pv);
+  // The front side is the one its winding faces (det < 0 seen from there).
+  if (!(abs(det) > 1e-20) || (!twoSided && det > 0.0)) return -1.0;
+  float inv = 1.0 / det;
+  vec3 tv = o - e.a.xyz;
+  float u = dot(tv, pv) * inv;
+  vec3 qv = cross(tv, e1);
+  float v = dot(d, qv) * inv;
+  if (u < 0.0 || v < 0.0 || u + v > 1.0) return -1.0;
+  return dot(e2, qv) * inv;
+}
+
+// Radiance of the nearest emitter the ray meets before `tMax` (world units), exact
+// geometry rather than voxels: a mirror shows a light its own size.
+vec3 emitterAlongRay(vec3 o, vec3 d, float tMax, int count) {
+  vec3 radiance = vec3(0.0);
+  float nearest = tMax;
+  for (int k = 0; k < count; ++k) {
+    float t = emitterHit(emitters[k], o, d);
+    if (t > 0.0 && t < nearest) {
+      nearest = t;
+      radiance = emitters[k].radiance.rgb;
+    }
+  }
+  return radiance;
+}
+
 #endif  // VOXGI_OCTREE_LIGHT_GLSL

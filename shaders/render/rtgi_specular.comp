@@ -1,7 +1,8 @@
 #version 450 core
 // rtgi stage "specular": light along the reflection. Mirrors (roughness below
-// kMirrorRoughness) trace the reflected ray and see what the voxel it hits emits
-// and reflects; glossy surfaces trace one ray per frame towards a GGX micro-normal
+// kMirrorRoughness) trace the reflected ray and see the light the voxel it hits
+// reflects, or an emitter's exact geometry where the ray meets one first (a light
+// the size of its voxels would look too big); glossy surfaces trace one ray per frame towards a GGX micro-normal
 // drawn from the visible normals (Heitz 2018) and see reflected light only (their
 // highlight from the lights comes from the shadows stage). Weighted by Schlick's
 // Fresnel. Dielectrics rougher than kGlossyRoughness are skipped.
@@ -13,7 +14,6 @@
 #include "rtgi_common.glsl"
 
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
-layout(std430, binding = kOctreeEmissionBinding) readonly buffer Emission { uint emission[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
 
 void main() {
@@ -39,12 +39,17 @@ void main() {
     }
     if (dot(dir, s.n) > 0.0) {
       vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, h), 0.0, 1.0), 5.0);
-      MarchHit hit = octreeTrace(octreeWorldRay(rayOrigin(s), dir, 3.0e38), 0.0, kRaySteps);
-      if (hit.hit) {
-        vec3 l = unpackRgb9e5(radiance[hit.node]);
-        if (mirror) l += unpackRgb9e5(emission[hit.node]);
-        result = f * l;
+      vec3 o = rayOrigin(s);
+      MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
+      vec3 l = hit.hit ? unpackRgb9e5(radiance[hit.node]) : vec3(0.0);
+      if (mirror) {
+        // Lights seen in a mirror: the exact emitters, unless a voxel closer than
+        // the emitter's own voxels (kSurfaceOffsetVoxels in front) hides them.
+        float tVoxel = hit.hit ? (hit.t + 2.0 * kSurfaceOffsetVoxels) * octreeVoxelSize() : 3.0e38;
+        vec3 e = emitterAlongRay(o, dir, tVoxel, int(rtgi.counts.y));
+        if (any(greaterThan(e, vec3(0.0)))) l = e;
       }
+      result = f * l;
     }
   }
   imageStore(specularOut, px, vec4(result, 1.0));

@@ -42,12 +42,44 @@ void Scene::finalize() {
   }
   const float diag = std::max(bounds.diagonal(), 1e-30f);
   scale.cameraSpeed = 0.25f * diag;
-  const float side =
-      std::max({bounds.extent().x, bounds.extent().y, bounds.extent().z, diag * 1e-3f});
+  const Bounds grid = voxelBounds();
+  const float side = std::max({grid.extent().x, grid.extent().y, grid.extent().z, diag * 1e-3f});
   scale.gridSize = side * 1.02f;  // 1% margin on each side
-  scale.gridOrigin = bounds.center() - glm::vec3(0.5f * scale.gridSize);
+  scale.gridOrigin = grid.center() - glm::vec3(0.5f * scale.gridSize);
   if (!camera.fromFile) autoFrameCamera();
   fitClipPlanes();
+}
+
+// The voxel grid spends its resolution where the scene has detail. A few huge
+// triangles (a ground plane of 20 m under objects of 2 m) would otherwise spread the
+// grid thin: the grid covers the bounds, clipped to a cube twice the size of the
+// small triangles' bounds around their centre. Large triangles are those above 1%
+// of the bounds' largest face. Outside the grid rays simply escape: a far floor
+// gets its direct light unshadowed, which is what nothing there could shadow.
+Bounds Scene::voxelBounds() const {
+  const glm::vec3 e = bounds.extent();
+  const float largestFace = std::max({e.x * e.y, e.y * e.z, e.x * e.z});
+  Bounds detail;
+  for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+    const glm::vec3 a = vertices[indices[i]].position;
+    const glm::vec3 b = vertices[indices[i + 1]].position;
+    const glm::vec3 c = vertices[indices[i + 2]].position;
+    if (0.5f * glm::length(glm::cross(b - a, c - a)) > 0.01f * largestFace) continue;
+    detail.extend(a);
+    detail.extend(b);
+    detail.extend(c);
+  }
+  if (!motionBounds.empty()) {
+    detail.extend(motionBounds.min);
+    detail.extend(motionBounds.max);
+  }
+  if (detail.empty()) return bounds;
+  const glm::vec3 de = detail.extent();
+  const float half = std::max({de.x, de.y, de.z});  // the cube is twice the detail's size
+  Bounds out;
+  out.min = glm::max(bounds.min, detail.center() - glm::vec3(half));
+  out.max = glm::min(bounds.max, detail.center() + glm::vec3(half));
+  return out;
 }
 
 void Scene::autoFrameCamera() {

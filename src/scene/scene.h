@@ -130,7 +130,7 @@ struct AnimatedRange {
 // Quantities derived from the bounds so that nothing assumes a unit.
 struct AutoScale {
   float cameraSpeed = 1.0f;    // units per second for the fly camera
-  glm::vec3 gridOrigin{0.0f};  // voxel grid: a cube fitted to the bounds with a margin
+  glm::vec3 gridOrigin{0.0f};  // voxel grid: a cube fitted to voxelBounds() with a margin
   float gridSize = 1.0f;
 };
 
@@ -174,6 +174,8 @@ struct Scene {
   void addDefaultLightIfUnlit();
   // Frames the bounds from the front (+z side), looking along -z.
   void autoFrameCamera();
+  // Where the voxel grid goes: the bounds, less the reach of a few huge triangles.
+  Bounds voxelBounds() const;
 };
 
 }  // namespace voxgi::scene

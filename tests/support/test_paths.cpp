@@ -29,6 +29,10 @@ std::string cornellRoom() {
   return sourceDir() + "/scenes/cornell_room/cornell_room.gltf";
 }
 
+std::string darkPlane() {
+  return sourceDir() + "/scenes/dark_plane/dark_plane.gltf";
+}
+
 bool samplesPresent() {
   return fs::exists(fs::path(samplesDir()) / "box" / "Box.gltf");
 }

@@ -11,6 +11,7 @@ std::string samplesDir();   // ../shared/scenes (the glTF samples)
 std::string testDataDir();  // tests/data
 std::string voxgiBinary();  // build/voxgi
 std::string cornellRoom();  // scenes/cornell_room/cornell_room.gltf
+std::string darkPlane();    // scenes/dark_plane/dark_plane.gltf
 // A fresh empty directory under the system temp dir, removed at exit.
 std::string scratchDir();
 

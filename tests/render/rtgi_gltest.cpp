@@ -1,0 +1,219 @@
+// rtgi's hard cases on llvmpipe: no NaN or Inf wherever the camera is, no light
+// through closed walls, no flicker once converged, the same image every run, and
+// convergence towards the path tracer on both reference scenes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "image/metrics.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "support/gl_fixture.h"
+#include "support/scene_builder.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+namespace {
+
+size_t nonFinite(const std::vector<float>& px) {
+  return static_cast<size_t>(
+      std::count_if(px.begin(), px.end(), [](float v) { return !std::isfinite(v); }));
+}
+
+double meanOf(const std::vector<float>& rgba) {
+  double sum = 0.0;
+  for (size_t i = 0; i < rgba.size(); i += 4) sum += (rgba[i] + rgba[i + 1] + rgba[i + 2]) / 3.0;
+  return sum / static_cast<double>(rgba.size() / 4);
+}
+
+image::Image toImage(const std::vector<float>& rgba, int size) {
+  image::Image im;
+  im.width = size;
+  im.height = size;
+  im.channels = 3;
+  for (size_t i = 0; i < rgba.size(); i += 4)
+    im.pixels.insert(im.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return im;
+}
+
+class RtgiTest : public GlTest {
+ protected:
+  void SetUp() override {
+    GlTest::SetUp();
+    programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
+  }
+  void TearDown() override {
+    programs_.reset();
+    GlTest::TearDown();
+  }
+
+  static render::RenderSettings settings(int size, int voxels, render::Mode mode) {
+    render::RenderSettings s;
+    s.mode = mode;
+    s.width = size;
+    s.height = size;
+    s.voxels = voxels;
+    s.spp = 256;
+    return s;
+  }
+
+  // `frames` frames of accumulation from `camera`; linear RGBA.
+  std::vector<float> render(const scene::Scene& s, const render::RenderSettings& rs, int frames,
+                            const scene::Camera& camera) {
+    render::Renderer r(*programs_, s, rs);
+    for (int f = 0; f < frames; ++f) r.renderFrame(camera);
+    return r.readLinear();
+  }
+
+  // A sealed room, walls `thickness` thick, a dim light inside and a light 1000 times
+  // brighter just outside; the camera inside. Returns the mean radiance with the
+  // outside light on and off.
+  std::pair<double, double> sealedRoom(float thickness) {
+    SceneBuilder b;
+    const int wall = b.addMaterial(glm::vec3(0.7f));
+    const float in = 1.0f, out = 1.0f + thickness;
+    // Six slabs that overlap at the edges: closed.
+    b.addBox({-out, -out, -out}, {out, -in, out}, wall);
+    b.addBox({-out, in, -out}, {out, out, out}, wall);
+    b.addBox({-out, -out, -out}, {-in, out, out}, wall);
+    b.addBox({in, -out, -out}, {out, out, out}, wall);
+    b.addBox({-out, -out, -out}, {out, out, -in}, wall);
+    b.addBox({-out, -out, in}, {out, out, out}, wall);
+    scene::Scene s = b.finish();
+    s.scale.gridOrigin = glm::vec3(-2.0f);
+    s.scale.gridSize = 4.0f;  // 64^3: voxels of 6.25 cm
+    scene::Light inside;
+    inside.position = glm::vec3(0.0f, 0.5f, 0.0f);
+    inside.intensity = 1.0f;
+    scene::Light outside = inside;
+    outside.position = glm::vec3(0.0f, 0.0f, 1.0f + thickness + 0.3f);
+    outside.intensity = 1000.0f;
+    scene::Camera cam;
+    cam.position = glm::vec3(0.0f, 0.0f, 0.8f);
+    cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+    cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    const render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+    s.lights = {inside};
+    const double off = meanOf(render(s, rs, 8, cam));
+    s.lights = {inside, outside};
+    const double on = meanOf(render(s, rs, 8, cam));
+    return {on, off};
+  }
+
+  std::unique_ptr<gl::ProgramCache> programs_;
+};
+
+// Wherever the camera is: inside the diffuse sphere, inside the wall's voxels,
+// looking exactly along the axes, at grazing angles; and on the dark plane.
+TEST_F(RtgiTest, NoNanOrInfAnywhere) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  const render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+  std::vector<scene::Camera> cameras;
+  scene::Camera c = room.camera;
+  cameras.push_back(c);
+  c.position = glm::vec3(-0.45f, 0.4f, -0.35f) - glm::vec3(room.origin);  // in the sphere
+  cameras.push_back(c);
+  c.position = glm::vec3(-1.0f, 1.0f, 0.0f) - glm::vec3(room.origin);  // in the left wall
+  c.forward = glm::vec3(1.0f, 0.0f, 0.0f);                             // along +x
+  cameras.push_back(c);
+  c.position = glm::vec3(0.0f, 0.001f, 0.9f) - glm::vec3(room.origin);  // on the floor, grazing
+  c.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  cameras.push_back(c);
+  c.position = glm::vec3(0.0f, 1.0f, 0.0f) - glm::vec3(room.origin);  // straight down
+  c.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+  c.up = glm::vec3(0.0f, 0.0f, -1.0f);
+  cameras.push_back(c);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const auto px = render(room, rs, 3, cameras[i]);
+    EXPECT_EQ(nonFinite(px), 0u) << "camera " << i;
+  }
+  const scene::Scene plane = scene::loadGltf(darkPlane());
+  const auto px = render(plane, rs, 3, plane.camera);
+  EXPECT_EQ(nonFinite(px), 0u);
+  EXPECT_GT(meanOf(px), 0.0);
+  // dvr sees the same volume without NaN either.
+  EXPECT_EQ(nonFinite(render(room, settings(48, 64, render::Mode::kDvr), 1, cameras[1])), 0u);
+}
+
+// Walls 4 voxels thick: as dark inside with the bright light outside as without it.
+// Walls thinner than a voxel leak (a voxel holding both sides of a wall is lit from
+// outside and seen from inside): how much is printed and bounded.
+TEST_F(RtgiTest, ClosedWallsDoNotLeakLight) {
+  const auto [on, off] = sealedRoom(0.25f);
+  ASSERT_GT(off, 0.0);
+  EXPECT_LE(std::abs(on - off), 1e-6 * off) << "on " << on << " off " << off;
+  const auto [thinOn, thinOff] = sealedRoom(0.02f);
+  // Leak: the rise inside, per unit of the outside light's strength relative to the
+  // inside light's (1000).
+  const double thinLeak = (thinOn - thinOff) / thinOff / 1000.0;
+  std::printf("sealed room: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
+              (on - off) / off / 1000.0, thinLeak);
+  EXPECT_LT(thinLeak, 0.5);
+}
+
+// Converged still image: between frames 64 and 65 of accumulation the mean moves by
+// 1/65 of one frame's noise. Bound: no more than 0.5% of the display's pixels change
+// by more than 2 of 255 levels, and the relative RMS change is below 1%.
+TEST_F(RtgiTest, ConvergedImageDoesNotFlicker) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::Renderer r(*programs_, room, settings(64, 64, render::Mode::kRtgi));
+  for (int f = 0; f < 64; ++f) r.renderFrame();
+  const auto a = r.readDisplay();
+  const auto la = r.readLinear();
+  r.renderFrame();
+  const auto b = r.readDisplay();
+  const auto lb = r.readLinear();
+  size_t changed = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    if ((i % 4) != 3 && std::abs(int(a[i]) - int(b[i])) > 2) ++changed;
+  double diff2 = 0.0;
+  for (size_t i = 0; i < la.size(); ++i) diff2 += (la[i] - lb[i]) * (la[i] - lb[i]);
+  const double relRms = std::sqrt(diff2 / static_cast<double>(la.size())) / meanOf(la);
+  std::printf("frame 64 -> 65: %.3f%% of channels change > 2 levels, relative RMS %.4f\n",
+              100.0 * static_cast<double>(changed) / static_cast<double>(a.size() / 4 * 3), relRms);
+  EXPECT_LE(changed * 200, a.size() / 4 * 3);
+  EXPECT_LT(relRms, 0.01);
+}
+
+// The same settings give the same image, run after run; another seed does not.
+TEST_F(RtgiTest, SameSeedSameImage) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::RenderSettings rs = settings(32, 64, render::Mode::kRtgi);
+  const auto a = render(room, rs, 4, room.camera);
+  EXPECT_EQ(a, render(room, rs, 4, room.camera));
+  rs.rtgi.seed = 99;
+  EXPECT_NE(a, render(room, rs, 4, room.camera));
+}
+
+// rtgi converges towards the path tracer: its error falls with frames and ends
+// within a few per cent of the reference's mean on both reference scenes.
+TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
+  struct Case {
+    std::string path;
+    double maxRelMse;
+  };
+  for (const Case& c : {Case{cornellRoom(), 0.05}, Case{darkPlane(), 0.5}}) {
+    const scene::Scene s = scene::loadGltf(c.path);
+    const int size = 64;
+    const auto reference =
+        toImage(render(s, settings(size, 64, render::Mode::kPathtrace), 1, s.camera), size);
+    const auto few =
+        toImage(render(s, settings(size, 128, render::Mode::kRtgi), 2, s.camera), size);
+    const auto many =
+        toImage(render(s, settings(size, 128, render::Mode::kRtgi), 64, s.camera), size);
+    const image::ErrorMetrics mFew = image::errorMetrics(few, reference);
+    const image::ErrorMetrics mMany = image::errorMetrics(many, reference);
+    std::printf(
+        "%s: rtgi vs pathtrace 256 spp: 2 frames rel MSE %.4f, 64 frames %.4f, mean "
+        "ratio %.3f\n",
+        c.path.c_str(), mFew.relMse, mMany.relMse, mMany.meanLuminanceRatio);
+    EXPECT_LT(mMany.relMse, mFew.relMse);
+    EXPECT_LT(mMany.relMse, c.maxRelMse);
+    EXPECT_NEAR(mMany.meanLuminanceRatio, 1.0, 0.15);
+  }
+}
+
+}  // namespace
+}  // namespace voxgi::test
