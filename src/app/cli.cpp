@@ -110,7 +110,7 @@ std::string renderHelp() {
          "  --bounces N       diffuse bounces of indirect light, 0..16 (default 2): the\n"
          "                    pixel's ray gives one, the voxels hold the rest\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces (default 16)\n"
-         "  --bounce-rays N   rays per voxel for each voxel bounce (default 32)\n"
+         "  --bounce-rays N   rays per voxel for each voxel bounce (default 16)\n"
          "  --seed S          random seed (as for pathtrace)\n"
          "\n"
          "pathtrace:\n"

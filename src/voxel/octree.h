@@ -52,7 +52,7 @@ class Octree {
   struct Settings {
     int bounces = 2;      // total diffuse bounces; the voxels hold bounces - 1 of them
     int injectRays = 16;  // shadow rays per leaf towards emissive surfaces
-    int bounceRays = 32;  // rays per leaf per voxel bounce
+    int bounceRays = 16;  // rays per leaf per voxel bounce
     uint32_t seed = 1;
   };
 

@@ -118,17 +118,18 @@ TEST(Viewer, ScriptedRunMatchesHeadlessRender) {
   VOXGI_REQUIRE_XVFB();
   const std::string dir = scratchDir();
   const auto r = runCommand(
-      view("--size 160x120 --frames 30 --keys 5:p,6:p,10:2,12:3,15:1,20:+,21:+ --screenshot-dir " +
+      view("--mode raster --size 160x120 --frames 30 --keys 5:p,6:p,10:2,12:6,15:1,20:+,21:+ "
+           "--screenshot-dir " +
            dir + " --screenshot " + dir + "/shot --stats " + dir + "/s.json"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_NE(r.output.find("dvr is not in this build"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reserved slot is not in this build"), std::string::npos) << r.output;
   const auto stats = readJson(dir + "/s.json");
   EXPECT_EQ(stats["frames"], 30);
   EXPECT_EQ(stats["ended_by"], "frames");
   EXPECT_EQ(stats["backend"], "glfw");
   EXPECT_EQ(stats["mode"], "raster");
   EXPECT_EQ(stats["mode_switches"], 2);  // to points and back
-  EXPECT_EQ(stats["unavailable_mode_requests"], nlohmann::json::array({"dvr"}));
+  EXPECT_EQ(stats["unavailable_mode_requests"], nlohmann::json::array({"reserved"}));
   EXPECT_EQ(stats["exposure"], 2.0);
   EXPECT_EQ(stats["gl_errors"], 0);
   EXPECT_EQ(stats["size"]["width"], 160);
@@ -142,8 +143,9 @@ TEST(Viewer, ScriptedRunMatchesHeadlessRender) {
   EXPECT_EQ(shots[4], dir + "/shot.png");
   EXPECT_EQ(shots[5], dir + "/shot.exr");
 
-  const auto ref = runCommand(voxgiBinary() + " render --size 160x120 --exposure 2 --out " + dir +
-                              "/ref.png --out " + dir + "/ref.exr --quiet");
+  const auto ref =
+      runCommand(voxgiBinary() + " render --mode raster --size 160x120 --exposure 2 --out " + dir +
+                 "/ref.png --out " + dir + "/ref.exr --quiet");
   ASSERT_EQ(ref.exitCode, 0) << ref.output;
   const image::Image shot = image::readImage(dir + "/shot.png");
   ASSERT_EQ(shot.width, 160);
@@ -173,8 +175,8 @@ TEST(Viewer, BrokenShaderKeepsRunningAndRecovers) {
   broken.replace(at, good.size(), "outRadiance = vec4(radiance, 1.0) +;");
 
   LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec env VOXGI_SHADER_DIR=" + dir +
-                     "/shaders " + voxgiBinary() + " view --size 96x72 --stats " + dir +
-                     "/s.json'");
+                     "/shaders " + voxgiBinary() + " view --mode raster --size 96x72 --stats " +
+                     dir + "/s.json'");
   std::string failed, recovered;
   const pid_t pid = viewer.readPid();
   ASSERT_GT(pid, 0) << viewer.output();
