@@ -1,6 +1,7 @@
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <set>
+#include <string_view>
 
 #include <stb_image.h>
 #include <tiny_gltf.h>
@@ -21,6 +23,10 @@ namespace voxgi::scene {
 namespace {
 
 namespace fs = std::filesystem;
+
+// tinygltf takes lengths as unsigned int.
+constexpr uint64_t kMaxFileBytes = 0xffffffffu;
+constexpr int kMaxJsonDepth = 256;
 
 const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
                                                   "KHR_materials_emissive_strength"};
@@ -139,25 +145,65 @@ class Loader {
  public:
   Loader(const std::string& path, const LoadOptions& opt) : path_(path), opt_(opt) {}
 
+  // From a file: read whole, then parsed as from memory with external URIs
+  // resolved next to it.
   Scene run() {
     std::error_code ec;
     if (!fs::exists(path_, ec)) fail("no such file");
     if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    std::vector<unsigned char> bytes;
+    readWholeFile(&bytes);
+    std::string baseDir = fs::path(path_).parent_path().string();
+    return parse(bytes.data(), bytes.size(), baseDir.empty() ? "." : baseDir, true);
+  }
+
+  // From memory: the same checks; no other file is ever opened.
+  Scene runFromMemory(const unsigned char* data, size_t size) {
+    return parse(data, size, "", false);
+  }
+
+ private:
+  void readWholeFile(std::vector<unsigned char>* out) const {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) fail(std::string("cannot open: ") + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    if (size < 0) fail("cannot read (not a seekable file)");
+    if (static_cast<uint64_t>(size) > kMaxFileBytes)
+      fail(strf("%lld bytes: larger than the %llu-byte limit of a glTF file here",
+                static_cast<long long>(size), static_cast<unsigned long long>(kMaxFileBytes)));
+    out->resize(static_cast<size_t>(size));
+    in.seekg(0);
+    if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), size))
+      fail(std::string("read failed: ") + std::strerror(errno));
+  }
+
+  Scene parse(const unsigned char* data, size_t size, const std::string& baseDir,
+              bool externalFiles) {
+    if (size > kMaxFileBytes)
+      fail(strf("%zu bytes: larger than the %llu-byte limit of a glTF file here", size,
+                static_cast<unsigned long long>(kMaxFileBytes)));
     const std::string ext = fs::path(path_).extension().string();
+    std::string lower = ext;
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    if (lower != ".glb" && lower != ".gltf")
+      fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
+    if (size == 0) fail("empty file (0 bytes)");
     tinygltf::TinyGLTF gltf;
     ImageLoaderState state{opt_.maxTextureSize, &model_};
     gltf.SetImageLoader(loadImage, &state);
+    if (!externalFiles) gltf.SetFsCallbacks(noFiles());
     std::string err, warn;
     bool ok = false;
-    std::string lower = ext;
-    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    const auto length = static_cast<unsigned int>(size);
     if (lower == ".glb") {
-      checkGlbHeader();
-      ok = gltf.LoadBinaryFromFile(&model_, &err, &warn, path_);
-    } else if (lower == ".gltf") {
-      ok = gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+      checkGlbHeader(data, size);
+      checkJsonDepth(glbJson(data, size));
+      ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, data, length, baseDir);
     } else {
-      fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
+      checkJsonDepth(std::string_view(reinterpret_cast<const char*>(data), size));
+      ok = gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(data),
+                                    length, baseDir);
     }
     if (!ok) fail(explainTinygltfError(err));
     if (!warn.empty()) {
@@ -193,7 +239,6 @@ class Loader {
     return std::move(scene_);
   }
 
- private:
   [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
 
   // double -> float without undefined behaviour: NaN, Inf and values beyond the
@@ -212,20 +257,66 @@ class Loader {
   }
 
   // A GLB's 12-byte header: magic "glTF", version 2, total length = file size.
-  void checkGlbHeader() const {
-    std::ifstream in(path_, std::ios::binary);
-    unsigned char h[12] = {};
-    in.read(reinterpret_cast<char*>(h), 12);
-    const auto got = static_cast<size_t>(in.gcount());
-    std::error_code ec;
-    const auto size = static_cast<size_t>(fs::file_size(path_, ec));
-    if (got < 12) fail(strf("truncated GLB: %zu bytes, shorter than the 12-byte header", size));
+  void checkGlbHeader(const unsigned char* h, size_t size) const {
+    if (size < 12) fail(strf("truncated GLB: %zu bytes, shorter than the 12-byte header", size));
     if (std::memcmp(h, "glTF", 4) != 0) fail("not a GLB file (bad magic)");
-    const uint32_t version = h[4] | (h[5] << 8) | (h[6] << 16) | (uint32_t{h[7]} << 24);
-    const uint32_t length = h[8] | (h[9] << 8) | (h[10] << 16) | (uint32_t{h[11]} << 24);
+    const uint32_t version = le32(h + 4);
+    const uint32_t length = le32(h + 8);
     if (version != 2) fail(strf("GLB version %u is not supported (expected 2)", version));
     if (length > size)
       fail(strf("truncated GLB: header says %u bytes, the file has %zu", length, size));
+  }
+
+  static uint32_t le32(const unsigned char* p) {
+    return p[0] | (p[1] << 8) | (p[2] << 16) | (uint32_t{p[3]} << 24);
+  }
+
+  // The JSON chunk of a GLB whose header passed checkGlbHeader (empty when the
+  // chunk is malformed: tinygltf says why).
+  static std::string_view glbJson(const unsigned char* data, size_t size) {
+    if (size < 20) return {};
+    const uint32_t length = le32(data + 12);
+    if (length > size - 20) return {};
+    return std::string_view(reinterpret_cast<const char*>(data + 20), length);
+  }
+
+  // tinygltf turns "extras" and "extensions" into its Value tree recursively, one
+  // stack frame per level: a file nested thousands deep would overflow the stack.
+  // No glTF needs more than a few dozen levels.
+  void checkJsonDepth(std::string_view json) const {
+    int depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < json.size(); ++i) {
+      const char c = json[i];
+      if (inString) {
+        if (c == '\\')
+          ++i;
+        else if (c == '"')
+          inString = false;
+      } else if (c == '"') {
+        inString = true;
+      } else if (c == '[' || c == '{') {
+        if (++depth > kMaxJsonDepth)
+          fail(strf("JSON nested deeper than %d levels (at byte %zu)", kMaxJsonDepth, i));
+      } else if (c == ']' || c == '}') {
+        --depth;
+      }
+    }
+  }
+
+  // File callbacks for loading from memory: every external URI is refused.
+  static tinygltf::FsCallbacks noFiles() {
+    tinygltf::FsCallbacks fs{};
+    fs.FileExists = [](const std::string&, void*) { return false; };
+    fs.ExpandFilePath = [](const std::string& p, void*) { return p; };
+    fs.ReadWholeFile = [](std::vector<unsigned char>*, std::string* err, const std::string& p,
+                          void*) {
+      if (err) *err += "external file '" + p + "' is not read when loading from memory\n";
+      return false;
+    };
+    fs.WriteWholeFile = [](std::string*, const std::string&, const std::vector<unsigned char>&,
+                           void*) { return false; };
+    return fs;
   }
 
   // tinygltf's messages, made one line and specific where they are not.
@@ -850,6 +941,11 @@ class Loader {
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
   return Loader(path, options).run();
+}
+
+Scene loadGltfFromMemory(const void* data, size_t size, const std::string& name,
+                         const LoadOptions& options) {
+  return Loader(name, options).runFromMemory(static_cast<const unsigned char*>(data), size);
 }
 
 }  // namespace voxgi::scene

@@ -632,5 +632,58 @@ INSTANTIATE_TEST_SUITE_P(Corpus, MalformedTest, ::testing::ValuesIn(corpusFiles(
                            return n;
                          });
 
+// --- loading from memory (the fuzzer's entry point) -------------------------------
+
+// What loadGltfFromMemory says about `bytes` named `name`: "" when it loads.
+std::string memoryError(const std::string& bytes, const std::string& name) {
+  try {
+    loadGltfFromMemory(bytes.data(), bytes.size(), name);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Every corpus file is refused from memory exactly as from its file, so fuzzing the
+// memory path fuzzes what `voxgi render` runs. Files with external URIs are the
+// exception: from memory those are refused for the reference itself.
+TEST(GltfLoaderMemory, CorpusRefusedAsFromFile) {
+  for (const std::string& name : corpusFiles()) {
+    SCOPED_TRACE(name);
+    const std::string path = malformedDir() + "/" + name;
+    const std::string bytes = readFile(path);
+    const std::string fromFile = problem(loadError(path), path);
+    const std::string fromMemory = memoryError(bytes, name);
+    ASSERT_EQ(fromMemory.rfind(name + ": ", 0), 0u) << fromMemory;
+    const bool external = bytes.find("\"uri\": \"missing") != std::string::npos;
+    if (!external) {
+      EXPECT_EQ(problem(fromMemory, name), fromFile);
+    }
+  }
+}
+
+TEST(GltfLoaderMemory, ValidScenesLoadAsFromFile) {
+  for (const char* name : {"quad.gltf", "quad_normals.gltf", "textured.gltf", "quad.glb"}) {
+    SCOPED_TRACE(name);
+    const std::string path = malformedDir() + "/valid/" + name;
+    const std::string bytes = readFile(path);
+    const Scene a = loadGltf(path);
+    const Scene b = loadGltfFromMemory(bytes.data(), bytes.size(), name);
+    ASSERT_EQ(a.vertices.size(), b.vertices.size());
+    for (size_t i = 0; i < a.vertices.size(); ++i)
+      EXPECT_EQ(a.vertices[i].position, b.vertices[i].position);
+    EXPECT_EQ(a.indices, b.indices);
+    EXPECT_EQ(a.textures.size(), b.textures.size());
+  }
+}
+
+// From memory, no file is opened: an external buffer is refused by name.
+TEST(GltfLoaderMemory, ExternalFilesNotRead) {
+  const std::string bytes = readFile(malformedDir() + "/missing_bin.gltf");
+  const std::string what = memoryError(bytes, "scene.gltf");
+  EXPECT_NE(what.find("missing_buffer.bin"), std::string::npos) << what;
+  EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+}
+
 }  // namespace
 }  // namespace voxgi::scene
