@@ -223,7 +223,8 @@ class Loader {
     traverse();
     // One line each, however many primitives share the problem.
     if (dropped_)
-      warn_(strf("dropped %zu zero-area triangles (%s%s)", dropped_, droppedIn_.front().c_str(),
+      warn_(strf("dropped %zu degenerate triangles: zero area or collinear (%s%s)", dropped_,
+                 droppedIn_.front().c_str(),
                  droppedIn_.size() > 1
                      ? strf(" and %zu more primitives", droppedIn_.size() - 1).c_str()
                      : ""));
@@ -676,6 +677,54 @@ class Loader {
     };
     for (int r : roots) visit(r, glm::dmat4(1.0));
     applyOrigin();
+    dropDegenerateInFloat();
+  }
+
+  // A triangle can have area in double precision and none in the float positions
+  // the GPU gets (corners a few ulps apart, or collinear up to rounding): its normal
+  // there, normalize(cross(e1, e2)), would be NaN or rounding noise. Such triangles
+  // (the float cross product below the float range, or under 1e-6 of |e1| |e2|: an
+  // angle under ~1e-6 rad) are dropped from static draws; animated ones are re-posed
+  // every frame and keep theirs.
+  void dropDegenerateInFloat() {
+    std::vector<uint32_t> indices;
+    std::vector<Draw> draws;
+    indices.reserve(scene_.indices.size());
+    for (size_t di = 0; di < scene_.draws.size(); ++di) {
+      Draw d = scene_.draws[di];
+      const bool moving = moving_[static_cast<size_t>(d.node)] != 0;
+      const auto first = static_cast<uint32_t>(indices.size());
+      size_t degenerate = 0;
+      for (uint32_t i = d.firstIndex; i < d.firstIndex + d.indexCount; i += 3) {
+        const uint32_t a = scene_.indices[i], b = scene_.indices[i + 1], c = scene_.indices[i + 2];
+        if (!moving && degenerateInFloat(scene_.vertices[a].position, scene_.vertices[b].position,
+                                         scene_.vertices[c].position)) {
+          ++degenerate;
+          continue;
+        }
+        indices.insert(indices.end(), {a, b, c});
+      }
+      if (degenerate) {
+        dropped_ += degenerate;
+        if (std::find(droppedIn_.begin(), droppedIn_.end(), drawWhere_[di]) == droppedIn_.end())
+          droppedIn_.push_back(drawWhere_[di]);
+      }
+      d.firstIndex = first;
+      d.indexCount = static_cast<uint32_t>(indices.size()) - first;
+      if (d.indexCount > 0) draws.push_back(d);
+    }
+    scene_.indices.swap(indices);
+    scene_.draws.swap(draws);
+  }
+
+  static bool degenerateInFloat(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    const glm::vec3 e1 = b - a, e2 = c - a;
+    const glm::vec3 n = glm::cross(e1, e2);
+    const float n2 = glm::dot(n, n);
+    if (!(n2 >= std::numeric_limits<float>::min()) || !std::isfinite(n2)) return true;
+    const double bound =
+        1e-12 * static_cast<double>(glm::dot(e1, e1)) * static_cast<double>(glm::dot(e2, e2));
+    return static_cast<double>(n2) <= bound;
   }
 
   // Moves everything to be relative to the centre of the geometry's bounds
@@ -920,6 +969,7 @@ class Loader {
       }
       for (uint32_t k : kept) scene_.indices.push_back(static_cast<uint32_t>(base) + k);
       scene_.draws.push_back(d);
+      drawWhere_.push_back(where);
     }
   }
 
@@ -933,6 +983,7 @@ class Loader {
   std::vector<char> moving_;       // per node: it or an ancestor is animated
   size_t dropped_ = 0, repaired_ = 0;
   std::vector<std::string> droppedIn_, repairedIn_;
+  std::vector<std::string> drawWhere_;  // per draw: "mesh M primitive P"
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };

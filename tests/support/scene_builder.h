@@ -33,6 +33,15 @@ class SceneBuilder {
 // in a scratch directory.
 std::string writeTransformedGltf(const std::string& source, glm::dvec3 translation, double scale);
 
+// Writes a one-primitive .gltf (buffer embedded) into the scratch directory and
+// returns its path: positions and triangle indices as given, normals as given (NaN
+// and zero ones included) or none when empty, a grey double-sided material, a
+// point light of `lightIntensity` candela at (0, 0, 2) and a camera at (0, 0, 3)
+// looking down -z.
+std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>& positions,
+                          const std::vector<uint32_t>& indices,
+                          const std::vector<glm::vec3>& normals = {}, double lightIntensity = 10.0);
+
 }  // namespace voxgi::test
 
 #endif  // VOXGI_TESTS_SCENE_BUILDER_H
