@@ -100,6 +100,10 @@ std::string writeTransformedGltf(const std::string& source, glm::dvec3 translati
                         {"scale", {scale, scale, scale}},
                         {"children", g["scenes"][sceneIndex]["nodes"]}});
   g["scenes"][sceneIndex]["nodes"] = nlohmann::json::array({root});
+  if (g.contains("extensions") && g["extensions"].contains("KHR_lights_punctual"))
+    for (auto& light : g["extensions"]["KHR_lights_punctual"]["lights"])
+      if (light.value("type", "") != "directional")
+        light["intensity"] = light.value("intensity", 1.0) * scale * scale;
   const std::string path =
       scratchDir() + "/" + std::filesystem::path(source).stem().string() + "_moved.gltf";
   std::ofstream(path) << g.dump();

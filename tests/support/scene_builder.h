@@ -30,7 +30,10 @@ class SceneBuilder {
 
 // Writes a copy of a .gltf (buffers embedded as data: URIs) whose scene sits under
 // a new root node with the given translation and uniform scale; returns its path
-// in a scratch directory.
+// in a scratch directory. Cameras and lights move with the scene; point and spot
+// intensities (candela: irradiance falls off as 1/distance^2) are multiplied by
+// scale^2, so that the copy renders the same image. Directional lights (lux) and
+// emissive surfaces (radiance) need no change.
 std::string writeTransformedGltf(const std::string& source, glm::dvec3 translation, double scale);
 
 // Writes a one-primitive .gltf (buffer embedded) into the scratch directory and
