@@ -531,6 +531,15 @@ int Viewer::run() {
   sceneStamp_ = fileStamp(scenePath_);
   scene_ = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
 
+  // X11 keeps a window's sides in 16 bits and truncates larger ones instead of
+  // refusing them (the software rasterizer then fails at the first swap, in Xlib);
+  // no GL here renders a side over 16384 anyway. Refused before any window opens;
+  // sizes within it meet the renderer's memory check.
+  constexpr int kMaxWindowSide = 16384;
+  if (options_.render.width > kMaxWindowSide || options_.render.height > kMaxWindowSide)
+    throw Error(strf("--size %dx%d: larger than the %dx%d window limit", options_.render.width,
+                     options_.render.height, kMaxWindowSide, kMaxWindowSide));
+
   gl::ContextOptions co;
   co.backend = gl::Backend::kGlfw;
   co.width = options_.render.width;

@@ -285,6 +285,20 @@ TEST(Viewer, SceneFileChangedUnderIt) {
   EXPECT_EQ(stats["gl_errors"], 0);
 }
 
+// Sizes beyond what a window or the memory budget can hold: one line, exit 1, no
+// X error.
+TEST(Viewer, AbsurdSizesAreRefused) {
+  VOXGI_REQUIRE_XVFB();
+  for (const char* size : {"100000x100000", "16384x16384"}) {
+    SCOPED_TRACE(size);
+    const auto r =
+        runCommand("xvfb-run -a " + voxgiBinary() + " view --size " + size + " --frames 2");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(std::string("size ") + size), std::string::npos) << r.output;
+  }
+}
+
 // The window resized from outside (as a window manager would): the render targets
 // follow the framebuffer, with no GL error.
 TEST(Viewer, FollowsWindowResize) {
