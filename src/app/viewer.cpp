@@ -129,7 +129,9 @@ class Viewer {
 
   void apply(const Action& a);
   void selectSlot(int slot);
+  void checkFiles();
   void checkShaders();
+  void checkScene();
   void flyCamera(float seconds);
   void drawPanel();
   void drawKnobs();
@@ -148,6 +150,7 @@ class Viewer {
   std::unique_ptr<FlyCamera> camera_;
   std::unique_ptr<ImGuiLayer> imgui_;
   std::string scenePath_;
+  fs::file_time_type sceneStamp_;  // of the scene on screen; min() when it was missing
 
   std::vector<Action> pendingActions_;
   bool panel_ = true;
@@ -164,6 +167,8 @@ class Viewer {
   int resizes_ = 0;
   int reloadsOk_ = 0, reloadsFailed_ = 0;
   std::string shaderError_, lastReloadError_;
+  int sceneReloadsOk_ = 0, sceneReloadsFailed_ = 0;
+  std::string sceneError_;
   std::vector<std::string> screenshots_;
   std::deque<FrameSample> history_;
   std::vector<double> frameMs_;
@@ -237,10 +242,48 @@ void Viewer::apply(const Action& a) {
   }
 }
 
-void Viewer::checkShaders() {
+void Viewer::checkFiles() {
   const auto now = Clock::now();
   if (msBetween(lastReload_, now) < kReloadIntervalMs) return;
   lastReload_ = now;
+  checkScene();
+  checkShaders();
+}
+
+fs::file_time_type fileStamp(const std::string& path) {
+  std::error_code ec;
+  const fs::file_time_type t = fs::last_write_time(path, ec);
+  return ec ? fs::file_time_type::min() : t;
+}
+
+// The scene file changed on disk, or went away: load it again. A file that loads
+// replaces the scene and keeps the view (camera, mode, size, tonemap); one that
+// does not leaves the last good scene on screen, with the error in the log, the
+// panel and the stats. Each change is tried once (a half-written file is tried
+// again when the write completes and its time changes).
+void Viewer::checkScene() {
+  const fs::file_time_type stamp = fileStamp(scenePath_);
+  if (stamp == sceneStamp_) return;
+  sceneStamp_ = stamp;
+  try {
+    auto fresh = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+    auto renderer = std::make_unique<render::Renderer>(*programs_, *fresh, renderer_->settings());
+    renderer->setTonemapSettings(renderer_->tonemapSettings());
+    renderer_ = std::move(renderer);  // the old renderer goes before the scene it reads
+    scene_ = std::move(fresh);
+    ++sceneReloadsOk_;
+    sceneError_.clear();
+    logInfo(strf("view: frame %d: reloaded the scene (%zu triangles)", frame_,
+                 scene_->triangleCount()));
+  } catch (const Error& e) {
+    ++sceneReloadsFailed_;
+    sceneError_ = e.what();
+    logInfo(strf("view: frame %d: scene reload failed, the last good scene stays: %s", frame_,
+                 e.what()));
+  }
+}
+
+void Viewer::checkShaders() {
   const gl::ProgramCache::ReloadReport r = programs_->reloadChanged();
   if (r.rebuilt == 0 && r.failed == 0) return;
   reloadsOk_ += r.rebuilt;
@@ -392,6 +435,12 @@ void Viewer::drawPanel() {
       ImGui::TextDisabled("the last good program keeps running");
     }
   }
+  if (!sceneError_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
+    ImGui::TextWrapped("%s", sceneError_.c_str());
+    ImGui::PopStyleColor();
+    ImGui::TextDisabled("the last good scene stays");
+  }
   if (ImGui::CollapsingHeader("Scene facts")) {
     const scene::Scene& s = *scene_;
     const SceneFacts f(s);
@@ -458,6 +507,9 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["reloads_ok"] = reloadsOk_;
   stats["reloads_failed"] = reloadsFailed_;
   stats["last_reload_error"] = lastReloadError_;
+  stats["scene_reloads_ok"] = sceneReloadsOk_;
+  stats["scene_reloads_failed"] = sceneReloadsFailed_;
+  stats["scene_error"] = sceneError_;
   stats["screenshots"] = screenshots_;
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
   stats["gl_errors"] = gl::debugErrorCount();
@@ -476,7 +528,17 @@ int Viewer::run() {
     throw Error(options_.screenshotDir + ": not a folder (--screenshot-dir)");
   if (!options_.stats.empty()) image::checkWritable(options_.stats);
   scenePath_ = options_.scene.empty() ? defaultScenePath() : options_.scene;
+  sceneStamp_ = fileStamp(scenePath_);
   scene_ = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+
+  // X11 keeps a window's sides in 16 bits and truncates larger ones instead of
+  // refusing them (the software rasterizer then fails at the first swap, in Xlib);
+  // no GL here renders a side over 16384 anyway. Refused before any window opens;
+  // sizes within it meet the renderer's memory check.
+  constexpr int kMaxWindowSide = 16384;
+  if (options_.render.width > kMaxWindowSide || options_.render.height > kMaxWindowSide)
+    throw Error(strf("--size %dx%d: larger than the %dx%d window limit", options_.render.width,
+                     options_.render.height, kMaxWindowSide, kMaxWindowSide));
 
   gl::ContextOptions co;
   co.backend = gl::Backend::kGlfw;
@@ -540,7 +602,7 @@ int Viewer::run() {
       pendingActions_.push_back(options_.keys[nextScripted_++].action);
     for (const Action& a : std::exchange(pendingActions_, {})) apply(a);
     if (context_->shouldClose()) break;
-    checkShaders();
+    checkFiles();
 
     const auto start = Clock::now();
     const float seconds =

@@ -261,7 +261,8 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       rtgi_->execute(ctx, gpuScene_, *octree_, camera.position, accumulated_, hdr_.id());
       break;
     case Mode::kPathtrace:
-      pathtrace_->reset();
+      // Progressive: this frame's samples join those since accumulation restarted.
+      if (!settings_.progressive || accumulated_ == 0) pathtrace_->reset();
       pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }

@@ -83,7 +83,8 @@ class Renderer {
 
   // Renders one frame from the scene's camera and waits for it; stage times land
   // in lastStages(). A pathtrace frame is a whole image of `spp` samples per pixel,
-  // from sample 0.
+  // from sample 0; with `progressive`, it adds `spp` samples to those of the frames
+  // since accumulation restarted (the image is their mean).
   void renderFrame();
   // The same from another camera (the viewer's).
   void renderFrame(const scene::Camera& camera);

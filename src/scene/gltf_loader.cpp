@@ -1,6 +1,7 @@
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <set>
+#include <string_view>
 
 #include <stb_image.h>
 #include <tiny_gltf.h>
@@ -21,6 +23,10 @@ namespace voxgi::scene {
 namespace {
 
 namespace fs = std::filesystem;
+
+// tinygltf takes lengths as unsigned int.
+constexpr uint64_t kMaxFileBytes = 0xffffffffu;
+constexpr int kMaxJsonDepth = 256;
 
 const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
                                                   "KHR_materials_emissive_strength"};
@@ -139,25 +145,65 @@ class Loader {
  public:
   Loader(const std::string& path, const LoadOptions& opt) : path_(path), opt_(opt) {}
 
+  // From a file: read whole, then parsed as from memory with external URIs
+  // resolved next to it.
   Scene run() {
     std::error_code ec;
     if (!fs::exists(path_, ec)) fail("no such file");
     if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    std::vector<unsigned char> bytes;
+    readWholeFile(&bytes);
+    std::string baseDir = fs::path(path_).parent_path().string();
+    return parse(bytes.data(), bytes.size(), baseDir.empty() ? "." : baseDir, true);
+  }
+
+  // From memory: the same checks; no other file is ever opened.
+  Scene runFromMemory(const unsigned char* data, size_t size) {
+    return parse(data, size, "", false);
+  }
+
+ private:
+  void readWholeFile(std::vector<unsigned char>* out) const {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) fail(std::string("cannot open: ") + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    if (size < 0) fail("cannot read (not a seekable file)");
+    if (static_cast<uint64_t>(size) > kMaxFileBytes)
+      fail(strf("%lld bytes: larger than the %llu-byte limit of a glTF file here",
+                static_cast<long long>(size), static_cast<unsigned long long>(kMaxFileBytes)));
+    out->resize(static_cast<size_t>(size));
+    in.seekg(0);
+    if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), size))
+      fail(std::string("read failed: ") + std::strerror(errno));
+  }
+
+  Scene parse(const unsigned char* data, size_t size, const std::string& baseDir,
+              bool externalFiles) {
+    if (size > kMaxFileBytes)
+      fail(strf("%zu bytes: larger than the %llu-byte limit of a glTF file here", size,
+                static_cast<unsigned long long>(kMaxFileBytes)));
     const std::string ext = fs::path(path_).extension().string();
+    std::string lower = ext;
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    if (lower != ".glb" && lower != ".gltf")
+      fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
+    if (size == 0) fail("empty file (0 bytes)");
     tinygltf::TinyGLTF gltf;
     ImageLoaderState state{opt_.maxTextureSize, &model_};
     gltf.SetImageLoader(loadImage, &state);
+    if (!externalFiles) gltf.SetFsCallbacks(noFiles());
     std::string err, warn;
     bool ok = false;
-    std::string lower = ext;
-    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    const auto length = static_cast<unsigned int>(size);
     if (lower == ".glb") {
-      checkGlbHeader();
-      ok = gltf.LoadBinaryFromFile(&model_, &err, &warn, path_);
-    } else if (lower == ".gltf") {
-      ok = gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+      checkGlbHeader(data, size);
+      checkJsonDepth(glbJson(data, size));
+      ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, data, length, baseDir);
     } else {
-      fail("unknown scene format '" + ext + "' (expected .gltf or .glb)");
+      checkJsonDepth(std::string_view(reinterpret_cast<const char*>(data), size));
+      ok = gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(data),
+                                    length, baseDir);
     }
     if (!ok) fail(explainTinygltfError(err));
     if (!warn.empty()) {
@@ -177,7 +223,8 @@ class Loader {
     traverse();
     // One line each, however many primitives share the problem.
     if (dropped_)
-      warn_(strf("dropped %zu zero-area triangles (%s%s)", dropped_, droppedIn_.front().c_str(),
+      warn_(strf("dropped %zu degenerate triangles: zero area or collinear (%s%s)", dropped_,
+                 droppedIn_.front().c_str(),
                  droppedIn_.size() > 1
                      ? strf(" and %zu more primitives", droppedIn_.size() - 1).c_str()
                      : ""));
@@ -193,7 +240,6 @@ class Loader {
     return std::move(scene_);
   }
 
- private:
   [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
 
   // double -> float without undefined behaviour: NaN, Inf and values beyond the
@@ -212,20 +258,66 @@ class Loader {
   }
 
   // A GLB's 12-byte header: magic "glTF", version 2, total length = file size.
-  void checkGlbHeader() const {
-    std::ifstream in(path_, std::ios::binary);
-    unsigned char h[12] = {};
-    in.read(reinterpret_cast<char*>(h), 12);
-    const auto got = static_cast<size_t>(in.gcount());
-    std::error_code ec;
-    const auto size = static_cast<size_t>(fs::file_size(path_, ec));
-    if (got < 12) fail(strf("truncated GLB: %zu bytes, shorter than the 12-byte header", size));
+  void checkGlbHeader(const unsigned char* h, size_t size) const {
+    if (size < 12) fail(strf("truncated GLB: %zu bytes, shorter than the 12-byte header", size));
     if (std::memcmp(h, "glTF", 4) != 0) fail("not a GLB file (bad magic)");
-    const uint32_t version = h[4] | (h[5] << 8) | (h[6] << 16) | (uint32_t{h[7]} << 24);
-    const uint32_t length = h[8] | (h[9] << 8) | (h[10] << 16) | (uint32_t{h[11]} << 24);
+    const uint32_t version = le32(h + 4);
+    const uint32_t length = le32(h + 8);
     if (version != 2) fail(strf("GLB version %u is not supported (expected 2)", version));
     if (length > size)
       fail(strf("truncated GLB: header says %u bytes, the file has %zu", length, size));
+  }
+
+  static uint32_t le32(const unsigned char* p) {
+    return p[0] | (p[1] << 8) | (p[2] << 16) | (uint32_t{p[3]} << 24);
+  }
+
+  // The JSON chunk of a GLB whose header passed checkGlbHeader (empty when the
+  // chunk is malformed: tinygltf says why).
+  static std::string_view glbJson(const unsigned char* data, size_t size) {
+    if (size < 20) return {};
+    const uint32_t length = le32(data + 12);
+    if (length > size - 20) return {};
+    return std::string_view(reinterpret_cast<const char*>(data + 20), length);
+  }
+
+  // tinygltf turns "extras" and "extensions" into its Value tree recursively, one
+  // stack frame per level: a file nested thousands deep would overflow the stack.
+  // No glTF needs more than a few dozen levels.
+  void checkJsonDepth(std::string_view json) const {
+    int depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < json.size(); ++i) {
+      const char c = json[i];
+      if (inString) {
+        if (c == '\\')
+          ++i;
+        else if (c == '"')
+          inString = false;
+      } else if (c == '"') {
+        inString = true;
+      } else if (c == '[' || c == '{') {
+        if (++depth > kMaxJsonDepth)
+          fail(strf("JSON nested deeper than %d levels (at byte %zu)", kMaxJsonDepth, i));
+      } else if (c == ']' || c == '}') {
+        --depth;
+      }
+    }
+  }
+
+  // File callbacks for loading from memory: every external URI is refused.
+  static tinygltf::FsCallbacks noFiles() {
+    tinygltf::FsCallbacks fs{};
+    fs.FileExists = [](const std::string&, void*) { return false; };
+    fs.ExpandFilePath = [](const std::string& p, void*) { return p; };
+    fs.ReadWholeFile = [](std::vector<unsigned char>*, std::string* err, const std::string& p,
+                          void*) {
+      if (err) *err += "external file '" + p + "' is not read when loading from memory\n";
+      return false;
+    };
+    fs.WriteWholeFile = [](std::string*, const std::string&, const std::vector<unsigned char>&,
+                           void*) { return false; };
+    return fs;
   }
 
   // tinygltf's messages, made one line and specific where they are not.
@@ -585,6 +677,54 @@ class Loader {
     };
     for (int r : roots) visit(r, glm::dmat4(1.0));
     applyOrigin();
+    dropDegenerateInFloat();
+  }
+
+  // A triangle can have area in double precision and none in the float positions
+  // the GPU gets (corners a few ulps apart, or collinear up to rounding): its normal
+  // there, normalize(cross(e1, e2)), would be NaN or rounding noise. Such triangles
+  // (the float cross product below the float range, or under 1e-6 of |e1| |e2|: an
+  // angle under ~1e-6 rad) are dropped from static draws; animated ones are re-posed
+  // every frame and keep theirs.
+  void dropDegenerateInFloat() {
+    std::vector<uint32_t> indices;
+    std::vector<Draw> draws;
+    indices.reserve(scene_.indices.size());
+    for (size_t di = 0; di < scene_.draws.size(); ++di) {
+      Draw d = scene_.draws[di];
+      const bool moving = moving_[static_cast<size_t>(d.node)] != 0;
+      const auto first = static_cast<uint32_t>(indices.size());
+      size_t degenerate = 0;
+      for (uint32_t i = d.firstIndex; i < d.firstIndex + d.indexCount; i += 3) {
+        const uint32_t a = scene_.indices[i], b = scene_.indices[i + 1], c = scene_.indices[i + 2];
+        if (!moving && degenerateInFloat(scene_.vertices[a].position, scene_.vertices[b].position,
+                                         scene_.vertices[c].position)) {
+          ++degenerate;
+          continue;
+        }
+        indices.insert(indices.end(), {a, b, c});
+      }
+      if (degenerate) {
+        dropped_ += degenerate;
+        if (std::find(droppedIn_.begin(), droppedIn_.end(), drawWhere_[di]) == droppedIn_.end())
+          droppedIn_.push_back(drawWhere_[di]);
+      }
+      d.firstIndex = first;
+      d.indexCount = static_cast<uint32_t>(indices.size()) - first;
+      if (d.indexCount > 0) draws.push_back(d);
+    }
+    scene_.indices.swap(indices);
+    scene_.draws.swap(draws);
+  }
+
+  static bool degenerateInFloat(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    const glm::vec3 e1 = b - a, e2 = c - a;
+    const glm::vec3 n = glm::cross(e1, e2);
+    const float n2 = glm::dot(n, n);
+    if (!(n2 >= std::numeric_limits<float>::min()) || !std::isfinite(n2)) return true;
+    const double bound =
+        1e-12 * static_cast<double>(glm::dot(e1, e1)) * static_cast<double>(glm::dot(e2, e2));
+    return static_cast<double>(n2) <= bound;
   }
 
   // Moves everything to be relative to the centre of the geometry's bounds
@@ -829,6 +969,7 @@ class Loader {
       }
       for (uint32_t k : kept) scene_.indices.push_back(static_cast<uint32_t>(base) + k);
       scene_.draws.push_back(d);
+      drawWhere_.push_back(where);
     }
   }
 
@@ -842,6 +983,7 @@ class Loader {
   std::vector<char> moving_;       // per node: it or an ancestor is animated
   size_t dropped_ = 0, repaired_ = 0;
   std::vector<std::string> droppedIn_, repairedIn_;
+  std::vector<std::string> drawWhere_;  // per draw: "mesh M primitive P"
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };
@@ -850,6 +992,11 @@ class Loader {
 
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
   return Loader(path, options).run();
+}
+
+Scene loadGltfFromMemory(const void* data, size_t size, const std::string& name,
+                         const LoadOptions& options) {
+  return Loader(name, options).runFromMemory(static_cast<const unsigned char*>(data), size);
 }
 
 }  // namespace voxgi::scene

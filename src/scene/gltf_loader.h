@@ -9,6 +9,7 @@
 #ifndef VOXGI_SCENE_GLTF_LOADER_H
 #define VOXGI_SCENE_GLTF_LOADER_H
 
+#include <cstddef>
 #include <string>
 
 #include "scene/scene.h"
@@ -22,6 +23,12 @@ struct LoadOptions {
 };
 
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});
+
+// The same from bytes in memory: `name` stands for the path in messages and picks
+// the format by its extension (.gltf or .glb). No other file is read: external
+// buffers and images are refused (data: URIs and GLB chunks work).
+Scene loadGltfFromMemory(const void* data, size_t size, const std::string& name,
+                         const LoadOptions& options = {});
 
 }  // namespace voxgi::scene
 

@@ -2,7 +2,9 @@
 // run (30 frames, mode keys, exposure keys, screenshots) matches the headless render
 // of the same view; a shader broken while the viewer runs is reported with
 // file:line, the viewer keeps rendering with the last good program, and recovers
-// when the file is restored; SIGTERM and the quit key end the run cleanly.
+// when the file is restored (or comes back after being deleted); a scene file
+// changed under the viewer is reloaded, or reported while the last good scene
+// stays; SIGTERM and the quit key end the run cleanly.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -202,6 +204,101 @@ TEST(Viewer, BrokenShaderKeepsRunningAndRecovers) {
                 "raster.frag:" + std::to_string(line) + ":"),
             std::string::npos);
   EXPECT_EQ(stats["gl_errors"], 0);
+}
+
+// A shader file deleted while the viewer runs: the reload fails naming the file,
+// the last good program keeps rendering, and the file's return is picked up.
+TEST(Viewer, DeletedShaderKeepsRunningAndRecovers) {
+  VOXGI_REQUIRE_XVFB();
+  const std::string dir = scratchDir();
+  fs::copy(sourceDir() + "/shaders", dir + "/shaders", fs::copy_options::recursive);
+  const std::string frag = dir + "/shaders/render/raster.frag";
+  const std::string original = readText(frag);
+
+  LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec env VOXGI_SHADER_DIR=" + dir +
+                     "/shaders " + voxgiBinary() + " view --size 96x72 --stats " + dir +
+                     "/s.json'");
+  std::string failed, recovered;
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
+  ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
+
+  fs::remove(frag);
+  ASSERT_TRUE(viewer.waitFor("shader reload failed", &failed)) << viewer.output();
+  EXPECT_NE(failed.find("raster.frag: cannot read shader file"), std::string::npos) << failed;
+  EXPECT_NE(failed.find("last good program keeps running"), std::string::npos) << failed;
+
+  std::ofstream(frag) << original;
+  ASSERT_TRUE(viewer.waitFor("program(s)", &recovered)) << viewer.output();
+  EXPECT_GT(frameOf(recovered), frameOf(failed)) << "frames rendered between";
+  kill(pid, SIGTERM);
+  EXPECT_EQ(viewer.finish(), 0) << viewer.output();
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_GE(stats["reloads_failed"].get<int>(), 1);
+  EXPECT_GE(stats["reloads_ok"].get<int>(), 1);
+  EXPECT_EQ(stats["gl_errors"], 0);
+}
+
+// The scene file changed under the viewer: a broken version is reported and the
+// last good scene stays on screen; a good one replaces it; a deleted file is
+// reported like a broken one. The viewer renders throughout.
+TEST(Viewer, SceneFileChangedUnderIt) {
+  VOXGI_REQUIRE_XVFB();
+  const std::string dir = scratchDir();
+  const std::string valid = testDataDir() + "/malformed/valid";
+  const std::string path = dir + "/scene.gltf";
+  fs::copy_file(valid + "/quad.gltf", path);
+
+  LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec " + voxgiBinary() + " view " +
+                     path + " --size 96x72 --stats " + dir + "/s.json'");
+  std::string line;
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
+  ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
+
+  // Written elsewhere and renamed into place, as editors save.
+  auto replace = [&](const std::string& text) {
+    std::ofstream(dir + "/next.gltf") << text;
+    fs::rename(dir + "/next.gltf", path);
+  };
+  replace("{ \"asset\": ");
+  ASSERT_TRUE(viewer.waitFor("scene reload failed", &line)) << viewer.output();
+  EXPECT_NE(line.find(path + ": "), std::string::npos) << line;
+  EXPECT_NE(line.find("last good scene stays"), std::string::npos) << line;
+  const int brokenAt = frameOf(line);
+
+  replace(readText(valid + "/triangle.gltf"));
+  ASSERT_TRUE(viewer.waitFor("reloaded the scene", &line)) << viewer.output();
+  EXPECT_NE(line.find("(1 triangles)"), std::string::npos) << line;
+  EXPECT_GT(frameOf(line), brokenAt) << "frames rendered between";
+
+  fs::remove(path);
+  ASSERT_TRUE(viewer.waitFor("scene reload failed", &line)) << viewer.output();
+  EXPECT_NE(line.find("no such file"), std::string::npos) << line;
+  kill(pid, SIGTERM);
+  EXPECT_EQ(viewer.finish(), 0) << viewer.output();
+
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["ended_by"], "signal");
+  EXPECT_EQ(stats["scene_reloads_ok"], 1);
+  EXPECT_EQ(stats["scene_reloads_failed"], 2);
+  EXPECT_NE(stats["scene_error"].get<std::string>().find("no such file"), std::string::npos);
+  EXPECT_GT(stats["frames"].get<int>(), frameOf(line));
+  EXPECT_EQ(stats["gl_errors"], 0);
+}
+
+// Sizes beyond what a window or the memory budget can hold: one line, exit 1, no
+// X error.
+TEST(Viewer, AbsurdSizesAreRefused) {
+  VOXGI_REQUIRE_XVFB();
+  for (const char* size : {"100000x100000", "16384x16384"}) {
+    SCOPED_TRACE(size);
+    const auto r =
+        runCommand("xvfb-run -a " + voxgiBinary() + " view --size " + size + " --frames 2");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(std::string("size ") + size), std::string::npos) << r.output;
+  }
 }
 
 // The window resized from outside (as a window manager would): the render targets

@@ -100,8 +100,81 @@ std::string writeTransformedGltf(const std::string& source, glm::dvec3 translati
                         {"scale", {scale, scale, scale}},
                         {"children", g["scenes"][sceneIndex]["nodes"]}});
   g["scenes"][sceneIndex]["nodes"] = nlohmann::json::array({root});
+  if (g.contains("extensions") && g["extensions"].contains("KHR_lights_punctual"))
+    for (auto& light : g["extensions"]["KHR_lights_punctual"]["lights"])
+      if (light.value("type", "") != "directional")
+        light["intensity"] = light.value("intensity", 1.0) * scale * scale;
   const std::string path =
       scratchDir() + "/" + std::filesystem::path(source).stem().string() + "_moved.gltf";
+  std::ofstream(path) << g.dump();
+  return path;
+}
+
+std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>& positions,
+                          const std::vector<uint32_t>& indices,
+                          const std::vector<glm::vec3>& normals, double lightIntensity) {
+  using nlohmann::json;
+  std::string bin;
+  auto append = [&bin](const void* data, size_t bytes) {
+    bin.append(static_cast<const char*>(data), bytes);
+  };
+  json views = json::array(), accessors = json::array(), attributes = json::object();
+  auto addVec3 = [&](const std::vector<glm::vec3>& v, const char* attribute) {
+    const size_t offset = bin.size();
+    append(v.data(), v.size() * sizeof(glm::vec3));
+    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bin.size() - offset}});
+    json a = {{"bufferView", views.size() - 1},
+              {"componentType", 5126},
+              {"count", v.size()},
+              {"type", "VEC3"}};
+    if (std::string(attribute) == "POSITION") {
+      glm::vec3 lo(1e30f), hi(-1e30f);
+      for (const glm::vec3& p : v) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      a["min"] = {lo.x, lo.y, lo.z};
+      a["max"] = {hi.x, hi.y, hi.z};
+    }
+    accessors.push_back(a);
+    attributes[attribute] = accessors.size() - 1;
+  };
+  addVec3(positions, "POSITION");
+  if (!normals.empty()) addVec3(normals, "NORMAL");
+  const size_t offset = bin.size();
+  append(indices.data(), indices.size() * sizeof(uint32_t));
+  views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bin.size() - offset}});
+  accessors.push_back({{"bufferView", views.size() - 1},
+                       {"componentType", 5125},
+                       {"count", indices.size()},
+                       {"type", "SCALAR"}});
+  const json g = {
+      {"asset", {{"version", "2.0"}}},
+      {"extensionsUsed", {"KHR_lights_punctual"}},
+      {"extensions",
+       {{"KHR_lights_punctual",
+         {{"lights", {{{"type", "point"}, {"intensity", lightIntensity}}}}}}}},
+      {"buffers",
+       {{{"byteLength", bin.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(bin)}}}},
+      {"bufferViews", views},
+      {"accessors", accessors},
+      {"materials",
+       {{{"doubleSided", true},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.7, 0.7, 0.7, 1.0}}, {"metallicFactor", 0.0}}}}}},
+      {"meshes",
+       {{{"primitives",
+          {{{"attributes", attributes}, {"indices", accessors.size() - 1}, {"material", 0}}}}}}},
+      {"cameras", {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.01}}}}}},
+      {"nodes",
+       {{{"mesh", 0}},
+        {{"camera", 0}, {"translation", {0.0, 0.0, 3.0}}},
+        {{"translation", {0.0, 0.0, 2.0}},
+         {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}}},
+      {"scenes", {{{"nodes", {0, 1, 2}}}}},
+      {"scene", 0}};
+  const std::string path = scratchDir() + "/" + name;
   std::ofstream(path) << g.dump();
   return path;
 }

@@ -30,8 +30,20 @@ class SceneBuilder {
 
 // Writes a copy of a .gltf (buffers embedded as data: URIs) whose scene sits under
 // a new root node with the given translation and uniform scale; returns its path
-// in a scratch directory.
+// in a scratch directory. Cameras and lights move with the scene; point and spot
+// intensities (candela: irradiance falls off as 1/distance^2) are multiplied by
+// scale^2, so that the copy renders the same image. Directional lights (lux) and
+// emissive surfaces (radiance) need no change.
 std::string writeTransformedGltf(const std::string& source, glm::dvec3 translation, double scale);
+
+// Writes a one-primitive .gltf (buffer embedded) into the scratch directory and
+// returns its path: positions and triangle indices as given, normals as given (NaN
+// and zero ones included) or none when empty, a grey double-sided material, a
+// point light of `lightIntensity` candela at (0, 0, 2) and a camera at (0, 0, 3)
+// looking down -z.
+std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>& positions,
+                          const std::vector<uint32_t>& indices,
+                          const std::vector<glm::vec3>& normals = {}, double lightIntensity = 10.0);
 
 }  // namespace voxgi::test
 

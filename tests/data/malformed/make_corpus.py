@@ -147,7 +147,11 @@ def to_json(g):
 
 def glb(g, bin_data):
     """A .glb from a dict whose buffer 0 has no uri, with bin_data as its BIN chunk."""
-    text = pad4(json.dumps(g, separators=(",", ":")).encode(), b" ")
+    return glb_from_text(json.dumps(g, separators=(",", ":")).encode(), bin_data)
+
+
+def glb_from_text(json_text, bin_data):
+    text = pad4(json_text, b" ")
     body = pad4(bin_data)
     chunks = (struct.pack("<I", len(text)) + b"JSON" + text + struct.pack("<I", len(body)) + b"BIN\0" + body)
     return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
@@ -189,6 +193,24 @@ case("empty.gltf", "empty")(lambda: b"")
 case("not_json.gltf", "parse error")(lambda: b"This is not a glTF file, just text.\n")
 case("truncated_json.gltf", "parse error")(lambda: (lambda t: t[: len(t) // 2])(to_json(scene())))
 case("json_array.gltf", "not a JSON object")(lambda: to_json([scene()]))
+
+
+# tinygltf converts "extras" recursively: nesting this deep would overflow the stack.
+DEEP = b"[" * 100000 + b"]" * 100000
+
+
+@case("deep_nesting.gltf", "nested deeper than")
+def _():
+    g = scene()
+    g["extras"] = "__VOXGI_DEEP__"
+    return to_json(g).replace(b'"__VOXGI_DEEP__"', DEEP)
+
+
+@case("deep_nesting.glb", "nested deeper than")
+def _():
+    g, data = glb_scene()
+    g["extras"] = "__VOXGI_DEEP__"
+    return glb_from_text(json.dumps(g, separators=(",", ":")).encode().replace(b'"__VOXGI_DEEP__"', DEEP), data)
 
 
 @case("missing_asset.gltf", "\"asset\"")
