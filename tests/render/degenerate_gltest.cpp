@@ -108,7 +108,8 @@ TEST_F(DegenerateRenderTest, LoadedSceneHasNoNanPixel) {
     const scene::Scene s =
         scene::loadGltf(writeMeshGltf("degenerate_render.gltf", kPositions, kIndices,
                                       withNormals ? normals() : std::vector<glm::vec3>{}));
-    for (render::Mode mode : {render::Mode::kRaster, render::Mode::kPathtrace}) {
+    for (render::Mode mode :
+         {render::Mode::kRaster, render::Mode::kRtgi, render::Mode::kPathtrace}) {
       SCOPED_TRACE(std::string(render::modeName(mode)) + (withNormals ? "" : ", no normals"));
       const std::vector<float> px = render(s, mode);
       EXPECT_EQ(nonFinite(px), 0u);
@@ -137,7 +138,7 @@ TEST_F(DegenerateRenderTest, UnfilteredTrianglesGiveNoNanPixel) {
   scene.camera.position = glm::vec3(0, 0, 3);
   scene.camera.forward = glm::vec3(0, 0, -1);
   scene.camera.fromFile = true;
-  for (render::Mode mode : {render::Mode::kRaster, render::Mode::kPathtrace}) {
+  for (render::Mode mode : {render::Mode::kRaster, render::Mode::kRtgi, render::Mode::kPathtrace}) {
     SCOPED_TRACE(render::modeName(mode));
     const std::vector<float> px = render(scene, mode);
     EXPECT_EQ(nonFinite(px), 0u);

@@ -36,8 +36,12 @@ std::vector<float> render(const std::string& path, render::Mode mode, uint32_t s
   rs.mode = mode;
   rs.spp = 16;
   rs.pathtrace.seed = seed;
+  rs.rtgi.seed = seed;
+  rs.octree.seed = seed;
+  rs.voxels = 64;
   render::Renderer r(programs, s, rs);
-  r.renderFrame();
+  // rtgi: a few frames of accumulation, the same random numbers in every variant.
+  for (int f = 0; f < (mode == render::Mode::kRtgi ? 4 : 1); ++f) r.renderFrame();
   return r.readLinear();
 }
 
@@ -99,6 +103,12 @@ class ScaleInvarianceTest : public GlTest {};
 
 TEST_F(ScaleInvarianceTest, CornellRoomPathtrace) {
   expectScaleInvariant(cornellRoom(), render::Mode::kPathtrace);
+}
+
+// rtgi: the grid is fitted to the scene and every ray is marched in voxel units, so
+// the voxels, the rays and the image are the same at any position and scale.
+TEST_F(ScaleInvarianceTest, CornellRoomRtgi) {
+  expectScaleInvariant(cornellRoom(), render::Mode::kRtgi);
 }
 
 TEST_F(ScaleInvarianceTest, CornellRoomRaster) {
