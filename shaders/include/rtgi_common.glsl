@@ -6,7 +6,6 @@
 
 #include "rtgi_shared.h"
 
-layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
 layout(std140, binding = kRtgiParamsBinding) uniform RtgiBlock { RtgiParams rtgi; };
 layout(binding = kGPositionUnit) uniform sampler2D gPosition;
 layout(binding = kGNormalUnit) uniform sampler2D gNormal;
@@ -51,6 +50,47 @@ void seedPixel(ivec2 px, uint stage) {
 // Where rays leave the surface: off it along the normal (see kSurfaceOffsetVoxels).
 vec3 rayOrigin(Surface s) { return s.p + s.n * (kSurfaceOffsetVoxels * octreeVoxelSize()); }
 
-bool outside(ivec2 px) { return px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w); }
+// Interleaving: with N > 1 a pixel traces new rays on every N-th frame only, the
+// pixels of each 4x4 block taking turns in a 4x4 ordered (Bayer) order, so each
+// frame's work is spread evenly over the image. The first frame of an
+// accumulation traces every pixel. Accumulation keeps a sample count per pixel,
+// so the image converges to the same mean, N times slower per frame.
+bool tracesThisFrame(ivec2 px) {
+  uint n = rtgi.work.x;
+  if (n <= 1u || rtgi.frame.x == 0u) return true;
+  const uint bayer[16] = uint[16](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+  uint rank = bayer[(uint(px.y) & 3u) * 4u + (uint(px.x) & 3u)];
+  return ((rank + rtgi.frame.x) & (n - 1u)) == 0u;
+}
+
+bool outside(ivec2 px) {
+  return px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w) || !tracesThisFrame(px);
+}
+
+// The tracing stages run one invocation per pixel that traces this frame, packed:
+// a SIMD vector of a software rasterizer then has all its lanes busy whatever the
+// interleave (a mask over a full-image dispatch would leave most lanes idle).
+// Pixels come block by block (4x4), so neighbouring lanes trace neighbouring pixels.
+// False past the last pixel.
+bool tracePixel(out ivec2 px) {
+  uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kRtgiTraceGroup +
+           gl_LocalInvocationID.x;
+  uint w = rtgi.frame.z;
+  uint h = rtgi.frame.w;
+  uint n = rtgi.work.x;
+  if (n <= 1u || rtgi.frame.x == 0u) {
+    px = ivec2(i % w, i / w);
+    return i < w * h;
+  }
+  // The inverse of tracesThisFrame's pattern: rank -> position in the 4x4 block.
+  const uint where[16] = uint[16](0u, 10u, 2u, 8u, 5u, 15u, 7u, 13u, 1u, 11u, 3u, 9u, 4u, 14u, 6u, 12u);
+  uint perBlock = 16u / n;
+  uint block = i / perBlock;
+  uint blocksX = (w + 3u) / 4u;
+  uint rank = ((n - (rtgi.frame.x & (n - 1u))) & (n - 1u)) + (i % perBlock) * n;
+  uint cell = where[rank];
+  px = ivec2((block % blocksX) * 4u + (cell & 3u), (block / blocksX) * 4u + (cell >> 2u));
+  return block < blocksX * ((h + 3u) / 4u) && px.x < int(w) && px.y < int(h);
+}
 
 #endif  // VOXGI_RTGI_COMMON_GLSL

@@ -18,8 +18,11 @@ VOXGI_CONST uint kGEmissionUnit = 7u;  // rgba16f: emitted radiance
 VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;
 VOXGI_CONST uint kSpecularImage = 2u;
-VOXGI_CONST uint kAccumImage = 3u;      // the running mean (the renderer's HDR target)
-VOXGI_CONST int kMaxExactEmitters = 8;  // RtgiPass::Settings::exactEmitters at most
+VOXGI_CONST uint kAccumImage = 3u;  // the running mean (the renderer's HDR target)
+VOXGI_CONST int kMaxExactEmitters = 8;
+VOXGI_CONST uint kMaxInterleave =
+    16u;  // a 4x4 ordered pattern  // RtgiPass::Settings::exactEmitters at most
+VOXGI_CONST uint kRtgiTraceGroup = 64u;  // tracing stages: 1D groups over packed pixels
 VOXGI_CONST uint kRtgiGroupX = 8u;
 VOXGI_CONST uint kRtgiGroupY = 8u;
 
@@ -41,10 +44,11 @@ struct RtgiParams {
   vec4 cameraRight;    // right * tan(fov/2) * aspect (dvr camera rays)
   vec4 cameraUp;       // up * tan(fov/2)
   vec4 cameraForward;  // w: opacity at which dvr stops
+  uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(RtgiParams) == 96);
+static_assert(sizeof(RtgiParams) == 112);
 }  // namespace voxgi::gpu
 #endif
 

@@ -1,13 +1,17 @@
 #version 450 core
 // rtgi stage "accumulate": emission + direct + indirect + specular of this frame,
 // averaged with the frames before it while camera and scene stay still (a running
-// mean in float: frame k adds (c - mean) / (k + 1)). A non-finite term is dropped
-// rather than poisoning the mean.
-#include "rtgi_shared.h"
+// mean in float: the n-th sample of a pixel adds (c - mean) / n; alpha holds n).
+// Pixels that traced nothing this frame (interleaving) keep their mean. A
+// non-finite term is dropped rather than poisoning the mean.
+#include "scene_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "rtgi_common.glsl"
 
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
-layout(std140, binding = kRtgiParamsBinding) uniform RtgiBlock { RtgiParams rtgi; };
-layout(binding = kGEmissionUnit) uniform sampler2D gEmission;
+
 layout(binding = kDirectImage, rgba16f) uniform readonly image2D directIn;
 layout(binding = kIndirectImage, rgba16f) uniform readonly image2D indirectIn;
 layout(binding = kSpecularImage, rgba16f) uniform readonly image2D specularIn;
@@ -17,14 +21,14 @@ vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isi
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
+  if (outside(px)) return;
   vec3 c = finite(texelFetch(gEmission, px, 0).rgb);
   uint flags = rtgi.counts.z;
   if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, px).rgb);
   if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, px).rgb);
   if ((flags & kRtgiHasSpecular) != 0u) c += finite(imageLoad(specularIn, px).rgb);
-  float k = float(rtgi.frame.x);
-  vec3 mean = k > 0.0 ? imageLoad(accum, px).rgb : vec3(0.0);
-  mean += (c - mean) / (k + 1.0);
-  imageStore(accum, px, vec4(mean, 1.0));
+  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+  float n = previous.a + 1.0;
+  vec3 mean = previous.rgb + (c - previous.rgb) / n;
+  imageStore(accum, px, vec4(mean, n));
 }

@@ -12,12 +12,14 @@
 #include "octree_light.glsl"
 #include "rtgi_common.glsl"
 
+layout(local_size_x = kRtgiTraceGroup) in;
+
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(binding = kIndirectImage, rgba16f) uniform writeonly image2D indirectOut;
 
 void main() {
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (outside(px)) return;
+  ivec2 px;
+  if (!tracePixel(px)) return;
   Pixel p = loadPixel(px);
   vec3 result = vec3(0.0);
   if (p.covered && any(greaterThan(p.s.diffuse, vec3(0.0)))) {

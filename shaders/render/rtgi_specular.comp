@@ -13,12 +13,14 @@
 #include "octree_light.glsl"
 #include "rtgi_common.glsl"
 
+layout(local_size_x = kRtgiTraceGroup) in;
+
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
 
 void main() {
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (outside(px)) return;
+  ivec2 px;
+  if (!tracePixel(px)) return;
   Pixel p = loadPixel(px);
   vec3 result = vec3(0.0);
   bool mirror = p.roughness < kMirrorRoughness;

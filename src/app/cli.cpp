@@ -109,6 +109,9 @@ std::string renderHelp() {
          "rtgi and dvr:\n"
          "  --bounces N       diffuse bounces of indirect light, 0..16 (default 2): the\n"
          "                    pixel's ray gives one, the voxels hold the rest\n"
+         "  --interleave N    each pixel traces new rays every N-th frame (1, 2, 4, 8, 16;\n"
+         "                    default 1): N times less work per frame, N times more\n"
+         "                    frames to converge; the first frame traces every pixel\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces (default 16)\n"
          "  --bounce-rays N   rays per voxel for each voxel bounce (default 16)\n"
          "  --seed S          random seed (as for pathtrace)\n"
@@ -221,6 +224,10 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->revoxelize = true;
   } else if (a == "--bounces") {
     rs->octree.bounces = parseInt("--bounces", value(), 0, 16);
+  } else if (a == "--interleave") {
+    const int n = parseInt("--interleave", value(), 1, 16);
+    if ((n & (n - 1)) != 0) throw UsageError("--interleave: must be 1, 2, 4, 8 or 16");
+    rs->rtgi.interleave = n;
   } else if (a == "--inject-rays") {
     rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
   } else if (a == "--bounce-rays") {

@@ -72,6 +72,10 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
       static_cast<uint32_t>(std::clamp(settings_.exactEmitters, 0, gpu::kMaxExactEmitters)));
   p.camera = glm::vec4(cameraPosition, 1.0f);
+  if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
+      (settings_.interleave & (settings_.interleave - 1)) != 0)
+    throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
+  p.work = glm::uvec4(static_cast<uint32_t>(settings_.interleave), 0u, 0u, 0u);
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
 
   {
@@ -113,10 +117,23 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   glBindImageTexture(gpu::kAccumImage, accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   const auto gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
   const auto gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
+  // Tracing stages: one invocation per pixel that traces this frame, packed.
+  const int n = settings_.interleave;
+  const uint64_t tracing =
+      n <= 1 || frameIndex == 0
+          ? uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height)
+          : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
+                static_cast<uint32_t>((ctx.height + 3) / 4) * static_cast<uint32_t>(16 / n);
+  const uint64_t groups = (tracing + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup;
+  const auto tx = static_cast<GLuint>(std::min<uint64_t>(groups, 65535));
+  const auto ty = static_cast<GLuint>((groups + tx - 1) / tx);
   auto run = [&](const char* name, const gl::Program& program) {
     gl::StageScope stage(ctx.timer, name);
     glUseProgram(program.id());
-    glDispatchCompute(gx, gy, 1);
+    if (&program == &accumulate_)
+      glDispatchCompute(gx, gy, 1);
+    else
+      glDispatchCompute(tx, ty, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
   run("shadows", direct_);

@@ -34,6 +34,7 @@ class RtgiPass {
     bool indirect = true;   // bounces > 0
     bool specular = true;   // and the scene has specular materials
     int exactEmitters = 4;  // up to this many emitters, each gets a shadow ray
+    int interleave = 1;     // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     uint32_t seed = 1;
   };
 
