@@ -35,16 +35,16 @@ FULL = {
                   "sizes": ["100x100", "256x256", "640x360", "1280x720", "1920x1080"],
                   "size_spp": 1},
     "raster": {"sizes": ["100x100", "256x256", "640x360", "1280x720", "1920x1080"]},
-    "rtgi": {"axes": [("--voxels", [64, 128, 256, 512]), ("--bounces", [1, 2, 3]),
-                      ("--cones", [1, 4, 9]), ("--rays", [1, 4, 16]),
-                      ("--accumulate", [1, 4, 16]), ("--march-step", [0.5, 1.0, 2.0])]},
+    "rtgi": {"axes": [("--frames", [1, 4, 16, 64, 256]), ("--voxels", [64, 128, 256]),
+                      ("--bounces", [0, 1, 2, 3]), ("--interleave", [4, 16]),
+                      ("--inject-rays", [4, 64])]},
     "points": {"axes": [("--voxels", [64, 128, 256, 512])]},
     "dvr": {"axes": [("--voxels", [64, 128, 256, 512])]},
 }
 QUICK = {
     "pathtrace": {"spp": [1, 2, 4, 8, 16], "sizes": ["100x100", "256x256"], "size_spp": 1},
     "raster": {"sizes": ["100x100", "256x256"]},
-    "rtgi": {"axes": [("--voxels", [64, 128])]},
+    "rtgi": {"axes": [("--voxels", [64, 128]), ("--frames", [4, 16])]},
     "points": {"axes": [("--voxels", [64, 128])]},
     "dvr": {"axes": [("--voxels", [64, 128])]},
 }
@@ -120,10 +120,13 @@ def grid(mode, spec, flags):
         if not axes:
             points.append((REF_SIZE, ["--frames", "5"], "default", ""))
         # One axis at a time around the binary's defaults (a full product is too big).
+        # rtgi accumulates its frames into one image (its default count unless the
+        # axis is --frames); the other modes render --frames 5 for a median.
+        frames = [] if mode == "rtgi" else ["--frames", "5"]
         for flag, vals in axes:
             for v in vals:
-                points.append((REF_SIZE, [flag, str(v), "--frames", "5"],
-                               f"{flag.strip('-')}{v}", ""))
+                extra = [flag, str(v)] + ([] if flag == "--frames" else frames)
+                points.append((REF_SIZE, extra, f"{flag.strip('-')}{v}", ""))
     return points
 
 
@@ -137,6 +140,11 @@ def pareto(points):
     return front
 
 
+def image_ms(r):
+    """Time to make the image: rtgi accumulates all its frames into it."""
+    return float(r["total_ms"]) if r["mode"] == "rtgi" else float(r["frame_ms"])
+
+
 def plot(rows, outdir):
     import matplotlib
     matplotlib.use("Agg")
@@ -145,7 +153,7 @@ def plot(rows, outdir):
     for scene in SCENES:
         fig, ax = plt.subplots(figsize=(6, 4.2), dpi=100)
         for mode in sorted({r["mode"] for r in rows}):
-            pts = [(float(r["frame_ms"]), float(r["rmse"])) for r in rows
+            pts = [(image_ms(r), float(r["rmse"])) for r in rows
                    if r["scene"] == scene and r["mode"] == mode and r["rmse"] != ""]
             if not pts:
                 continue
@@ -159,7 +167,7 @@ def plot(rows, outdir):
                                     fontsize=6, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("frame time (ms, wall clock)")
+        ax.set_xlabel("time to the image (ms, wall clock; rtgi: all its frames)")
         ax.set_ylabel("RMSE vs path-traced reference (linear)")
         ax.set_title(f"{scene} {REF_SIZE}: error against time\n(lines: each mode's Pareto front)",
                      fontsize=10)
@@ -235,6 +243,9 @@ def main():
     ap.add_argument("--scene", action="append", choices=SCENES,
                     help="only this scene (repeatable); the other scene's rows are kept "
                          "from an earlier sweep.csv in --out")
+    ap.add_argument("--mode", action="append", dest="modes",
+                    help="only this mode (repeatable); other modes' rows are kept from an "
+                         "earlier sweep.csv in --out")
     ap.add_argument("--max-spp", type=int, default=None,
                     help="drop path tracer points above this spp (time-boxed runs)")
     a = ap.parse_args()
@@ -250,9 +261,10 @@ def main():
     scenes = a.scene or SCENES
     kept = []
     old_csv = os.path.join(a.out, "sweep.csv")
-    if a.scene and os.path.exists(old_csv):
+    if (a.scene or a.modes) and os.path.exists(old_csv):
         with open(old_csv) as f:
-            kept = [r for r in csv.DictReader(f) if r["scene"] not in scenes]
+            kept = [r for r in csv.DictReader(f)
+                    if r["scene"] not in scenes or (a.modes and r["mode"] not in a.modes)]
         for r in kept:
             for k, v in r.items():
                 if v not in ("", None):
@@ -264,11 +276,13 @@ def main():
                 r["spp"] = int(r["spp"])
             for k in ("width", "height"):
                 r[k] = int(r[k])
+            if r.get("total_ms") in ("", None):
+                r["total_ms"] = r["frame_ms"]
             refs[r["scene"]] = int(r.get("reference_spp") or 0)
     for scene in scenes:
         ref_exr, ref_png, ref_spp = reference(scene, a.quick)
         refs[scene] = ref_spp
-        for mode in [m for m in spec if m in modes]:
+        for mode in [m for m in spec if m in modes and (not a.modes or m in a.modes)]:
             for size, extra, tag, spp in grid(mode, spec[mode], flags):
                 if a.max_spp and spp != "" and spp > a.max_spp:
                     continue
@@ -277,6 +291,7 @@ def main():
                        "width": stats["size"]["width"],
                        "height": stats["size"]["height"], "params": " ".join(extra),
                        "spp": stats.get("spp", ""), "frame_ms": stats["frame_ms"],
+                       "total_ms": stats["total_ms"], "frames": stats["frames"],
                        "startup_ms": stats["startup_ms"],
                        "samples_per_second": stats.get("samples_per_second", "")}
                 for k, v in stats["stages"].items():

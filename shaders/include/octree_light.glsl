@@ -82,8 +82,9 @@ float emitterHit(GpuEmitter e, vec3 o, vec3 d) {
   vec3 e2 = e.c.xyz - e.a.xyz;
   vec3 pv = cross(d, e2);
   float det = dot(e1, pv);
-  // The front side is the one its winding faces (det < 0 seen from there).
-  if (!(abs(det) > 1e-20) || (!twoSided && det > 0.0)) return -1.0;
+  // det = -dot(d, cross(e1, e2)): positive when the ray meets the side the winding
+  // faces, the side a one-sided emitter lights.
+  if (!(abs(det) > 1e-20) || (!twoSided && det < 0.0)) return -1.0;
   float inv = 1.0 / det;
   vec3 tv = o - e.a.xyz;
   float u = dot(tv, pv) * inv;
