@@ -63,8 +63,24 @@ bool tracesThisFrame(ivec2 px) {
   return ((rank + rtgi.frame.x) & (n - 1u)) == 0u;
 }
 
+#ifdef RTGI_PIXEL_LIST
+layout(std430, binding = kPixelListBinding) readonly buffer PixelList {
+  PixelListHeader pixelHeader;
+  uint pixels[];
+};
+#endif
+#ifdef RTGI_TRACED_IMAGE
+layout(binding = kTracedImage, r8ui) uniform readonly uimage2D tracedIn;
+#endif
+
+bool selectedByList() { return rtgi.work.z != kSelectPattern && rtgi.frame.x != 0u; }
+
 bool outside(ivec2 px) {
-  return px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w) || !tracesThisFrame(px);
+  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return true;
+#ifdef RTGI_TRACED_IMAGE
+  if (selectedByList()) return imageLoad(tracedIn, px).x == 0u;
+#endif
+  return !tracesThisFrame(px);
 }
 
 // The tracing stages run one invocation per pixel that traces this frame, packed:
@@ -78,6 +94,14 @@ bool tracePixel(out ivec2 px) {
   uint w = rtgi.frame.z;
   uint h = rtgi.frame.w;
   uint n = rtgi.work.x;
+#ifdef RTGI_PIXEL_LIST
+  if (selectedByList()) {
+    if (i >= pixelHeader.count.x) return false;
+    uint code = pixels[i];
+    px = ivec2(code & 0xffffu, code >> 16u);
+    return true;
+  }
+#endif
   if (n <= 1u || rtgi.frame.x == 0u) {
     px = ivec2(i % w, i / w);
     return i < w * h;

@@ -19,6 +19,18 @@ VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;
 VOXGI_CONST uint kSpecularImage = 2u;
 VOXGI_CONST uint kAccumImage = 3u;  // the running mean (the renderer's HDR target)
+// Work mask (frame budget): edges of the noisy image, the blurred mask, and which
+// pixels trace this frame; the list of those pixels and a histogram of the mask.
+VOXGI_CONST uint kEdgeImage = 4u;              // r16f
+VOXGI_CONST uint kMaskImage = 5u;              // r16f, in [0, 1)
+VOXGI_CONST uint kTracedImage = 6u;            // r8ui: 1 where the pixel traces this frame
+VOXGI_CONST uint kPixelListBinding = 15u;      // SSBO: PixelList
+VOXGI_CONST uint kMaskHistogramBinding = 16u;  // SSBO: uint[kMaskBins]
+VOXGI_CONST uint kMaskBins = 256u;
+// How the pixels that trace are chosen (RtgiParams::work.z).
+VOXGI_CONST uint kSelectPattern = 0u;  // every interleave-th frame, Bayer order
+VOXGI_CONST uint kSelectMask = 1u;     // the pattern, plus pixels whose mask exceeds work.y
+VOXGI_CONST uint kSelectUniform = 2u;  // the pattern, plus a random work.y of the others
 VOXGI_CONST int kMaxExactEmitters = 8;
 VOXGI_CONST uint kMaxInterleave =
     16u;  // a 4x4 ordered pattern  // RtgiPass::Settings::exactEmitters at most
@@ -44,11 +56,20 @@ struct RtgiParams {
   vec4 cameraRight;    // right * tan(fov/2) * aspect (dvr camera rays)
   vec4 cameraUp;       // up * tan(fov/2)
   vec4 cameraForward;  // w: opacity at which dvr stops
-  uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame
+  uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame;
+                       // y: mask threshold or uniform fraction (float bits); z: kSelect*
+};
+
+// Pixels that trace this frame, appended by rtgi_select.comp; `groups` doubles as
+// the indirect dispatch of the tracing stages.
+struct PixelListHeader {
+  uvec4 groups;  // x: work groups of kRtgiTraceGroup, y 1, z 1
+  uvec4 count;   // x: pixels listed
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(RtgiParams) == 112);
+static_assert(sizeof(PixelListHeader) == 32);
 }  // namespace voxgi::gpu
 #endif
 

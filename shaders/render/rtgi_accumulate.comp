@@ -8,6 +8,7 @@
 #include "lighting.glsl"
 #include "sampling.glsl"
 #include "octree.glsl"
+#define RTGI_TRACED_IMAGE
 #include "rtgi_common.glsl"
 
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;

@@ -11,6 +11,7 @@
 #include "sampling.glsl"
 #include "octree.glsl"
 #include "octree_light.glsl"
+#define RTGI_PIXEL_LIST
 #include "rtgi_common.glsl"
 
 layout(local_size_x = kRtgiTraceGroup) in;

@@ -112,6 +112,12 @@ std::string renderHelp() {
          "  --interleave N    each pixel traces new rays every N-th frame (1, 2, 4, 8, 16;\n"
          "                    default 1): N times less work per frame, N times more\n"
          "                    frames to converge; the first frame traces every pixel\n"
+         "  --target-fps F    hold F frames per second: a PID controller on the frame time\n"
+         "                    sets the share of pixels that trace each frame (at least\n"
+         "                    1/16, an interleave of 16); the extra pixels are those the\n"
+         "                    work mask finds noisy (edges of the noisy image, blurred)\n"
+         "  --budget-select S mask (default) or uniform: how the budget picks its pixels\n"
+         "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces (default 16)\n"
          "  --bounce-rays N   rays per voxel for each voxel bounce (default 16)\n"
          "  --seed S          random seed (as for pathtrace)\n"
@@ -228,6 +234,18 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     const int n = parseInt("--interleave", value(), 1, 16);
     if ((n & (n - 1)) != 0) throw UsageError("--interleave: must be 1, 2, 4, 8 or 16");
     rs->rtgi.interleave = n;
+  } else if (a == "--target-fps") {
+    rs->targetFps = parseFloat("--target-fps", value());
+    if (!(rs->targetFps > 0.0 && rs->targetFps <= 1000.0))
+      throw UsageError("--target-fps: must be in (0, 1000]");
+  } else if (a == "--budget-select") {
+    const std::string v = value();
+    if (v == "mask")
+      rs->rtgi.select = render::RtgiPass::Settings::Select::kMask;
+    else if (v == "uniform")
+      rs->rtgi.select = render::RtgiPass::Settings::Select::kUniform;
+    else
+      throw UsageError("--budget-select: unknown '" + v + "' (mask, uniform)");
   } else if (a == "--inject-rays") {
     rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
   } else if (a == "--bounce-rays") {
@@ -390,6 +408,8 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       o.outputs.push_back(value());
     } else if (a == "--stats") {
       o.stats = value();
+    } else if (a == "--out-mask") {
+      o.maskOutput = value();
     } else if (a == "--frames") {
       o.frames = parseInt("--frames", value(), 1, 100000);
     } else if (a == "--backend") {

@@ -24,6 +24,7 @@ struct RenderOptions {
   gl::Backend backend = gl::Backend::kEgl;
   std::vector<std::string> outputs;  // .png and/or .exr
   std::string stats;                 // .json
+  std::string maskOutput;            // rtgi work mask: .png or .exr
   int frames = 0;                    // 0 until parsed: the mode's default (render::defaultFrames)
   double time = 0.0;                 // animated scenes: the pose of the first frame, seconds
   double fps = 30.0;                 // animated scenes: frame f shows time + f / fps

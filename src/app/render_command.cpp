@@ -74,6 +74,12 @@ int runRender(const RenderOptions& o) {
     image::formatForPath(out);
   }
   if (!o.stats.empty()) image::checkWritable(o.stats);
+  if (!o.maskOutput.empty()) {
+    image::checkWritable(o.maskOutput);
+    image::formatForPath(o.maskOutput);
+    if (o.render.mode != render::Mode::kRtgi || o.render.targetFps <= 0.0)
+      throw UsageError("--out-mask: the work mask exists in rtgi with --target-fps only");
+  }
   const std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
 
   gl::ContextOptions co;
@@ -101,7 +107,7 @@ int runRender(const RenderOptions& o) {
     renderer.setProgress([&bar](int done, int total) { bar.update(done, total); });
   }
 
-  std::vector<double> frameMs;
+  std::vector<double> frameMs, traced;
   std::map<std::string, std::vector<double>> stageMs;
   std::vector<std::string> stageOrder;
   for (int f = 0; f < o.frames; ++f) {
@@ -113,6 +119,7 @@ int runRender(const RenderOptions& o) {
     bar.begin();
     renderer.renderFrame();
     frameMs.push_back(msSince(t));
+    if (const render::RtgiPass* rt = renderer.rtgi()) traced.push_back(rt->lastTracedFraction());
     for (const gl::StageTime& s : renderer.lastStages()) {
       if (!stageMs.count(s.name)) stageOrder.push_back(s.name);
       stageMs[s.name].push_back(s.gpuMs);
@@ -127,6 +134,25 @@ int runRender(const RenderOptions& o) {
     } else {
       const auto px = renderer.readLinear();
       image::writeExr(out, o.render.width, o.render.height, px.data());
+    }
+  }
+
+  if (!o.maskOutput.empty()) {
+    const render::RtgiPass* rt = renderer.rtgi();
+    const std::vector<float> mask = rt->readMask();
+    if (mask.empty())
+      throw Error("--out-mask: no work mask was computed (render more than 1 frame)");
+    std::vector<float> rgba;
+    rgba.reserve(mask.size() * 4);
+    for (float m : mask) rgba.insert(rgba.end(), {m, m, m, 1.0f});
+    if (image::formatForPath(o.maskOutput) == image::Format::kPng) {
+      std::vector<uint8_t> px;
+      px.reserve(rgba.size());
+      for (float v : rgba)
+        px.push_back(static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f));
+      image::writePng(o.maskOutput, rt->maskWidth(), rt->maskHeight(), px.data());
+    } else {
+      image::writeExr(o.maskOutput, rt->maskWidth(), rt->maskHeight(), rgba.data());
     }
   }
 
@@ -168,6 +194,21 @@ int runRender(const RenderOptions& o) {
           strf("pathtrace: %llu of the last frame's paths ran out of loop budget and were "
                "cut short (the image is biased dark)",
                static_cast<unsigned long long>(truncated)));
+  }
+  if (o.render.mode == render::Mode::kRtgi) {
+    stats["interleave"] = renderer.rtgi()->settings().interleave;
+    stats["traced_fraction"] = traced.empty() ? 1.0 : median(traced);
+    if (o.render.targetFps > 0.0)
+      stats["budget"] = {{"target_fps", o.render.targetFps},
+                         {"target_ms", 1000.0 / o.render.targetFps},
+                         {"select", renderer.rtgi()->settings().select ==
+                                            render::RtgiPass::Settings::Select::kUniform
+                                        ? "uniform"
+                                        : "mask"},
+                         {"frame_ms_median", median(frameMs)},
+                         {"frame_ms_each", frameMs},
+                         {"traced_fraction_each", traced},
+                         {"traced_fraction_median", traced.empty() ? 1.0 : median(traced)}};
   }
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);
@@ -248,7 +289,12 @@ int runRender(const RenderOptions& o) {
     for (const gl::StageTime& st : renderer.startupStages())
       std::printf(" (%s %.1f ms)", st.name.c_str(), st.cpuMs);
     std::printf("\n");
+    if (o.render.targetFps > 0.0)
+      std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",
+                  1000.0 / o.render.targetFps, median(frameMs),
+                  traced.empty() ? 1.0 : median(traced));
     for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
+    if (!o.maskOutput.empty()) std::printf("wrote %s\n", o.maskOutput.c_str());
     if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
     if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");
   }

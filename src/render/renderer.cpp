@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 #include "core/log.h"
@@ -104,6 +105,14 @@ void Renderer::createPasses() {
   if (mode == Mode::kRtgi && !rtgi_) {
     RtgiPass::Settings rs = settings_.rtgi;
     rs.indirect = settings_.octree.bounces > 0;
+    if (settings_.targetFps > 0.0) {
+      if (rs.interleave == 1) rs.interleave = static_cast<int>(gpu::kMaxInterleave);
+      if (rs.select == RtgiPass::Settings::Select::kPattern)
+        rs.select = RtgiPass::Settings::Select::kMask;
+      const double floor = 1.0 / rs.interleave;
+      budget_ = std::make_unique<FrameBudget>(1000.0 / settings_.targetFps, floor, 1.0, floor,
+                                              FrameBudget::Gains{});
+    }
     rtgi_ = std::make_unique<RtgiPass>(programs_, rs);
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
@@ -223,6 +232,7 @@ bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
 }  // namespace
 
 void Renderer::renderFrame(const scene::Camera& camera) {
+  const auto frameStart = std::chrono::steady_clock::now();
   if (!sameCamera(camera, lastCamera_)) accumulated_ = 0;
   lastCamera_ = camera;
   gpu::GpuFrame frame{};
@@ -258,6 +268,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       dvr_->execute(ctx, *octree_, camera, hdr_.id());
       break;
     case Mode::kRtgi:
+      if (budget_) rtgi_->setTraceFraction(budget_->fraction());
       rtgi_->execute(ctx, gpuScene_, *octree_, camera.position, accumulated_, hdr_.id());
       break;
     case Mode::kPathtrace:
@@ -282,6 +293,13 @@ void Renderer::renderFrame(const scene::Camera& camera) {
         sceneStages_.push_back(t);
     }
   }
+  // The budget learns from frames that trace their share; the first frame of an
+  // accumulation traces every pixel and a scene build is start-up, not frame cost.
+  if (budget_ && settings_.mode == Mode::kRtgi && accumulated_ > 0 &&
+      (settings_.revoxelize || (!voxelizing && !building)))
+    budget_->update(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
+            .count());
   ++accumulated_;
 }
 

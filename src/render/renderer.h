@@ -32,6 +32,7 @@
 #include "gl/program_cache.h"
 #include "gl/stage_timer.h"
 #include "render/dvr_pass.h"
+#include "render/frame_budget.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
 #include "render/pathtrace_pass.h"
@@ -67,6 +68,10 @@ struct RenderSettings {
   bool revoxelize = false;         // voxelize every frame (animated scenes) instead of once
   voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
   RtgiPass::Settings rtgi;
+  // rtgi: hold this frame rate (0: off) by tracing a varying share of the pixels,
+  // chosen by the work mask (rtgi.select; kMask unless set) on top of an interleave
+  // of 16 (unless set).
+  double targetFps = 0.0;
   PathtracePass::Settings pathtrace;
   int spp = 64;  // pathtrace: samples per pixel of one frame
   // pathtrace: frames add their samples to the image until accumulation restarts
@@ -125,6 +130,9 @@ class Renderer {
   const voxel::VoxelizePass* voxelGrid() const { return voxelize_.get(); }
   // Null unless the mode uses the octree.
   const voxel::Octree* octree() const { return octree_.get(); }
+  const RtgiPass* rtgi() const { return rtgi_.get(); }
+  // The frame budget's current traced fraction (1 without a budget).
+  double traceFraction() const { return budget_ ? budget_->fraction() : 1.0; }
   // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
   // recent run, in order.
   const std::vector<gl::StageTime>& sceneStages() const { return sceneStages_; }
@@ -141,6 +149,7 @@ class Renderer {
   std::unique_ptr<voxel::Octree> octree_;
   std::unique_ptr<RtgiPass> rtgi_;
   std::unique_ptr<DvrPass> dvr_;
+  std::unique_ptr<FrameBudget> budget_;
   bool octreeBuilt_ = false;
   std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;

@@ -1,6 +1,7 @@
 #include "render/rtgi_pass.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "core/log.h"
 #include "octree_shared.h"
@@ -21,7 +22,8 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
       direct_(programs.get({{"render/rtgi_direct.comp"}, {}})),
       indirect_(programs.get({{"render/rtgi_indirect.comp"}, {}})),
       specular_(programs.get({{"render/rtgi_specular.comp"}, {}})),
-      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, {}})) {
+      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, {}})),
+      programs_(programs) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
@@ -42,6 +44,16 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
+  make(edgeImage_, GL_R16F);
+  make(maskImage_, GL_R16F);
+  make(tracedImage_, GL_R8UI);
+  maskValid_ = false;
+  histogramBins_.clear();
+  pixelList_ = gl::createBuffer(
+      static_cast<GLsizeiptr>(sizeof(gpu::PixelListHeader) +
+                              4 * static_cast<size_t>(width) * static_cast<size_t>(height)),
+      nullptr, GL_DYNAMIC_STORAGE_BIT);
+  histogram_ = gl::createBuffer(4 * gpu::kMaskBins, nullptr, GL_DYNAMIC_STORAGE_BIT);
   fbo_ = gl::createFramebuffer();
   const GLuint f = fbo_.id();
   glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, position_.id(), 0);
@@ -56,7 +68,7 @@ void RtgiPass::resize(int width, int height) {
   if (status != GL_FRAMEBUFFER_COMPLETE)
     throw Error(strf("rtgi G-buffer %dx%d: framebuffer incomplete (0x%x)", width, height, status));
   targetBytes_ =
-      static_cast<size_t>(width) * static_cast<size_t>(height) * (16 + 8 + 4 + 8 + 4 + 8 * 3);
+      static_cast<size_t>(width) * static_cast<size_t>(height) * (16 + 8 + 4 + 8 + 4 + 8 * 3 + 9);
 }
 
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree& octree,
@@ -115,10 +127,53 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                      GL_RGBA16F);
   glBindImageTexture(gpu::kAccumImage, accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  // Declared by the tracing stages and accumulate; read only when a list is used.
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
+  glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
   const auto gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
   const auto gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
-  // Tracing stages: one invocation per pixel that traces this frame, packed.
+  // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
+  // built by the select stage, dispatched indirectly.
   const int n = settings_.interleave;
+  const uint64_t pixelsTotal =
+      uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height);
+  const bool listed = settings_.select != Settings::Select::kPattern && frameIndex > 0;
+  lastTraced_ = frameIndex == 0 ? 1.0 : 1.0 / n;
+  if (listed) {
+    const double patternShare = 1.0 / n;
+    const double extraShare = std::max(0.0, traceFraction_ - patternShare);
+    float level = 0.0f;
+    uint32_t kind = gpu::kSelectUniform;
+    if (settings_.select == Settings::Select::kMask) {
+      kind = gpu::kSelectMask;
+      // The mask changes slowly as the image converges: it is recomputed every
+      // kMaskPeriod frames; the threshold follows the budget every frame.
+      if (!maskValid_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
+        runMask(ctx, gx, gy);
+      level =
+          traceFraction_ >= 1.0
+              ? -1.0f  // every pixel
+              : maskThreshold(static_cast<uint64_t>(extraShare * static_cast<double>(pixelsTotal)));
+    } else {
+      level = static_cast<float>(std::min(1.0, extraShare / (1.0 - patternShare)));
+    }
+    p.work.y = std::bit_cast<uint32_t>(level);
+    p.work.z = kind;
+    glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
+    gl::StageScope stage(ctx.timer, "select");
+    const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
+    glNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
+    glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
+    glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_R8UI);
+    glUseProgram(programs_.get({{"render/rtgi_select.comp"}, {}}).id());
+    glDispatchCompute(gx, gy, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
+  }
   const uint64_t tracing =
       n <= 1 || frameIndex == 0
           ? uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height)
@@ -132,6 +187,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     glUseProgram(program.id());
     if (&program == &accumulate_)
       glDispatchCompute(gx, gy, 1);
+    else if (listed)
+      glDispatchComputeIndirect(0);
     else
       glDispatchCompute(tx, ty, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -141,9 +198,62 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   if (specular) run("specular", specular_);
   run("accumulate", accumulate_);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  for (GLuint u = 0; u < 4; ++u) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  if (listed) {
+    gpu::PixelListHeader header{};
+    glGetNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
+    lastTraced_ = static_cast<double>(header.count.x) / static_cast<double>(pixelsTotal);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  }
+  for (GLuint u = 0; u < 7; ++u) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   for (GLuint u : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
     glBindTextureUnit(u, 0);
+}
+
+void RtgiPass::runMask(FrameContext& ctx, GLuint gx, GLuint gy) {
+  gl::StageScope stage(ctx.timer, "mask");
+  glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
+                            GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaskHistogramBinding, histogram_.id());
+  glBindImageTexture(gpu::kEdgeImage, edgeImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R16F);
+  glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glUseProgram(programs_.get({{"render/rtgi_mask.comp"}, {}}).id());
+  glDispatchCompute(gx, gy, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glUseProgram(programs_.get({{"render/rtgi_mask_blur.comp"}, {}}).id());
+  glDispatchCompute(gx, gy, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                  GL_SHADER_STORAGE_BARRIER_BIT);
+  maskValid_ = true;
+  histogramBins_.resize(gpu::kMaskBins);
+  glGetNamedBufferSubData(histogram_.id(), 0, 4 * gpu::kMaskBins, histogramBins_.data());
+}
+
+// The lowest bin edge with at most `extra` pixels of the last mask above it.
+float RtgiPass::maskThreshold(uint64_t extra) const {
+  uint64_t above = 0;
+  for (int b = static_cast<int>(histogramBins_.size()) - 1; b >= 0; --b) {
+    if (above + histogramBins_[static_cast<size_t>(b)] > extra)
+      return static_cast<float>(b + 1) / static_cast<float>(gpu::kMaskBins);
+    above += histogramBins_[static_cast<size_t>(b)];
+  }
+  return -1.0f;  // every pixel
+}
+
+std::vector<float> RtgiPass::readMask() const {
+  std::vector<float> out;
+  if (!maskValid_) return out;
+  out.resize(static_cast<size_t>(width_) * static_cast<size_t>(height_));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(maskImage_.id(), 0, GL_RED, GL_FLOAT,
+                    static_cast<GLsizei>(out.size() * sizeof(float)), out.data());
+  // Bottom-up rows to top-left origin.
+  const size_t w = static_cast<size_t>(width_);
+  for (size_t y = 0; y < static_cast<size_t>(height_) / 2; ++y)
+    std::swap_ranges(
+        out.begin() + static_cast<std::ptrdiff_t>(y * w),
+        out.begin() + static_cast<std::ptrdiff_t>((y + 1) * w),
+        out.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(height_) - 1 - y) * w));
+  return out;
 }
 
 }  // namespace voxgi::render

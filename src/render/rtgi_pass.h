@@ -15,6 +15,8 @@
 #ifndef VOXGI_RENDER_RTGI_PASS_H
 #define VOXGI_RENDER_RTGI_PASS_H
 
+#include <vector>
+
 #include "gl/handles.h"
 #include "render/frame_context.h"
 #include "render/gpu_scene.h"
@@ -35,6 +37,9 @@ class RtgiPass {
     bool specular = true;   // and the scene has specular materials
     int exactEmitters = 4;  // up to this many emitters, each gets a shadow ray
     int interleave = 1;     // a pixel traces every N-th frame (1, 2, 4, 8, 16)
+    // Beyond the interleave pattern, which further pixels trace (frame budget):
+    // none, those the work mask marks as noisy, or a uniform random share.
+    enum class Select { kPattern, kMask, kUniform } select = Select::kPattern;
     uint32_t seed = 1;
   };
 
@@ -44,10 +49,24 @@ class RtgiPass {
                const glm::vec3& cameraPosition, int frameIndex, GLuint accum);
   const Settings& settings() const { return settings_; }
   Settings& settings() { return settings_; }
+  // The share of all pixels, pattern included, the next frame should trace (frame
+  // budget; with Select::kMask or kUniform).
+  void setTraceFraction(double f) { traceFraction_ = f; }
+  // Pixels that traced in the last frame, as a share of all.
+  double lastTracedFraction() const { return lastTraced_; }
+  // The last work mask, [0, 1) per pixel, top-left origin (empty before one ran).
+  std::vector<float> readMask() const;
+  int maskWidth() const { return maskValid_ ? width_ : 0; }
+  int maskHeight() const { return maskValid_ ? height_ : 0; }
   size_t targetBytes() const { return targetBytes_; }
 
  private:
   void resize(int width, int height);
+  // The mask stage (edges, blur, histogram), and the threshold that selects at most
+  // `extra` pixels of it.
+  void runMask(FrameContext& ctx, GLuint gx, GLuint gy);
+  float maskThreshold(uint64_t extra) const;
+  static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   Settings settings_;
   const gl::Program& gbuffer_;
@@ -55,6 +74,13 @@ class RtgiPass {
   const gl::Program& indirect_;
   const gl::Program& specular_;
   const gl::Program& accumulate_;
+  gl::ProgramCache& programs_;
+  double traceFraction_ = 1.0;
+  double lastTraced_ = 1.0;
+  bool maskValid_ = false;
+  gl::Texture edgeImage_, maskImage_, tracedImage_;
+  gl::Buffer pixelList_, histogram_;
+  std::vector<uint32_t> histogramBins_;
   gl::Buffer params_;
   gl::Texture position_, normal_, albedo_, emission_, depth_;
   gl::Texture directImage_, indirectImage_, specularImage_;

@@ -204,6 +204,38 @@ TEST_F(RtgiTest, InterleavedTracingGivesEveryPixelItsTurn) {
   EXPECT_LT(m.relMse, 0.05);
 }
 
+// The frame budget moves the traced share between its floor (1/16, an unreachable
+// target) and every pixel (a target any frame meets); the mask it selects by
+// exists and lies in [0, 1); the uniform choice traces the same shares.
+TEST_F(RtgiTest, FrameBudgetSetsTheTracedShare) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  for (auto select :
+       {render::RtgiPass::Settings::Select::kMask, render::RtgiPass::Settings::Select::kUniform}) {
+    for (double fps : {1000.0, 0.01}) {
+      render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+      rs.targetFps = fps;
+      rs.rtgi.select = select;
+      render::Renderer r(*programs_, room, rs);
+      for (int f = 0; f < 40; ++f) r.renderFrame();
+      const double share = r.rtgi()->lastTracedFraction();
+      if (fps > 1.0)
+        EXPECT_NEAR(share, 1.0 / 16.0, 0.02) << "fps " << fps;
+      else
+        EXPECT_GT(share, 0.95) << "fps " << fps;
+      const auto px = r.readLinear();
+      EXPECT_EQ(nonFinite(px), 0u);
+      for (size_t i = 3; i < px.size(); i += 4) ASSERT_GE(px[i], 3.0f);  // every pixel had turns
+      if (select == render::RtgiPass::Settings::Select::kMask) {
+        const std::vector<float> mask = r.rtgi()->readMask();
+        ASSERT_EQ(mask.size(), size_t{48 * 48});
+        EXPECT_GE(*std::min_element(mask.begin(), mask.end()), 0.0f);
+        EXPECT_LT(*std::max_element(mask.begin(), mask.end()), 1.0f);
+        EXPECT_GT(*std::max_element(mask.begin(), mask.end()), 0.0f);
+      }
+    }
+  }
+}
+
 // rtgi converges towards the path tracer: its error falls with frames and ends
 // within a few per cent of the reference's mean on both reference scenes.
 TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
