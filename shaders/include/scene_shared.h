@@ -41,6 +41,7 @@ VOXGI_CONST uint kEmitterCluster = 1u;   // many small facets with one normal, a
 // Tonemap operators.
 VOXGI_CONST int kTonemapClamp = 0;
 VOXGI_CONST int kTonemapAces = 1;
+VOXGI_CONST int kTonemapMask = 2;  // the rtgi work mask: red channel as grey, no exposure
 
 struct GpuMaterial {
   vec4 baseColor;  // linear rgba

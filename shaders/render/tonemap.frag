@@ -19,6 +19,10 @@ vec3 srgbEncode(vec3 c) {
 }
 
 void main() {
+  if (op == kTonemapMask) {
+    outColor = vec4(srgbEncode(vec3(texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).r)), 1.0);
+    return;
+  }
   vec3 c = texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb * exposure;
   if (any(isnan(c)) || any(isinf(c))) c = vec3(1.0, 0.0, 1.0);  // make bad pixels loud
   if (op == kTonemapAces) c = acesFitted(c);

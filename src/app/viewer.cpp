@@ -82,6 +82,8 @@ std::optional<Action> actionForGlfwKey(int key) {
     case GLFW_KEY_P:
     case GLFW_KEY_F12:
       return Action{K::kScreenshot};
+    case GLFW_KEY_M:
+      return Action{K::kToggleMask};
     case GLFW_KEY_TAB:
     case GLFW_KEY_F1:
       return Action{K::kTogglePanel};
@@ -232,6 +234,10 @@ void Viewer::apply(const Action& a) {
       // The frame on screen is the last one rendered; with none yet, render first.
       if (frame_ == 0) renderer_->renderFrame(camera_->camera());
       takeScreenshot(nextScreenshotPaths(options_.screenshotDir, std::time(nullptr)));
+      break;
+    case K::kToggleMask:
+      renderer_->setShowMask(!renderer_->showMask());
+      logInfo(strf("view: frame %d: work mask %s", frame_, renderer_->showMask() ? "on" : "off"));
       break;
     case K::kTogglePanel:
       panel_ = !panel_;
@@ -472,6 +478,12 @@ void Viewer::drawPanel() {
     ImGui::Text("forward %.3f %.3f %.3f", c.forward.x, c.forward.y, c.forward.z);
     ImGui::Text("speed %.3g units/s (Shift x4, Ctrl x1/4)", camera_->speed());
     ImGui::TextDisabled("WASD move, Q/E down/up, right mouse look, r reset");
+  }
+  if (renderer_->settings().targetFps > 0.0 && renderer_->rtgi()) {
+    ImGui::Text("budget %.1f fps: tracing %.1f%% of pixels", renderer_->settings().targetFps,
+                100.0 * renderer_->rtgi()->lastTracedFraction());
+    bool show = renderer_->showMask();
+    if (ImGui::Checkbox("show work mask (m)", &show)) renderer_->setShowMask(show);
   }
   if (ImGui::Button("Screenshot (p)")) pendingActions_.push_back({Action::Kind::kScreenshot});
   if (!screenshots_.empty()) {

@@ -23,6 +23,7 @@ std::optional<Action> actionForKeyName(const std::string& name) {
   if (name == "t") return Action{K::kToggleTonemap};
   if (name == "r") return Action{K::kResetCamera};
   if (name == "p") return Action{K::kScreenshot};
+  if (name == "m") return Action{K::kToggleMask};
   if (name == "tab") return Action{K::kTogglePanel};
   if (name == "esc") return Action{K::kQuit};
   return std::nullopt;
@@ -42,6 +43,8 @@ std::string keyName(const Action& a) {
       return "r";
     case Action::Kind::kScreenshot:
       return "p";
+    case Action::Kind::kToggleMask:
+      return "m";
     case Action::Kind::kTogglePanel:
       return "tab";
     case Action::Kind::kQuit:
@@ -80,7 +83,7 @@ std::vector<ScriptedKey> parseKeyScript(const std::string& script) {
     const auto action = actionForKeyName(key);
     if (!action)
       throw Error("--keys: '" + entry + "': unknown key '" + key +
-                  "' (1-6, +, -, t, r, p, tab, esc)");
+                  "' (1-6, +, -, t, r, p, m, tab, esc)");
     out.push_back({frame, *action});
   }
   std::stable_sort(out.begin(), out.end(),

@@ -4,6 +4,7 @@
 //   + -    exposure up / down half a stop          t    tonemap operator clamp <-> aces
 //   r      camera back to the start                p    screenshot (PNG + EXR)
 //   tab    panel on / off                          esc  quit
+//   m      show the rtgi work mask (with --target-fps) instead of the image
 // Tested by tests/app/viewer_input_test.cpp.
 #ifndef VOXGI_APP_VIEWER_INPUT_H
 #define VOXGI_APP_VIEWER_INPUT_H
@@ -28,6 +29,7 @@ struct Action {
     kResetCamera,
     kScreenshot,
     kTogglePanel,
+    kToggleMask,
     kQuit
   };
   Kind kind = Kind::kMode;
@@ -35,7 +37,7 @@ struct Action {
   bool operator==(const Action&) const = default;
 };
 
-// "1".."6", "+", "-", "t", "r", "p", "tab", "esc"; nullopt for anything else.
+// "1".."6", "+", "-", "t", "r", "p", "m", "tab", "esc"; nullopt for anything else.
 std::optional<Action> actionForKeyName(const std::string& name);
 std::string keyName(const Action& a);
 

@@ -277,7 +277,10 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }
-  tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
+  if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
+    tonemap_.executeMask(ctx, rtgi_->maskTexture(), ldrFbo_.id());
+  else
+    tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   stages_ = timer_.resolve();

@@ -133,6 +133,9 @@ class Renderer {
   const RtgiPass* rtgi() const { return rtgi_.get(); }
   // The frame budget's current traced fraction (1 without a budget).
   double traceFraction() const { return budget_ ? budget_->fraction() : 1.0; }
+  // Display the work mask instead of the image (rtgi with a frame budget).
+  void setShowMask(bool show) { showMask_ = show; }
+  bool showMask() const { return showMask_; }
   // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
   // recent run, in order.
   const std::vector<gl::StageTime>& sceneStages() const { return sceneStages_; }
@@ -150,6 +153,7 @@ class Renderer {
   std::unique_ptr<RtgiPass> rtgi_;
   std::unique_ptr<DvrPass> dvr_;
   std::unique_ptr<FrameBudget> budget_;
+  bool showMask_ = false;
   bool octreeBuilt_ = false;
   std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;

@@ -56,6 +56,7 @@ class RtgiPass {
   double lastTracedFraction() const { return lastTraced_; }
   // The last work mask, [0, 1) per pixel, top-left origin (empty before one ran).
   std::vector<float> readMask() const;
+  GLuint maskTexture() const { return maskValid_ ? maskImage_.id() : 0; }
   int maskWidth() const { return maskValid_ ? width_ : 0; }
   int maskHeight() const { return maskValid_ ? height_ : 0; }
   size_t targetBytes() const { return targetBytes_; }

@@ -39,6 +39,14 @@ void TonemapPass::appendKnobs(std::vector<Knob>* knobs) {
   knobs->push_back(std::move(op));
 }
 
+void TonemapPass::executeMask(FrameContext& ctx, GLuint maskTexture, GLuint framebuffer) {
+  const Settings saved = settings_;
+  masking_ = true;
+  execute(ctx, maskTexture, framebuffer);
+  masking_ = false;
+  settings_ = saved;
+}
+
 void TonemapPass::execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "tonemap");
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -48,8 +56,9 @@ void TonemapPass::execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuff
   glUseProgram(program_.id());
   glBindTextureUnit(gpu::kHdrInputUnit, hdrTexture);
   glUniform1f(gpu::kExposureLocation, settings_.exposure);
-  glUniform1i(gpu::kTonemapLocation,
-              settings_.op == Tonemap::kAces ? gpu::kTonemapAces : gpu::kTonemapClamp);
+  glUniform1i(gpu::kTonemapLocation, masking_                         ? gpu::kTonemapMask
+                                     : settings_.op == Tonemap::kAces ? gpu::kTonemapAces
+                                                                      : gpu::kTonemapClamp);
   glBindVertexArray(emptyVao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindTextureUnit(gpu::kHdrInputUnit, 0);
