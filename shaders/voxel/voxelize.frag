@@ -15,9 +15,12 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 
-layout(binding = 0, r32ui) uniform coherent uimage3D sums[kSumChannels];
+layout(binding = kSlotMapUnit, r32ui) uniform coherent uimage3D slotMap;
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
-layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
+layout(std430, binding = kSlotListBinding) writeonly buffer SlotList { uint slotVoxels[]; };
+layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
+layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
+layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
 
 layout(location = 0) centroid in vec3 gNormal;
 layout(location = 1) centroid in vec2 gUv;
@@ -29,12 +32,31 @@ ivec3 unswizzle(ivec3 p, int axis) {
   return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p);
 }
 
-// Saturating add: once a sum would pass 2^32 - 1 it stays there. Returns the old value.
-uint addSaturating(int channel, ivec3 p, uint value) {
-  if (value == 0u) return 1u;
-  uint old = imageAtomicAdd(sums[channel], p, value);
-  if (old > 0xFFFFFFFFu - value) imageAtomicMax(sums[channel], p, 0xFFFFFFFFu);
-  return old;
+// Saturating adds: once a sum would pass 2^32 - 1 it stays there.
+#define ADD_SATURATING(sums, i, value)                               \
+  {                                                                  \
+    uint v_ = (value);                                               \
+    if (v_ != 0u && atomicAdd(sums[i], v_) > 0xFFFFFFFFu - v_)       \
+      atomicMax(sums[i], 0xFFFFFFFFu);                               \
+  }
+
+// The voxel's slot in this epoch, taking the next one if this fragment is the
+// first to reach it. Two fragments may both find the voxel unclaimed: the one whose
+// compare-and-swap fails adopts the winner's slot and marks its own a hole.
+uint slotOf(ivec3 p) {
+  uint epoch = voxel.slotInfo.x;
+  uint seen = imageLoad(slotMap, p).x;
+  if ((seen & ~kSlotMask) == epoch) return seen & kSlotMask;
+  uint code = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20);
+  uint ticket = atomicAdd(stats.listCount, 1u);
+  uint mine = epoch | (ticket < stats.capacity ? ticket : kSlotFull);
+  uint old = imageAtomicCompSwap(slotMap, p, seen, mine);
+  if (old == seen) {
+    if (ticket < stats.capacity) slotVoxels[ticket] = code;
+    return mine & kSlotMask;
+  }
+  if (ticket < stats.capacity) slotVoxels[ticket] = kSlotHole;
+  return old & kSlotMask;  // claimed in this epoch by the winner
 }
 
 uint fixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
@@ -67,24 +89,23 @@ void main() {
   uint emission[3] = uint[3](fixedPoint(e.r), fixedPoint(e.g), fixedPoint(e.b));
 
   ivec2 pixel = ivec2(uv);
+  bool emits = emission[0] + emission[1] + emission[2] != 0u;
   for (int k = k0; k <= k1; ++k) {
     ivec3 p = unswizzle(ivec3(pixel, k), gAxis);
-    // Constant indices only: image arrays indexed by a loop variable are not
-    // reliable on every driver.
-    addSaturating(0, p, albedo[0] * weight);
-    addSaturating(1, p, albedo[1] * weight);
-    addSaturating(2, p, albedo[2] * weight);
-    addSaturating(3, p, normal[0] * weight);
-    addSaturating(4, p, normal[1] * weight);
-    addSaturating(5, p, normal[2] * weight);
-    addSaturating(6, p, emission[0] * weight);
-    addSaturating(7, p, emission[1] * weight);
-    addSaturating(8, p, emission[2] * weight);
-    // The first fragment to reach a voxel lists it: later passes visit only
-    // listed voxels, so nothing costs N^3.
-    if (addSaturating(9, p, weight) == 0u) {
-      uint slot = atomicAdd(stats.listCount, 1u);
-      if (slot < stats.capacity) voxels[slot] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20);
+    uint slot = slotOf(p);
+    if (slot == kSlotFull) continue;  // the list overflowed: the pass runs again
+    uint i = slot * 4u;
+    ADD_SATURATING(sumsA, i + 0u, albedo[0] * weight);
+    ADD_SATURATING(sumsA, i + 1u, albedo[1] * weight);
+    ADD_SATURATING(sumsA, i + 2u, albedo[2] * weight);
+    ADD_SATURATING(sumsA, i + 3u, weight);
+    ADD_SATURATING(sumsN, i + 0u, normal[0] * weight);
+    ADD_SATURATING(sumsN, i + 1u, normal[1] * weight);
+    ADD_SATURATING(sumsN, i + 2u, normal[2] * weight);
+    if (emits) {
+      ADD_SATURATING(sumsE, i + 0u, emission[0] * weight);
+      ADD_SATURATING(sumsE, i + 1u, emission[1] * weight);
+      ADD_SATURATING(sumsE, i + 2u, emission[2] * weight);
     }
   }
 }

@@ -12,8 +12,11 @@
 namespace voxgi::voxel {
 namespace {
 
-constexpr uint64_t kSumBytesPerVoxel = gpu::kSumChannels * 4;
+constexpr uint64_t kSlotMapBytesPerVoxel = 4;
 constexpr uint64_t kResolvedBytesPerVoxel = 4 + 4 + 8;
+// Per slot: three uvec4 of sums and a packed coordinate; per list entry, 4.
+constexpr uint64_t kBytesPerSlot = 3 * 16 + 4;
+constexpr uint64_t kBytesPerListEntry = 4;
 
 bool hasGlExtension(const char* name) {
   GLint n = 0;
@@ -36,8 +39,9 @@ uint32_t initialListCapacity(int resolution) {
 VoxelMemory voxelMemory(int resolution) {
   const uint64_t n = static_cast<uint64_t>(resolution);
   const uint64_t voxels = n * n * n;
-  const uint64_t list = uint64_t{4} * initialListCapacity(resolution);
-  return {voxels * (kSumBytesPerVoxel + kResolvedBytesPerVoxel) + list,
+  const uint64_t list = kBytesPerListEntry * initialListCapacity(resolution);
+  const uint64_t slots = kBytesPerSlot * initialListCapacity(resolution);
+  return {voxels * (kSlotMapBytesPerVoxel + kResolvedBytesPerVoxel) + slots + list,
           voxels * kResolvedBytesPerVoxel + list};
 }
 
@@ -109,7 +113,8 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glClearTexImage(albedo_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   glClearTexImage(normal_.id(), 0, GL_RGBA, GL_BYTE, zero);
   glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
-  allocateList(initialListCapacity(n));
+  capacity_ = initialListCapacity(n);
+  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
   if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
   fbo_ = gl::createFramebuffer();
@@ -117,7 +122,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, n);
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_SAMPLES,
                                static_cast<GLint>(gpu::kSamplesPerFragment));
-  params_ = gl::createBuffer(sizeof(gpu::VoxelParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  paramsBuffer_ = gl::createBuffer(sizeof(gpu::VoxelParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   statsBuffer_ =
       gl::createBuffer(sizeof(gpu::VoxelStats), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
   stats_.resolution = n;
@@ -126,20 +131,41 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
 }
 
 void VoxelizePass::allocateSums() {
-  if (!sums_.empty()) return;
+  if (slotMap_.id() != 0) return;
   const int n = settings_.resolution;
   const uint32_t zero = 0;
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c) {
-    gl::Texture t = gl::createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, GL_R32UI, n, n, n);
-    glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);  // once: resolve re-zeroes
-    sums_.push_back(std::move(t));
-  }
+  slotMap_ = gl::createTexture(GL_TEXTURE_3D);
+  glTextureStorage3D(slotMap_.id(), 1, GL_R32UI, n, n, n);
+  // Cleared once (and when the epochs run out): entries of older epochs read as empty.
+  glClearTexImage(slotMap_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  epoch_ = 0;
+  allocateSlots();
 }
 
-void VoxelizePass::allocateList(uint32_t capacity) {
-  capacity_ = capacity;
-  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity) * 4, nullptr);
+void VoxelizePass::allocateSlots() {
+  const GLsizeiptr bytes = static_cast<GLsizeiptr>(capacity_) * 16;
+  const uint32_t zero = 0;
+  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_}) {
+    *b = gl::createBuffer(bytes, nullptr);
+    glClearNamedBufferData(b->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);  // once
+  }
+  slotList_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+}
+
+void VoxelizePass::clearSums() {
+  const uint32_t zero = 0;
+  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_})
+    glClearNamedBufferData(b->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+}
+
+void VoxelizePass::nextEpoch() {
+  if (++epoch_ >= gpu::kEpochCount) {
+    const uint32_t zero = 0;
+    glClearTexImage(slotMap_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    epoch_ = 1;
+  }
+  params_.slotInfo = glm::uvec4(epoch_ << gpu::kSlotBits, 0u, 0u, 0u);
+  glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
 void VoxelizePass::raster(const scene::GpuScene& gs) {
@@ -157,13 +183,10 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glDisable(GL_SAMPLE_SHADING);
   glUseProgram(voxelize_.id());
   glBindVertexArray(gs.vertexArray());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  bindSlots();
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   for (const scene::Draw& d : s.draws) {
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
     glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
@@ -178,14 +201,21 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
                   GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-void VoxelizePass::dispatchOverList(const gl::Program& program, uint32_t count) {
-  if (count == 0) return;
-  glUseProgram(program.id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
-  for (uint32_t c = 0; c < gpu::kSumChannels && !sums_.empty(); ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotListBinding, slotList_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsABinding, sumsA_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsNBinding, sumsN_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsEBinding, sumsE_.id());
+  glBindImageTexture(gpu::kSlotMapUnit, slotMap_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+}
+
+void VoxelizePass::dispatch(const gl::Program& program, uint32_t count) {
+  if (count == 0) return;
+  glUseProgram(program.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
+  bindSlots();
   glBindImageTexture(gpu::kResolvedUnit0 + 0, albedo_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindImageTexture(gpu::kResolvedUnit0 + 1, normal_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                      GL_RGBA8_SNORM);
@@ -208,49 +238,54 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   for (const scene::Material& m : s.materials)
     maxEmission = std::max({maxEmission, m.emission.r, m.emission.g, m.emission.b});
   const float emissionScale = maxEmission > 0.0f ? 1.0f / maxEmission : 1.0f;
-  gpu::VoxelParams params{};
-  params.gridOrigin = glm::vec4(gridOrigin_, voxelSize_);
-  params.gridInfo = glm::vec4(static_cast<float>(n), emissionScale, 1.0f / emissionScale, 0.0f);
-  glNamedBufferSubData(params_.id(), 0, sizeof(params), &params);
+  params_.gridOrigin = glm::vec4(gridOrigin_, voxelSize_);
+  params_.gridInfo = glm::vec4(static_cast<float>(n), emissionScale, 1.0f / emissionScale, 0.0f);
 
   allocateSums();
-  if (settings_.inspectSums) {
-    const uint32_t zero = 0;
-    for (const gl::Texture& t : sums_)
-      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  }
-
-  // What the previous voxelization listed is zeroed first (its list is about to
-  // be overwritten).
-  dispatchOverList(unresolve_, listed_);
+  if (settings_.inspectSums) clearSums();
+  nextEpoch();  // uploads params_
 
   raster(gs);
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+  const uint32_t oldCapacity = capacity_;
   if (out.listCount > capacity_) {
-    // The list overflowed: grow it, clear the sums fully once and raster again.
+    // The slots ran out: grow them and raster again in a fresh epoch.
     if (out.listCount > gpu::kMaxListEntries)
       throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
                        out.listCount, gpu::kMaxListEntries));
-    allocateList(std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4));
-    const uint32_t zero = 0;
-    for (const gl::Texture& t : sums_)
-      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
+    allocateSlots();
+    nextEpoch();
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
     VOXGI_CHECK_LE(out.listCount, capacity_);
   }
-  listed_ = out.listCount;
-  dispatchOverList(resolve_, listed_);
-  for (uint32_t u = 0; u < gpu::kSumChannels + 3; ++u)
+  // What the previous voxelization listed and this one did not reach is zeroed
+  // before its list is overwritten.
+  glUseProgram(unresolve_.id());
+  glUniform1ui(0, listed_);
+  dispatch(unresolve_, listed_);
+  if (capacity_ != oldCapacity)
+    list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  dispatch(resolve_, out.listCount);
+  for (uint32_t u :
+       {gpu::kSlotMapUnit, gpu::kResolvedUnit0, gpu::kResolvedUnit0 + 1, gpu::kResolvedUnit0 + 2})
     glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+  listed_ = out.occupied;
+  slotsTaken_ = out.listCount;
   stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
-  stats_.bytes =
-      voxelMemory(n).residentBytes - uint64_t{4} * initialListCapacity(n) + uint64_t{4} * capacity_;
-  if (!settings_.keepSums && !settings_.inspectSums)
-    sums_.clear();  // only the resolved grid stays resident
+  stats_.bytes = voxelMemory(n).residentBytes +
+                 kBytesPerListEntry * (uint64_t{capacity_} - initialListCapacity(n));
+  stats_.peakBytes = voxelMemory(n).peakBytes + (kBytesPerListEntry + kBytesPerSlot) *
+                                                    (uint64_t{capacity_} - initialListCapacity(n));
+  if (!settings_.keepSums && !settings_.inspectSums) {
+    // only the resolved grid stays resident
+    slotMap_.reset();
+    for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_, &slotList_}) b->reset();
+  }
 }
 
 std::vector<uint8_t> VoxelizePass::readAlbedo() const {
@@ -281,11 +316,24 @@ std::vector<uint16_t> VoxelizePass::readEmission() const {
 }
 
 std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
-  VOXGI_CHECK(settings_.inspectSums && channel < sums_.size());
+  VOXGI_CHECK(settings_.inspectSums && channel < gpu::kSumChannels);
   const size_t n = static_cast<size_t>(settings_.resolution);
-  std::vector<uint32_t> out(n * n * n);
-  glGetTextureImage(sums_[channel].id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                    static_cast<GLsizei>(out.size() * 4), out.data());
+  const uint32_t slots = std::min(slotsTaken_, capacity_);
+  std::vector<uint32_t> codes(slots), sums(size_t{slots} * 4);
+  glGetNamedBufferSubData(slotList_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4),
+                          codes.data());
+  // albedo rgb + weight, normal xyz, emission rgb: see voxel_shared.h
+  const gl::Buffer& b = channel < gpu::kSumNormal || channel == gpu::kSumWeight ? sumsA_
+                        : channel < gpu::kSumEmission                           ? sumsN_
+                                                                                : sumsE_;
+  const uint32_t lane = channel == gpu::kSumWeight ? 3u : channel % 3u;
+  glGetNamedBufferSubData(b.id(), 0, static_cast<GLsizeiptr>(sums.size() * 4), sums.data());
+  std::vector<uint32_t> out(n * n * n, 0u);
+  for (uint32_t i = 0; i < slots; ++i) {
+    const uint32_t c = codes[i];
+    if (c == gpu::kSlotHole) continue;
+    out[(c & 1023u) + n * (((c >> 10) & 1023u) + n * ((c >> 20) & 1023u))] = sums[i * 4 + lane];
+  }
   return out;
 }
 

@@ -77,7 +77,7 @@ class VoxelizePass {
   GLuint albedo() const { return albedo_.id(); }
   GLuint normal() const { return normal_.id(); }
   GLuint emission() const { return emission_.id(); }
-  GLuint params() const { return params_.id(); }
+  GLuint params() const { return paramsBuffer_.id(); }
   // Packed coordinates (10 bits per axis) of the stats().occupied listed voxels.
   GLuint list() const { return list_.id(); }
   // World-space cube of the grid: origin and voxel size.
@@ -93,20 +93,28 @@ class VoxelizePass {
 
  private:
   void allocateSums();
-  void allocateList(uint32_t capacity);
+  void allocateSlots();
+  void clearSums();
+  void nextEpoch();
   void raster(const scene::GpuScene& gs);
-  void dispatchOverList(const gl::Program& program, uint32_t count);
+  void bindSlots();
+  void dispatch(const gl::Program& program, uint32_t count);
 
   Settings settings_;
   const gl::Program& voxelize_;
   const gl::Program& resolve_;
-  std::vector<gl::Texture> sums_;
+  const gl::Program& unresolve_;
+  // While voxelizing (kept with keepSums): the slot map and the per-slot sums.
+  gl::Texture slotMap_;
+  gl::Buffer sumsA_, sumsN_, sumsE_, slotList_;
   gl::Texture albedo_, normal_, emission_;
   gl::Framebuffer fbo_;
-  gl::Buffer params_, statsBuffer_, list_;
-  const gl::Program& unresolve_;
-  uint32_t capacity_ = 0;
-  uint32_t listed_ = 0;  // voxels listed (and resolved) by the last voxelization
+  gl::Buffer paramsBuffer_, statsBuffer_, list_;
+  gpu::VoxelParams params_{};
+  uint32_t epoch_ = 0;
+  uint32_t capacity_ = 0;    // slots, and entries of list_
+  uint32_t slotsTaken_ = 0;  // by the last voxelization, holes included
+  uint32_t listed_ = 0;      // voxels listed (and resolved) by the last voxelization
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;
