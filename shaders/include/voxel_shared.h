@@ -21,22 +21,23 @@ VOXGI_CONST uint kSumEmission = 6u;
 VOXGI_CONST uint kSumWeight = 9u;
 VOXGI_CONST uint kSamplesPerFragment = 4u;  // 4x MSAA
 
-// Sparse sums. A dense r32ui slot map holds, per voxel, the voxelization's epoch
-// (high bits) and the voxel's slot (low kSlotBits): the first fragment of an epoch
-// to reach a voxel takes the next slot. The sums live per slot, in three SSBOs of
-// one uvec4 per slot, so a voxel's channels share cache lines:
+// Sparse sums, two levels. A brick map holds, per brick of 4^3 voxels, the
+// voxelization's epoch (high bits) and the brick's slot in a pool (low kSlotBits);
+// each pool brick holds, per voxel, the epoch and the voxel's slot. The first
+// fragment of an epoch to reach a brick or a voxel takes the next slot. Entries of
+// an older epoch read as empty, so neither level is cleared per run, and the small
+// map and the compact pool keep the lookups local. The sums live per voxel slot,
+// in three SSBOs of one uvec4 per slot, so a voxel's channels share cache lines:
 //   kSlotSumsA: albedo rgb, weight   kSlotSumsN: normal xyz, 0   kSlotSumsE: emission rgb, 0
-// Entries of an older epoch read as empty, so the map is never cleared per run.
 VOXGI_CONST uint kSlotBits = 23u;
-VOXGI_CONST uint kSlotMask = 0x7FFFFFu;    // (1 << kSlotBits) - 1
-VOXGI_CONST uint kSlotFull = kSlotMask;    // claimed, but past the list's capacity
-VOXGI_CONST uint kEpochCount = 512u;       // epochs 1..511, then the map is cleared
-VOXGI_CONST uint kSlotHole = 0xFFFFFFFFu;  // a slot taken by a fragment that lost the race
+VOXGI_CONST uint kSlotMask = 0x7FFFFFu;  // (1 << kSlotBits) - 1
+VOXGI_CONST uint kSlotFull = kSlotMask;  // entry = epoch | kSlotFull: no room, raster again
+VOXGI_CONST uint kEpochCount = 511u;     // epochs 1..510, then both levels are cleared
+VOXGI_CONST uint kBrickSize = 4u;        // voxels per brick side
+VOXGI_CONST uint kBrickVoxels = 64u;
 
-// Image units: the slot map takes 0; the resolve pass writes the resolved grid
-// through 10..12. Passes that read the resolved grid bind it as samplers on the
-// texture units below.
-VOXGI_CONST uint kSlotMapUnit = 0u;
+// Image units: the resolve pass writes the resolved grid through 10..12. Passes
+// that read the resolved grid bind it as samplers on the texture units below.
 VOXGI_CONST uint kResolvedUnit0 = 10u;
 VOXGI_CONST uint kAlbedoTexUnit = 1u;       // rgba8: albedo rgb, opacity
 VOXGI_CONST uint kNormalTexUnit = 2u;       // rgba8_snorm: unit normal (0 when ambiguous)
@@ -44,27 +45,34 @@ VOXGI_CONST uint kEmissionTexUnit = 3u;     // rgba16f: emitted radiance
 VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
 VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
 VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
-VOXGI_CONST uint kSlotListBinding = 5u;     // SSBO: packed coordinates per slot (or a hole)
-VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per slot
+VOXGI_CONST uint kBrickMapBinding = 5u;     // SSBO: epoch | brick slot, per brick
+VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per voxel slot
 VOXGI_CONST uint kSlotSumsNBinding = 7u;
 VOXGI_CONST uint kSlotSumsEBinding = 8u;
-VOXGI_CONST uint kResolveGroupSize = 64u;  // invocations per group, one voxel each
-// SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 slots of 16 bytes.
-VOXGI_CONST uint kMaxListEntries = 8388607u;
+VOXGI_CONST uint kBrickPoolBinding = 9u;   // SSBO: epoch | voxel slot, 64 per brick slot
+VOXGI_CONST uint kBrickListBinding = 10u;  // SSBO: packed brick coordinates per brick slot
+VOXGI_CONST uint kResolveGroupSize = 64u;  // invocations per group: one brick, or 64 voxels
+VOXGI_CONST uint kMaxGroupsX = 32768u;     // larger dispatches go 2D
+// SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
+// bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
+VOXGI_CONST uint kMaxListEntries = 8388606u;
+VOXGI_CONST uint kMaxBricks = 524288u;
 
 struct VoxelParams {
   vec4 gridOrigin;  // xyz world (scene-relative) corner, w voxel size
   vec4 gridInfo;    // x resolution, y emission fixed-point scale, z 1/scale
-  uvec4 slotInfo;   // x this voxelization's epoch << kSlotBits
+  uvec4 slotInfo;   // x this voxelization's epoch << kSlotBits, y bricks per axis
 };
 
 struct VoxelStats {
   uint listCount;    // slots taken (may exceed the list's capacity)
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint capacity;  // slots (and list entries) there is room for
-  uint occupied;  // voxels resolved into the list
-  uint pad0, pad1, pad2;
+  uint capacity;       // slots (and list entries) there is room for
+  uint occupied;       // voxels resolved into the list
+  uint brickCount;     // pool bricks taken (may exceed brickCapacity)
+  uint brickCapacity;  // pool bricks there is room for
+  uint pad0;
 };
 
 #ifdef __cplusplus

@@ -1,9 +1,9 @@
 #version 450 core
-// Voxel resolve, one invocation per slot: fixed-point sums -> averaged attributes
-// in the formats the later stages read, and the voxel appended to the list of
-// occupied voxels (holes, slots a fragment took but lost to another, are skipped).
-// The sums are zeroed as they are read, so the next voxelization starts clean; the
-// slots are read in order, so this streams through them.
+// Voxel resolve, one group per pool brick and one invocation per voxel of it:
+// fixed-point sums -> averaged attributes in the formats the later stages read,
+// and the voxel appended to the list of occupied voxels. The sums are zeroed as
+// they are read, so the next voxelization starts clean. A group's writes stay
+// within one brick of the grid.
 // Also an order-independent checksum of the resolved values (a sum and an xor of
 // per-voxel hashes of index and values as quantised to the stored formats).
 #include "voxel_shared.h"
@@ -13,7 +13,8 @@ layout(local_size_x = kResolveGroupSize) in;
 layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams voxel; };
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
 layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
-layout(std430, binding = kSlotListBinding) readonly buffer SlotList { uint slotVoxels[]; };
+layout(std430, binding = kBrickPoolBinding) readonly buffer BrickPool { uint pool[]; };
+layout(std430, binding = kBrickListBinding) readonly buffer BrickList { uint brickVoxels[]; };
 layout(std430, binding = kSlotSumsABinding) buffer SumsA { uvec4 sumsA[]; };
 layout(std430, binding = kSlotSumsNBinding) buffer SumsN { uvec4 sumsN[]; };
 layout(std430, binding = kSlotSumsEBinding) buffer SumsE { uvec4 sumsE[]; };
@@ -32,11 +33,17 @@ uint hash(uint x) {  // a 32-bit integer mix (lowbias32)
 }
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= min(stats.listCount, stats.capacity)) return;
-  uint code = slotVoxels[i];
-  if (code == kSlotHole) return;
-  ivec3 p = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
+  uint brick = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if (brick >= min(stats.brickCount, stats.brickCapacity)) return;
+  uint l = gl_LocalInvocationIndex;
+  uint entry = pool[brick * kBrickVoxels + l];
+  if ((entry & ~kSlotMask) != voxel.slotInfo.x) return;  // not reached in this epoch
+  uint i = (entry & kSlotMask) - 1u;  // entries hold slot + 1
+  uint b = brickVoxels[brick];
+  uvec3 pu = uvec3(b & 1023u, (b >> 10) & 1023u, (b >> 20) & 1023u) * kBrickSize +
+             uvec3(l & 3u, (l >> 2) & 3u, l >> 4);
+  ivec3 p = ivec3(pu);
+  uint code = pu.x | (pu.y << 10) | (pu.z << 20);
   int res = int(voxel.gridInfo.x);
 
   uvec4 sa = sumsA[i];

@@ -15,9 +15,10 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 
-layout(binding = kSlotMapUnit, r32ui) uniform coherent uimage3D slotMap;
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
-layout(std430, binding = kSlotListBinding) writeonly buffer SlotList { uint slotVoxels[]; };
+layout(std430, binding = kBrickMapBinding) coherent buffer BrickMap { uint brickMap[]; };
+layout(std430, binding = kBrickPoolBinding) coherent buffer BrickPool { uint pool[]; };
+layout(std430, binding = kBrickListBinding) writeonly buffer BrickList { uint brickVoxels[]; };
 layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
 layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
 layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
@@ -40,23 +41,49 @@ ivec3 unswizzle(ivec3 p, int axis) {
       atomicMax(sums[i], 0xFFFFFFFFu);                               \
   }
 
-// The voxel's slot in this epoch, taking the next one if this fragment is the
-// first to reach it. Two fragments may both find the voxel unclaimed: the one whose
-// compare-and-swap fails adopts the winner's slot and marks its own a hole.
+// Claiming an entry of the brick map or the pool, with atomicMax only (a
+// compare-and-swap between lanes of one SIMD batch aimed at one address is not
+// reliable on every driver). Entries hold epoch | (slot + 1); epoch | 0 means "being
+// claimed". The fragment whose atomicMax raises an older epoch to this one is the
+// first: it takes the next slot and publishes it. Every other fragment reads the
+// entry until the slot is there (it waits only on a claim made by another thread:
+// a claim made in its own batch is published before the wait).
+#define CLAIM(entries, index, counter, capacity, firstAction)                              \
+  uint seen = entries[index];                                                           \
+  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                       \
+    uint old = atomicMax(entries[index], epoch);                                        \
+    if ((old & ~kSlotMask) != epoch) {                                                  \
+      uint ticket = atomicAdd(counter, 1u);                                             \
+      uint mine = ticket < capacity ? ticket : kSlotFull - 1u;                          \
+      atomicMax(entries[index], epoch | (mine + 1u));                                   \
+      if (ticket < capacity) firstAction;                                               \
+    }                                                                                   \
+    do {                                                                                \
+      seen = atomicOr(entries[index], 0u);                                              \
+    } while ((seen & kSlotMask) == 0u);                                                 \
+  }
+
+// The slot of voxel p in this epoch (kSlotFull when out of room), taking the next
+// brick and voxel slots where this fragment is the first to reach them.
 uint slotOf(ivec3 p) {
   uint epoch = voxel.slotInfo.x;
-  uint seen = imageLoad(slotMap, p).x;
-  if ((seen & ~kSlotMask) == epoch) return seen & kSlotMask;
-  uint code = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20);
-  uint ticket = atomicAdd(stats.listCount, 1u);
-  uint mine = epoch | (ticket < stats.capacity ? ticket : kSlotFull);
-  uint old = imageAtomicCompSwap(slotMap, p, seen, mine);
-  if (old == seen) {
-    if (ticket < stats.capacity) slotVoxels[ticket] = code;
-    return mine & kSlotMask;
+  uvec3 b = uvec3(p) / kBrickSize;
+  uint bi = b.x + voxel.slotInfo.y * (b.y + voxel.slotInfo.y * b.z);
+  uint brick;
+  {
+    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity,
+          brickVoxels[ticket] = b.x | (b.y << 10) | (b.z << 20))
+    brick = (seen & kSlotMask) - 1u;
   }
-  if (ticket < stats.capacity) slotVoxels[ticket] = kSlotHole;
-  return old & kSlotMask;  // claimed in this epoch by the winner
+  if (brick == kSlotFull - 1u) return kSlotFull;
+  uvec3 l = uvec3(p) % kBrickSize;
+  uint vi = brick * kBrickVoxels + (l.x | (l.y << 2) | (l.z << 4));
+  uint slot;
+  {
+    CLAIM(pool, vi, stats.listCount, stats.capacity, {})
+    slot = (seen & kSlotMask) - 1u;
+  }
+  return slot == kSlotFull - 1u ? kSlotFull : slot;
 }
 
 uint fixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }

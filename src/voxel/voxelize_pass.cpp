@@ -12,11 +12,26 @@
 namespace voxgi::voxel {
 namespace {
 
-constexpr uint64_t kSlotMapBytesPerVoxel = 4;
 constexpr uint64_t kResolvedBytesPerVoxel = 4 + 4 + 8;
-// Per slot: three uvec4 of sums and a packed coordinate; per list entry, 4.
-constexpr uint64_t kBytesPerSlot = 3 * 16 + 4;
+constexpr uint64_t kBytesPerSlot = 3 * 16;                      // sums
+constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4 + 4;  // pool entries, coordinates
 constexpr uint64_t kBytesPerListEntry = 4;
+
+uint64_t bricksPerAxis(int resolution) {
+  return (static_cast<uint64_t>(resolution) + gpu::kBrickSize - 1) / gpu::kBrickSize;
+}
+
+uint32_t initialBrickCapacity(int resolution) {
+  const uint64_t b = bricksPerAxis(resolution);
+  return static_cast<uint32_t>(std::min<uint64_t>(b * b * b, uint64_t{1} << 16));
+}
+
+// Groups for `count` invocations, 2D past kMaxGroupsX.
+void dispatchFor(uint64_t count) {
+  const uint64_t groups = (count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
+  const uint64_t x = std::min<uint64_t>(groups, gpu::kMaxGroupsX);
+  glDispatchCompute(static_cast<GLuint>(x), static_cast<GLuint>((groups + x - 1) / x), 1);
+}
 
 bool hasGlExtension(const char* name) {
   GLint n = 0;
@@ -39,10 +54,11 @@ uint32_t initialListCapacity(int resolution) {
 VoxelMemory voxelMemory(int resolution) {
   const uint64_t n = static_cast<uint64_t>(resolution);
   const uint64_t voxels = n * n * n;
+  const uint64_t b = bricksPerAxis(resolution);
   const uint64_t list = kBytesPerListEntry * initialListCapacity(resolution);
-  const uint64_t slots = kBytesPerSlot * initialListCapacity(resolution);
-  return {voxels * (kSlotMapBytesPerVoxel + kResolvedBytesPerVoxel) + slots + list,
-          voxels * kResolvedBytesPerVoxel + list};
+  const uint64_t sparse = b * b * b * 4 + kBytesPerBrick * initialBrickCapacity(resolution) +
+                          kBytesPerSlot * initialListCapacity(resolution);
+  return {voxels * kResolvedBytesPerVoxel + sparse + list, voxels * kResolvedBytesPerVoxel + list};
 }
 
 uint64_t voxelMemoryBudget(const std::string& renderer) {
@@ -114,6 +130,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glClearTexImage(normal_.id(), 0, GL_RGBA, GL_BYTE, zero);
   glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
   capacity_ = initialListCapacity(n);
+  brickCapacity_ = initialBrickCapacity(n);
   list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
   if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
@@ -131,40 +148,47 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
 }
 
 void VoxelizePass::allocateSums() {
-  if (slotMap_.id() != 0) return;
-  const int n = settings_.resolution;
-  const uint32_t zero = 0;
-  slotMap_ = gl::createTexture(GL_TEXTURE_3D);
-  glTextureStorage3D(slotMap_.id(), 1, GL_R32UI, n, n, n);
+  if (brickMap_) return;
+  const uint64_t b = bricksPerAxis(settings_.resolution);
+  brickMap_ = gl::createBuffer(static_cast<GLsizeiptr>(b * b * b * 4), nullptr);
   // Cleared once (and when the epochs run out): entries of older epochs read as empty.
-  glClearTexImage(slotMap_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  clear(brickMap_);
   epoch_ = 0;
   allocateSlots();
+  allocateBricks();
+}
+
+void VoxelizePass::clear(const gl::Buffer& buffer) {
+  const uint32_t zero = 0;
+  glClearNamedBufferData(buffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
 void VoxelizePass::allocateSlots() {
-  const GLsizeiptr bytes = static_cast<GLsizeiptr>(capacity_) * 16;
-  const uint32_t zero = 0;
   for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_}) {
-    *b = gl::createBuffer(bytes, nullptr);
-    glClearNamedBufferData(b->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);  // once
+    *b = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 16, nullptr);
+    clear(*b);  // once: the resolve re-zeroes what it reads
   }
-  slotList_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+}
+
+void VoxelizePass::allocateBricks() {
+  pool_ =
+      gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * gpu::kBrickVoxels * 4, nullptr);
+  clear(pool_);
+  brickList_ = gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * 4, nullptr);
 }
 
 void VoxelizePass::clearSums() {
-  const uint32_t zero = 0;
-  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_})
-    glClearNamedBufferData(b->id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_}) clear(*b);
 }
 
 void VoxelizePass::nextEpoch() {
   if (++epoch_ >= gpu::kEpochCount) {
-    const uint32_t zero = 0;
-    glClearTexImage(slotMap_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    clear(brickMap_);
+    clear(pool_);
     epoch_ = 1;
   }
-  params_.slotInfo = glm::uvec4(epoch_ << gpu::kSlotBits, 0u, 0u, 0u);
+  params_.slotInfo = glm::uvec4(epoch_ << gpu::kSlotBits,
+                                static_cast<uint32_t>(bricksPerAxis(settings_.resolution)), 0u, 0u);
   glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
@@ -173,6 +197,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   const int n = settings_.resolution;
   gpu::VoxelStats fresh{};
   fresh.capacity = capacity_;
+  fresh.brickCapacity = brickCapacity_;
   glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, n, n);
@@ -204,15 +229,16 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
 void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotListBinding, slotList_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickMapBinding, brickMap_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickPoolBinding, pool_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickListBinding, brickList_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsABinding, sumsA_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsNBinding, sumsN_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsEBinding, sumsE_.id());
-  glBindImageTexture(gpu::kSlotMapUnit, slotMap_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
 }
 
-void VoxelizePass::dispatch(const gl::Program& program, uint32_t count) {
-  if (count == 0) return;
+void VoxelizePass::dispatch(const gl::Program& program, uint64_t invocations) {
+  if (invocations == 0) return;
   glUseProgram(program.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   bindSlots();
@@ -221,7 +247,7 @@ void VoxelizePass::dispatch(const gl::Program& program, uint32_t count) {
                      GL_RGBA8_SNORM);
   glBindImageTexture(gpu::kResolvedUnit0 + 2, emission_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                      GL_RGBA16F);
-  glDispatchCompute((count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize, 1, 1);
+  dispatchFor(invocations);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
@@ -249,17 +275,27 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   const uint32_t oldCapacity = capacity_;
-  if (out.listCount > capacity_) {
-    // The slots ran out: grow them and raster again in a fresh epoch.
+  // Out of voxel slots or pool bricks: grow what ran out and raster again in a fresh
+  // epoch (bricks that did not fit took no voxel slots, so this can take two rounds).
+  for (int round = 0; out.listCount > capacity_ || out.brickCount > brickCapacity_; ++round) {
+    VOXGI_CHECK_LT(round, 3);
     if (out.listCount > gpu::kMaxListEntries)
       throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
                        out.listCount, gpu::kMaxListEntries));
-    capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
-    allocateSlots();
+    if (out.brickCount > gpu::kMaxBricks)
+      throw Error(strf("--voxels %d: %u occupied bricks of 4^3 voxels exceed the limit of %u", n,
+                       out.brickCount, gpu::kMaxBricks));
+    if (out.listCount > capacity_) {
+      capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
+      allocateSlots();
+    }
+    if (out.brickCount > brickCapacity_) {
+      brickCapacity_ = std::min<uint32_t>(gpu::kMaxBricks, out.brickCount + out.brickCount / 4);
+      allocateBricks();
+    }
     nextEpoch();
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-    VOXGI_CHECK_LE(out.listCount, capacity_);
   }
   // What the previous voxelization listed and this one did not reach is zeroed
   // before its list is overwritten.
@@ -268,23 +304,23 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   dispatch(unresolve_, listed_);
   if (capacity_ != oldCapacity)
     list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
-  dispatch(resolve_, out.listCount);
-  for (uint32_t u :
-       {gpu::kSlotMapUnit, gpu::kResolvedUnit0, gpu::kResolvedUnit0 + 1, gpu::kResolvedUnit0 + 2})
-    glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  dispatch(resolve_, uint64_t{out.brickCount} * gpu::kBrickVoxels);
+  for (uint32_t u = 0; u < 3; ++u)
+    glBindImageTexture(gpu::kResolvedUnit0 + u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   listed_ = out.occupied;
-  slotsTaken_ = out.listCount;
+  bricksTaken_ = out.brickCount;
   stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
   stats_.bytes = voxelMemory(n).residentBytes +
                  kBytesPerListEntry * (uint64_t{capacity_} - initialListCapacity(n));
-  stats_.peakBytes = voxelMemory(n).peakBytes + (kBytesPerListEntry + kBytesPerSlot) *
-                                                    (uint64_t{capacity_} - initialListCapacity(n));
+  stats_.peakBytes =
+      voxelMemory(n).peakBytes +
+      (kBytesPerListEntry + kBytesPerSlot) * (uint64_t{capacity_} - initialListCapacity(n)) +
+      kBytesPerBrick * (uint64_t{brickCapacity_} - initialBrickCapacity(n));
   if (!settings_.keepSums && !settings_.inspectSums) {
     // only the resolved grid stays resident
-    slotMap_.reset();
-    for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_, &slotList_}) b->reset();
+    for (gl::Buffer* b : {&brickMap_, &pool_, &brickList_, &sumsA_, &sumsN_, &sumsE_}) b->reset();
   }
 }
 
@@ -318,10 +354,13 @@ std::vector<uint16_t> VoxelizePass::readEmission() const {
 std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
   VOXGI_CHECK(settings_.inspectSums && channel < gpu::kSumChannels);
   const size_t n = static_cast<size_t>(settings_.resolution);
-  const uint32_t slots = std::min(slotsTaken_, capacity_);
-  std::vector<uint32_t> codes(slots), sums(size_t{slots} * 4);
-  glGetNamedBufferSubData(slotList_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4),
+  const uint32_t bricks = std::min(bricksTaken_, brickCapacity_);
+  std::vector<uint32_t> codes(bricks), entries(size_t{bricks} * gpu::kBrickVoxels),
+      sums(size_t{capacity_} * 4);
+  glGetNamedBufferSubData(brickList_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4),
                           codes.data());
+  glGetNamedBufferSubData(pool_.id(), 0, static_cast<GLsizeiptr>(entries.size() * 4),
+                          entries.data());
   // albedo rgb + weight, normal xyz, emission rgb: see voxel_shared.h
   const gl::Buffer& b = channel < gpu::kSumNormal || channel == gpu::kSumWeight ? sumsA_
                         : channel < gpu::kSumEmission                           ? sumsN_
@@ -329,10 +368,12 @@ std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
   const uint32_t lane = channel == gpu::kSumWeight ? 3u : channel % 3u;
   glGetNamedBufferSubData(b.id(), 0, static_cast<GLsizeiptr>(sums.size() * 4), sums.data());
   std::vector<uint32_t> out(n * n * n, 0u);
-  for (uint32_t i = 0; i < slots; ++i) {
-    const uint32_t c = codes[i];
-    if (c == gpu::kSlotHole) continue;
-    out[(c & 1023u) + n * (((c >> 10) & 1023u) + n * ((c >> 20) & 1023u))] = sums[i * 4 + lane];
+  for (uint32_t i = 0; i < entries.size(); ++i) {
+    if ((entries[i] & ~gpu::kSlotMask) != params_.slotInfo.x) continue;  // not this epoch
+    const uint32_t c = codes[i / gpu::kBrickVoxels], l = i % gpu::kBrickVoxels;
+    const size_t x = (c & 1023u) * 4 + (l & 3u), y = ((c >> 10) & 1023u) * 4 + ((l >> 2) & 3u),
+                 z = ((c >> 20) & 1023u) * 4 + (l >> 4);
+    out[x + n * (y + n * z)] = sums[((entries[i] & gpu::kSlotMask) - 1) * 4 + lane];  // slot + 1
   }
   return out;
 }

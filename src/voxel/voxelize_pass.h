@@ -94,27 +94,29 @@ class VoxelizePass {
  private:
   void allocateSums();
   void allocateSlots();
+  void allocateBricks();
+  static void clear(const gl::Buffer& buffer);
   void clearSums();
   void nextEpoch();
   void raster(const scene::GpuScene& gs);
   void bindSlots();
-  void dispatch(const gl::Program& program, uint32_t count);
+  void dispatch(const gl::Program& program, uint64_t invocations);
 
   Settings settings_;
   const gl::Program& voxelize_;
   const gl::Program& resolve_;
   const gl::Program& unresolve_;
-  // While voxelizing (kept with keepSums): the slot map and the per-slot sums.
-  gl::Texture slotMap_;
-  gl::Buffer sumsA_, sumsN_, sumsE_, slotList_;
+  // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
+  gl::Buffer brickMap_, pool_, brickList_, sumsA_, sumsN_, sumsE_;
   gl::Texture albedo_, normal_, emission_;
   gl::Framebuffer fbo_;
   gl::Buffer paramsBuffer_, statsBuffer_, list_;
   gpu::VoxelParams params_{};
   uint32_t epoch_ = 0;
-  uint32_t capacity_ = 0;    // slots, and entries of list_
-  uint32_t slotsTaken_ = 0;  // by the last voxelization, holes included
-  uint32_t listed_ = 0;      // voxels listed (and resolved) by the last voxelization
+  uint32_t capacity_ = 0;       // slots, and entries of list_
+  uint32_t brickCapacity_ = 0;  // pool bricks
+  uint32_t bricksTaken_ = 0;    // by the last voxelization
+  uint32_t listed_ = 0;         // voxels listed (and resolved) by the last voxelization
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;
