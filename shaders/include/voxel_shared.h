@@ -49,10 +49,11 @@ VOXGI_CONST uint kBrickMapBinding = 5u;     // SSBO: epoch | brick slot, per bri
 VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per voxel slot
 VOXGI_CONST uint kSlotSumsNBinding = 7u;
 VOXGI_CONST uint kSlotSumsEBinding = 8u;
-VOXGI_CONST uint kBrickPoolBinding = 9u;   // SSBO: epoch | voxel slot, 64 per brick slot
-VOXGI_CONST uint kBrickListBinding = 10u;  // SSBO: packed brick coordinates per brick slot
-VOXGI_CONST uint kResolveGroupSize = 64u;  // invocations per group: one brick, or 64 voxels
-VOXGI_CONST uint kMaxGroupsX = 32768u;     // larger dispatches go 2D
+VOXGI_CONST uint kBrickPoolBinding = 9u;      // SSBO: epoch | voxel slot, 64 per brick slot
+VOXGI_CONST uint kBrickListBinding = 10u;     // SSBO: packed brick coordinates per brick slot
+VOXGI_CONST uint kEmissiveListBinding = 11u;  // SSBO: packed coordinates of emissive voxels
+VOXGI_CONST uint kResolveGroupSize = 64u;     // invocations per group: one brick, or 64 voxels
+VOXGI_CONST uint kMaxGroupsX = 32768u;        // larger dispatches go 2D
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
 // bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
 VOXGI_CONST uint kMaxListEntries = 8388606u;
@@ -72,7 +73,7 @@ struct VoxelStats {
   uint occupied;       // voxels resolved into the list
   uint brickCount;     // pool bricks taken (may exceed brickCapacity)
   uint brickCapacity;  // pool bricks there is room for
-  uint pad0;
+  uint emissive;       // voxels resolved with nonzero emission (the emissive list)
 };
 
 #ifdef __cplusplus

@@ -13,6 +13,7 @@ layout(local_size_x = kResolveGroupSize) in;
 layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams voxel; };
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
 layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
+layout(std430, binding = kEmissiveListBinding) writeonly buffer Emissive { uint emissive[]; };
 layout(std430, binding = kBrickPoolBinding) readonly buffer BrickPool { uint pool[]; };
 layout(std430, binding = kBrickListBinding) readonly buffer BrickList { uint brickVoxels[]; };
 layout(std430, binding = kSlotSumsABinding) buffer SumsA { uvec4 sumsA[]; };
@@ -69,7 +70,12 @@ void main() {
   vec4 e = vec4(emission, 0.0);
   imageStore(albedoOut, p, a);
   imageStore(normalOut, p, n);
-  imageStore(emissionOut, p, e);
+  // The emission texture is zero except at the voxels of the emissive list, which
+  // the next voxelization zeroes first: most voxels need no emission store.
+  if (se != uvec4(0u)) {
+    imageStore(emissionOut, p, e);
+    emissive[atomicAdd(stats.emissive, 1u)] = code;
+  }
   voxels[atomicAdd(stats.occupied, 1u)] = code;
 
   uint index = uint(p.x + res * (p.y + res * p.z));

@@ -15,7 +15,7 @@ namespace {
 constexpr uint64_t kResolvedBytesPerVoxel = 4 + 4 + 8;
 constexpr uint64_t kBytesPerSlot = 3 * 16;                      // sums
 constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4 + 4;  // pool entries, coordinates
-constexpr uint64_t kBytesPerListEntry = 4;
+constexpr uint64_t kBytesPerListEntry = 4 + 4;                  // the list and the emissive list
 
 uint64_t bricksPerAxis(int resolution) {
   return (static_cast<uint64_t>(resolution) + gpu::kBrickSize - 1) / gpu::kBrickSize;
@@ -131,7 +131,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
   capacity_ = initialListCapacity(n);
   brickCapacity_ = initialBrickCapacity(n);
-  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  allocateLists();
   if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
   fbo_ = gl::createFramebuffer();
@@ -156,6 +156,11 @@ void VoxelizePass::allocateSums() {
   epoch_ = 0;
   allocateSlots();
   allocateBricks();
+}
+
+void VoxelizePass::allocateLists() {
+  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  emissiveList_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
 }
 
 void VoxelizePass::clear(const gl::Buffer& buffer) {
@@ -229,6 +234,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
 void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmissiveListBinding, emissiveList_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickMapBinding, brickMap_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickPoolBinding, pool_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickListBinding, brickList_.id());
@@ -301,14 +307,15 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   // before its list is overwritten.
   glUseProgram(unresolve_.id());
   glUniform1ui(0, listed_);
-  dispatch(unresolve_, listed_);
-  if (capacity_ != oldCapacity)
-    list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  glUniform1ui(1, emissive_);
+  dispatch(unresolve_, std::max(listed_, emissive_));
+  if (capacity_ != oldCapacity) allocateLists();
   dispatch(resolve_, uint64_t{out.brickCount} * gpu::kBrickVoxels);
   for (uint32_t u = 0; u < 3; ++u)
     glBindImageTexture(gpu::kResolvedUnit0 + u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   listed_ = out.occupied;
+  emissive_ = out.emissive;
   bricksTaken_ = out.brickCount;
   stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;

@@ -95,6 +95,7 @@ class VoxelizePass {
   void allocateSums();
   void allocateSlots();
   void allocateBricks();
+  void allocateLists();
   static void clear(const gl::Buffer& buffer);
   void clearSums();
   void nextEpoch();
@@ -110,13 +111,14 @@ class VoxelizePass {
   gl::Buffer brickMap_, pool_, brickList_, sumsA_, sumsN_, sumsE_;
   gl::Texture albedo_, normal_, emission_;
   gl::Framebuffer fbo_;
-  gl::Buffer paramsBuffer_, statsBuffer_, list_;
+  gl::Buffer paramsBuffer_, statsBuffer_, list_, emissiveList_;
   gpu::VoxelParams params_{};
   uint32_t epoch_ = 0;
   uint32_t capacity_ = 0;       // slots, and entries of list_
   uint32_t brickCapacity_ = 0;  // pool bricks
   uint32_t bricksTaken_ = 0;    // by the last voxelization
   uint32_t listed_ = 0;         // voxels listed (and resolved) by the last voxelization
+  uint32_t emissive_ = 0;       // of them, with nonzero emission (the emissive list)
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;
