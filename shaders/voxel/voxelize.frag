@@ -51,16 +51,14 @@ ivec3 unswizzle(ivec3 p, int axis) {
 #define CLAIM(entries, index, counter, capacity, firstAction)                              \
   uint seen = entries[index];                                                           \
   if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                       \
-    uint old = atomicMax(entries[index], epoch);                                        \
-    if ((old & ~kSlotMask) != epoch) {                                                  \
+    seen = atomicMax(entries[index], epoch);                                           \
+    if ((seen & ~kSlotMask) != epoch) {                                                 \
       uint ticket = atomicAdd(counter, 1u);                                             \
-      uint mine = ticket < capacity ? ticket : kSlotFull - 1u;                          \
-      atomicMax(entries[index], epoch | (mine + 1u));                                   \
+      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u);              \
+      atomicMax(entries[index], seen);                                                  \
       if (ticket < capacity) firstAction;                                               \
     }                                                                                   \
-    do {                                                                                \
-      seen = atomicOr(entries[index], 0u);                                              \
-    } while ((seen & kSlotMask) == 0u);                                                 \
+    while ((seen & kSlotMask) == 0u) seen = atomicOr(entries[index], 0u);               \
   }
 
 // The slot of voxel p in this epoch (kSlotFull when out of room), taking the next
