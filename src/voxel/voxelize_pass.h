@@ -12,11 +12,16 @@
 // attachments and 4x MSAA (GL_FRAMEBUFFER_DEFAULT_SAMPLES); a fragment runs where
 // any sample is covered and writes every voxel its plane crosses in the pixel
 // column. Values are summed in fixed point (16 fractional bits, weighted by covered
-// samples) with imageAtomicAdd on r32ui images: the grid is bit-identical whatever
-// the triangle order; sums saturate, never wrap (see voxel_shared.h for the bound).
-// The first fragment to reach a voxel appends it to a list; a compute pass over
-// the list resolves the averages (zeroing the sums as it reads them) and checksums
-// the grid, so after the first use nothing costs N^3: work follows the surface.
+// samples) with atomicAdd: the grid is bit-identical whatever the triangle order;
+// sums saturate, never wrap (see voxel_shared.h for the bound).
+// The sums are sparse. A brick map (one entry per 4^3 voxels) gives each brick a
+// fragment reaches a slot in a pool; the pool gives each voxel reached a slot of
+// sums, one uvec4 per slot in each of three SSBOs (albedo+weight, normal, emission).
+// Entries carry the voxelization's epoch, so nothing is cleared per run. A compute
+// pass over the pool bricks resolves the averages (zeroing the sums as it reads
+// them), lists the voxels, and checksums the grid; before it, the voxels of the
+// previous list this run did not reach, and the previous emissive voxels, are
+// zeroed. After the first use nothing costs N^3: work follows the surface.
 //
 // Tested by tests/voxel/voxelize_gltest.cpp (exact counts, determinism, agreement
 // with a CPU triangle-box reference, watertightness, scale invariance).
@@ -60,9 +65,9 @@ class VoxelizePass {
  public:
   struct Settings {
     int resolution = 128;
-    bool keepSums = false;  // keep the r32ui sums allocated between voxelizations
+    bool keepSums = false;  // keep the brick map, pool and sums between voxelizations
     // Tests: the resolve leaves the sums as they are (readSum() shows them) and each
-    // voxelization clears all N^3 of them first instead.
+    // voxelization clears all of them first instead.
     bool inspectSums = false;
   };
 
@@ -88,7 +93,8 @@ class VoxelizePass {
   std::vector<uint8_t> readAlbedo() const;
   std::vector<int8_t> readNormal() const;
   std::vector<uint16_t> readEmission() const;
-  // One fixed-point sum channel (kSum*), x fastest; only with Settings::inspectSums.
+  // One fixed-point sum channel (kSum*) as a dense N^3 array, x fastest (zero where
+  // no fragment reached), gathered from the sparse sums; only with inspectSums.
   std::vector<uint32_t> readSum(uint32_t channel) const;
 
  private:
