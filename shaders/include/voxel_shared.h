@@ -9,10 +9,10 @@ namespace voxgi::gpu {
 #endif
 
 // Fixed-point sums: each fragment adds value x kFixedOne x weight (weight = covered
-// MSAA samples, 1..4) to a r32ui image with imageAtomicAdd. Sums saturate at
-// 0xFFFFFFFF (never wrap). A voxel takes kMaxSamplesPerVoxel = 2^32 / 2^16 = 65536
-// covered samples (16384 fully covered fragments) of the largest value before any
-// sum could saturate.
+// MSAA samples, 1..4) to a uint with atomicAdd. Sums saturate at 0xFFFFFFFF (never
+// wrap). A voxel takes kMaxSamplesPerVoxel = 2^32 / 2^16 = 65536 covered samples
+// (16384 fully covered fragments) of the largest value before any sum could
+// saturate.
 VOXGI_CONST uint kFixedOne = 65535u;
 VOXGI_CONST uint kSumChannels = 10u;  // albedo rgb, normal xyz, emission rgb, weight
 VOXGI_CONST uint kSumAlbedo = 0u;
@@ -21,10 +21,23 @@ VOXGI_CONST uint kSumEmission = 6u;
 VOXGI_CONST uint kSumWeight = 9u;
 VOXGI_CONST uint kSamplesPerFragment = 4u;  // 4x MSAA
 
-// Image units: the sums take 0..9; the resolve pass writes the resolved grid
-// through 10..12. Passes that read the resolved grid bind it as samplers on the
-// texture units below.
-VOXGI_CONST uint kSumUnit0 = 0u;
+// Sparse sums, two levels. A brick map holds, per brick of 4^3 voxels, the
+// voxelization's epoch (high bits) and the brick's slot in a pool (low kSlotBits);
+// each pool brick holds, per voxel, the epoch and the voxel's slot. The first
+// fragment of an epoch to reach a brick or a voxel takes the next slot. Entries of
+// an older epoch read as empty, so neither level is cleared per run, and the small
+// map and the compact pool keep the lookups local. The sums live per voxel slot,
+// in three SSBOs of one uvec4 per slot, so a voxel's channels share cache lines:
+//   kSlotSumsA: albedo rgb, weight   kSlotSumsN: normal xyz, 0   kSlotSumsE: emission rgb, 0
+VOXGI_CONST uint kSlotBits = 23u;
+VOXGI_CONST uint kSlotMask = 0x7FFFFFu;  // (1 << kSlotBits) - 1
+VOXGI_CONST uint kSlotFull = kSlotMask;  // entry = epoch | kSlotFull: no room, raster again
+VOXGI_CONST uint kEpochCount = 511u;     // epochs 1..510, then both levels are cleared
+VOXGI_CONST uint kBrickSize = 4u;        // voxels per brick side
+VOXGI_CONST uint kBrickVoxels = 64u;
+
+// Image units: the resolve pass writes the resolved grid through 10..12. Passes
+// that read the resolved grid bind it as samplers on the texture units below.
 VOXGI_CONST uint kResolvedUnit0 = 10u;
 VOXGI_CONST uint kAlbedoTexUnit = 1u;       // rgba8: albedo rgb, opacity
 VOXGI_CONST uint kNormalTexUnit = 2u;       // rgba8_snorm: unit normal (0 when ambiguous)
@@ -32,25 +45,40 @@ VOXGI_CONST uint kEmissionTexUnit = 3u;     // rgba16f: emitted radiance
 VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
 VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
 VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
-VOXGI_CONST uint kResolveGroupSize = 64u;   // invocations per group, one voxel each
-// SSBOs are limited to 128 MiB on llvmpipe: at most 2^25 listed voxels.
-VOXGI_CONST uint kMaxListEntries = 33554432u;
+VOXGI_CONST uint kBrickMapBinding = 5u;     // SSBO: epoch | brick slot, per brick
+VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per voxel slot
+VOXGI_CONST uint kSlotSumsNBinding = 7u;
+VOXGI_CONST uint kSlotSumsEBinding = 8u;
+VOXGI_CONST uint kBrickPoolBinding = 9u;      // SSBO: epoch | voxel slot, 64 per brick slot
+VOXGI_CONST uint kBrickListBinding = 10u;     // SSBO: packed brick coordinates per brick slot
+VOXGI_CONST uint kEmissiveListBinding = 11u;  // SSBO: packed coordinates of emissive voxels
+VOXGI_CONST uint kResolveGroupSize = 64u;     // invocations per group: one brick, or 64 voxels
+VOXGI_CONST uint kMaxGroupsX = 32768u;        // larger dispatches go 2D
+// SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
+// bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
+VOXGI_CONST uint kMaxListEntries = 8388606u;
+VOXGI_CONST uint kMaxBricks = 524288u;
 
 struct VoxelParams {
   vec4 gridOrigin;  // xyz world (scene-relative) corner, w voxel size
   vec4 gridInfo;    // x resolution, y emission fixed-point scale, z 1/scale
+  uvec4 slotInfo;   // x this voxelization's epoch << kSlotBits, y bricks per axis
 };
 
 struct VoxelStats {
-  uint listCount;    // voxels touched by a fragment (may exceed the list's capacity)
+  uint listCount;    // slots taken (may exceed the list's capacity)
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint capacity;  // entries the list can hold
+  uint capacity;       // slots (and list entries) there is room for
+  uint occupied;       // voxels resolved into the list
+  uint brickCount;     // pool bricks taken (may exceed brickCapacity)
+  uint brickCapacity;  // pool bricks there is room for
+  uint emissive;       // voxels resolved with nonzero emission (the emissive list)
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(VoxelParams) == 32);
-static_assert(sizeof(VoxelStats) == 16);
+static_assert(sizeof(VoxelParams) == 48);
+static_assert(sizeof(VoxelStats) == 32);
 }  // namespace voxgi::gpu
 #endif
 

@@ -15,9 +15,13 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 
-layout(binding = 0, r32ui) uniform coherent uimage3D sums[kSumChannels];
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
-layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
+layout(std430, binding = kBrickMapBinding) coherent buffer BrickMap { uint brickMap[]; };
+layout(std430, binding = kBrickPoolBinding) coherent buffer BrickPool { uint pool[]; };
+layout(std430, binding = kBrickListBinding) writeonly buffer BrickList { uint brickVoxels[]; };
+layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
+layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
+layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
 
 layout(location = 0) centroid in vec3 gNormal;
 layout(location = 1) centroid in vec2 gUv;
@@ -29,12 +33,55 @@ ivec3 unswizzle(ivec3 p, int axis) {
   return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p);
 }
 
-// Saturating add: once a sum would pass 2^32 - 1 it stays there. Returns the old value.
-uint addSaturating(int channel, ivec3 p, uint value) {
-  if (value == 0u) return 1u;
-  uint old = imageAtomicAdd(sums[channel], p, value);
-  if (old > 0xFFFFFFFFu - value) imageAtomicMax(sums[channel], p, 0xFFFFFFFFu);
-  return old;
+// Saturating adds: once a sum would pass 2^32 - 1 it stays there.
+#define ADD_SATURATING(sums, i, value)                               \
+  {                                                                  \
+    uint v_ = (value);                                               \
+    if (v_ != 0u && atomicAdd(sums[i], v_) > 0xFFFFFFFFu - v_)       \
+      atomicMax(sums[i], 0xFFFFFFFFu);                               \
+  }
+
+// Claiming an entry of the brick map or the pool, with atomicMax only (a
+// compare-and-swap between lanes of one SIMD batch aimed at one address is not
+// reliable on every driver). Entries hold epoch | (slot + 1); epoch | 0 means "being
+// claimed". The fragment whose atomicMax raises an older epoch to this one is the
+// first: it takes the next slot and publishes it. Every other fragment reads the
+// entry until the slot is there (it waits only on a claim made by another thread:
+// a claim made in its own batch is published before the wait).
+#define CLAIM(entries, index, counter, capacity, firstAction)                              \
+  uint seen = entries[index];                                                           \
+  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                       \
+    seen = atomicMax(entries[index], epoch);                                           \
+    if ((seen & ~kSlotMask) != epoch) {                                                 \
+      uint ticket = atomicAdd(counter, 1u);                                             \
+      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u);              \
+      atomicMax(entries[index], seen);                                                  \
+      if (ticket < capacity) firstAction;                                               \
+    }                                                                                   \
+    while ((seen & kSlotMask) == 0u) seen = atomicOr(entries[index], 0u);               \
+  }
+
+// The slot of voxel p in this epoch (kSlotFull when out of room), taking the next
+// brick and voxel slots where this fragment is the first to reach them.
+uint slotOf(ivec3 p) {
+  uint epoch = voxel.slotInfo.x;
+  uvec3 b = uvec3(p) / kBrickSize;
+  uint bi = b.x + voxel.slotInfo.y * (b.y + voxel.slotInfo.y * b.z);
+  uint brick;
+  {
+    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity,
+          brickVoxels[ticket] = b.x | (b.y << 10) | (b.z << 20))
+    brick = (seen & kSlotMask) - 1u;
+  }
+  if (brick == kSlotFull - 1u) return kSlotFull;
+  uvec3 l = uvec3(p) % kBrickSize;
+  uint vi = brick * kBrickVoxels + (l.x | (l.y << 2) | (l.z << 4));
+  uint slot;
+  {
+    CLAIM(pool, vi, stats.listCount, stats.capacity, {})
+    slot = (seen & kSlotMask) - 1u;
+  }
+  return slot == kSlotFull - 1u ? kSlotFull : slot;
 }
 
 uint fixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
@@ -67,24 +114,23 @@ void main() {
   uint emission[3] = uint[3](fixedPoint(e.r), fixedPoint(e.g), fixedPoint(e.b));
 
   ivec2 pixel = ivec2(uv);
+  bool emits = emission[0] + emission[1] + emission[2] != 0u;
   for (int k = k0; k <= k1; ++k) {
     ivec3 p = unswizzle(ivec3(pixel, k), gAxis);
-    // Constant indices only: image arrays indexed by a loop variable are not
-    // reliable on every driver.
-    addSaturating(0, p, albedo[0] * weight);
-    addSaturating(1, p, albedo[1] * weight);
-    addSaturating(2, p, albedo[2] * weight);
-    addSaturating(3, p, normal[0] * weight);
-    addSaturating(4, p, normal[1] * weight);
-    addSaturating(5, p, normal[2] * weight);
-    addSaturating(6, p, emission[0] * weight);
-    addSaturating(7, p, emission[1] * weight);
-    addSaturating(8, p, emission[2] * weight);
-    // The first fragment to reach a voxel lists it: later passes visit only
-    // listed voxels, so nothing costs N^3.
-    if (addSaturating(9, p, weight) == 0u) {
-      uint slot = atomicAdd(stats.listCount, 1u);
-      if (slot < stats.capacity) voxels[slot] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20);
+    uint slot = slotOf(p);
+    if (slot == kSlotFull) continue;  // the list overflowed: the pass runs again
+    uint i = slot * 4u;
+    ADD_SATURATING(sumsA, i + 0u, albedo[0] * weight);
+    ADD_SATURATING(sumsA, i + 1u, albedo[1] * weight);
+    ADD_SATURATING(sumsA, i + 2u, albedo[2] * weight);
+    ADD_SATURATING(sumsA, i + 3u, weight);
+    ADD_SATURATING(sumsN, i + 0u, normal[0] * weight);
+    ADD_SATURATING(sumsN, i + 1u, normal[1] * weight);
+    ADD_SATURATING(sumsN, i + 2u, normal[2] * weight);
+    if (emits) {
+      ADD_SATURATING(sumsE, i + 0u, emission[0] * weight);
+      ADD_SATURATING(sumsE, i + 1u, emission[1] * weight);
+      ADD_SATURATING(sumsE, i + 2u, emission[2] * weight);
     }
   }
 }

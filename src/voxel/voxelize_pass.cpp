@@ -12,8 +12,26 @@
 namespace voxgi::voxel {
 namespace {
 
-constexpr uint64_t kSumBytesPerVoxel = gpu::kSumChannels * 4;
 constexpr uint64_t kResolvedBytesPerVoxel = 4 + 4 + 8;
+constexpr uint64_t kBytesPerSlot = 3 * 16;                      // sums
+constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4 + 4;  // pool entries, coordinates
+constexpr uint64_t kBytesPerListEntry = 4 + 4;                  // the list and the emissive list
+
+uint64_t bricksPerAxis(int resolution) {
+  return (static_cast<uint64_t>(resolution) + gpu::kBrickSize - 1) / gpu::kBrickSize;
+}
+
+uint32_t initialBrickCapacity(int resolution) {
+  const uint64_t b = bricksPerAxis(resolution);
+  return static_cast<uint32_t>(std::min<uint64_t>(b * b * b, uint64_t{1} << 16));
+}
+
+// Groups for `count` invocations, 2D past kMaxGroupsX.
+void dispatchFor(uint64_t count) {
+  const uint64_t groups = (count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
+  const uint64_t x = std::min<uint64_t>(groups, gpu::kMaxGroupsX);
+  glDispatchCompute(static_cast<GLuint>(x), static_cast<GLuint>((groups + x - 1) / x), 1);
+}
 
 bool hasGlExtension(const char* name) {
   GLint n = 0;
@@ -36,9 +54,11 @@ uint32_t initialListCapacity(int resolution) {
 VoxelMemory voxelMemory(int resolution) {
   const uint64_t n = static_cast<uint64_t>(resolution);
   const uint64_t voxels = n * n * n;
-  const uint64_t list = uint64_t{4} * initialListCapacity(resolution);
-  return {voxels * (kSumBytesPerVoxel + kResolvedBytesPerVoxel) + list,
-          voxels * kResolvedBytesPerVoxel + list};
+  const uint64_t b = bricksPerAxis(resolution);
+  const uint64_t list = kBytesPerListEntry * initialListCapacity(resolution);
+  const uint64_t sparse = b * b * b * 4 + kBytesPerBrick * initialBrickCapacity(resolution) +
+                          kBytesPerSlot * initialListCapacity(resolution);
+  return {voxels * kResolvedBytesPerVoxel + sparse + list, voxels * kResolvedBytesPerVoxel + list};
 }
 
 uint64_t voxelMemoryBudget(const std::string& renderer) {
@@ -109,7 +129,9 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glClearTexImage(albedo_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
   glClearTexImage(normal_.id(), 0, GL_RGBA, GL_BYTE, zero);
   glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
-  allocateList(initialListCapacity(n));
+  capacity_ = initialListCapacity(n);
+  brickCapacity_ = initialBrickCapacity(n);
+  allocateLists();
   if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
   fbo_ = gl::createFramebuffer();
@@ -117,7 +139,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, n);
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_SAMPLES,
                                static_cast<GLint>(gpu::kSamplesPerFragment));
-  params_ = gl::createBuffer(sizeof(gpu::VoxelParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  paramsBuffer_ = gl::createBuffer(sizeof(gpu::VoxelParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   statsBuffer_ =
       gl::createBuffer(sizeof(gpu::VoxelStats), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
   stats_.resolution = n;
@@ -126,20 +148,53 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
 }
 
 void VoxelizePass::allocateSums() {
-  if (!sums_.empty()) return;
-  const int n = settings_.resolution;
+  if (brickMap_) return;
+  const uint64_t b = bricksPerAxis(settings_.resolution);
+  brickMap_ = gl::createBuffer(static_cast<GLsizeiptr>(b * b * b * 4), nullptr);
+  // Cleared once (and when the epochs run out): entries of older epochs read as empty.
+  clear(brickMap_);
+  epoch_ = 0;
+  allocateSlots();
+  allocateBricks();
+}
+
+void VoxelizePass::allocateLists() {
+  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  emissiveList_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+}
+
+void VoxelizePass::clear(const gl::Buffer& buffer) {
   const uint32_t zero = 0;
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c) {
-    gl::Texture t = gl::createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, GL_R32UI, n, n, n);
-    glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);  // once: resolve re-zeroes
-    sums_.push_back(std::move(t));
+  glClearNamedBufferData(buffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+}
+
+void VoxelizePass::allocateSlots() {
+  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_}) {
+    *b = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 16, nullptr);
+    clear(*b);  // once: the resolve re-zeroes what it reads
   }
 }
 
-void VoxelizePass::allocateList(uint32_t capacity) {
-  capacity_ = capacity;
-  list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity) * 4, nullptr);
+void VoxelizePass::allocateBricks() {
+  pool_ =
+      gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * gpu::kBrickVoxels * 4, nullptr);
+  clear(pool_);
+  brickList_ = gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * 4, nullptr);
+}
+
+void VoxelizePass::clearSums() {
+  for (gl::Buffer* b : {&sumsA_, &sumsN_, &sumsE_}) clear(*b);
+}
+
+void VoxelizePass::nextEpoch() {
+  if (++epoch_ >= gpu::kEpochCount) {
+    clear(brickMap_);
+    clear(pool_);
+    epoch_ = 1;
+  }
+  params_.slotInfo = glm::uvec4(epoch_ << gpu::kSlotBits,
+                                static_cast<uint32_t>(bricksPerAxis(settings_.resolution)), 0u, 0u);
+  glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
 void VoxelizePass::raster(const scene::GpuScene& gs) {
@@ -147,6 +202,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   const int n = settings_.resolution;
   gpu::VoxelStats fresh{};
   fresh.capacity = capacity_;
+  fresh.brickCapacity = brickCapacity_;
   glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, n, n);
@@ -157,13 +213,10 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glDisable(GL_SAMPLE_SHADING);
   glUseProgram(voxelize_.id());
   glBindVertexArray(gs.vertexArray());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
+  bindSlots();
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (uint32_t c = 0; c < gpu::kSumChannels; ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   for (const scene::Draw& d : s.draws) {
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
     glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
@@ -178,20 +231,29 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
                   GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-void VoxelizePass::dispatchOverList(const gl::Program& program, uint32_t count) {
-  if (count == 0) return;
-  glUseProgram(program.id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, params_.id());
+void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
-  for (uint32_t c = 0; c < gpu::kSumChannels && !sums_.empty(); ++c)
-    glBindImageTexture(gpu::kSumUnit0 + c, sums_[c].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmissiveListBinding, emissiveList_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickMapBinding, brickMap_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickPoolBinding, pool_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickListBinding, brickList_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsABinding, sumsA_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsNBinding, sumsN_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsEBinding, sumsE_.id());
+}
+
+void VoxelizePass::dispatch(const gl::Program& program, uint64_t invocations) {
+  if (invocations == 0) return;
+  glUseProgram(program.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
+  bindSlots();
   glBindImageTexture(gpu::kResolvedUnit0 + 0, albedo_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindImageTexture(gpu::kResolvedUnit0 + 1, normal_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                      GL_RGBA8_SNORM);
   glBindImageTexture(gpu::kResolvedUnit0 + 2, emission_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                      GL_RGBA16F);
-  glDispatchCompute((count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize, 1, 1);
+  dispatchFor(invocations);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
@@ -208,49 +270,65 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   for (const scene::Material& m : s.materials)
     maxEmission = std::max({maxEmission, m.emission.r, m.emission.g, m.emission.b});
   const float emissionScale = maxEmission > 0.0f ? 1.0f / maxEmission : 1.0f;
-  gpu::VoxelParams params{};
-  params.gridOrigin = glm::vec4(gridOrigin_, voxelSize_);
-  params.gridInfo = glm::vec4(static_cast<float>(n), emissionScale, 1.0f / emissionScale, 0.0f);
-  glNamedBufferSubData(params_.id(), 0, sizeof(params), &params);
+  params_.gridOrigin = glm::vec4(gridOrigin_, voxelSize_);
+  params_.gridInfo = glm::vec4(static_cast<float>(n), emissionScale, 1.0f / emissionScale, 0.0f);
 
   allocateSums();
-  if (settings_.inspectSums) {
-    const uint32_t zero = 0;
-    for (const gl::Texture& t : sums_)
-      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  }
-
-  // What the previous voxelization listed is zeroed first (its list is about to
-  // be overwritten).
-  dispatchOverList(unresolve_, listed_);
+  if (settings_.inspectSums) clearSums();
+  nextEpoch();  // uploads params_
 
   raster(gs);
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  if (out.listCount > capacity_) {
-    // The list overflowed: grow it, clear the sums fully once and raster again.
+  const uint32_t oldCapacity = capacity_;
+  // Out of voxel slots or pool bricks: grow what ran out and raster again in a fresh
+  // epoch (bricks that did not fit took no voxel slots, so this can take two rounds).
+  for (int round = 0; out.listCount > capacity_ || out.brickCount > brickCapacity_; ++round) {
+    VOXGI_CHECK_LT(round, 3);
     if (out.listCount > gpu::kMaxListEntries)
       throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
                        out.listCount, gpu::kMaxListEntries));
-    allocateList(std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4));
-    const uint32_t zero = 0;
-    for (const gl::Texture& t : sums_)
-      glClearTexImage(t.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    if (out.brickCount > gpu::kMaxBricks)
+      throw Error(strf("--voxels %d: %u occupied bricks of 4^3 voxels exceed the limit of %u", n,
+                       out.brickCount, gpu::kMaxBricks));
+    if (out.listCount > capacity_) {
+      capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
+      allocateSlots();
+    }
+    if (out.brickCount > brickCapacity_) {
+      brickCapacity_ = std::min<uint32_t>(gpu::kMaxBricks, out.brickCount + out.brickCount / 4);
+      allocateBricks();
+    }
+    nextEpoch();
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-    VOXGI_CHECK_LE(out.listCount, capacity_);
   }
-  listed_ = out.listCount;
-  dispatchOverList(resolve_, listed_);
-  for (uint32_t u = 0; u < gpu::kSumChannels + 3; ++u)
-    glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  // What the previous voxelization listed and this one did not reach is zeroed
+  // before its list is overwritten.
+  glUseProgram(unresolve_.id());
+  glUniform1ui(0, listed_);
+  glUniform1ui(1, emissive_);
+  dispatch(unresolve_, std::max(listed_, emissive_));
+  if (capacity_ != oldCapacity) allocateLists();
+  dispatch(resolve_, uint64_t{out.brickCount} * gpu::kBrickVoxels);
+  for (uint32_t u = 0; u < 3; ++u)
+    glBindImageTexture(gpu::kResolvedUnit0 + u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+  listed_ = out.occupied;
+  emissive_ = out.emissive;
+  bricksTaken_ = out.brickCount;
   stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
-  stats_.bytes =
-      voxelMemory(n).residentBytes - uint64_t{4} * initialListCapacity(n) + uint64_t{4} * capacity_;
-  if (!settings_.keepSums && !settings_.inspectSums)
-    sums_.clear();  // only the resolved grid stays resident
+  stats_.bytes = voxelMemory(n).residentBytes +
+                 kBytesPerListEntry * (uint64_t{capacity_} - initialListCapacity(n));
+  stats_.peakBytes =
+      voxelMemory(n).peakBytes +
+      (kBytesPerListEntry + kBytesPerSlot) * (uint64_t{capacity_} - initialListCapacity(n)) +
+      kBytesPerBrick * (uint64_t{brickCapacity_} - initialBrickCapacity(n));
+  if (!settings_.keepSums && !settings_.inspectSums) {
+    // only the resolved grid stays resident
+    for (gl::Buffer* b : {&brickMap_, &pool_, &brickList_, &sumsA_, &sumsN_, &sumsE_}) b->reset();
+  }
 }
 
 std::vector<uint8_t> VoxelizePass::readAlbedo() const {
@@ -281,11 +359,29 @@ std::vector<uint16_t> VoxelizePass::readEmission() const {
 }
 
 std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
-  VOXGI_CHECK(settings_.inspectSums && channel < sums_.size());
+  VOXGI_CHECK(settings_.inspectSums && channel < gpu::kSumChannels);
   const size_t n = static_cast<size_t>(settings_.resolution);
-  std::vector<uint32_t> out(n * n * n);
-  glGetTextureImage(sums_[channel].id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                    static_cast<GLsizei>(out.size() * 4), out.data());
+  const uint32_t bricks = std::min(bricksTaken_, brickCapacity_);
+  std::vector<uint32_t> codes(bricks), entries(size_t{bricks} * gpu::kBrickVoxels),
+      sums(size_t{capacity_} * 4);
+  glGetNamedBufferSubData(brickList_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4),
+                          codes.data());
+  glGetNamedBufferSubData(pool_.id(), 0, static_cast<GLsizeiptr>(entries.size() * 4),
+                          entries.data());
+  // albedo rgb + weight, normal xyz, emission rgb: see voxel_shared.h
+  const gl::Buffer& b = channel < gpu::kSumNormal || channel == gpu::kSumWeight ? sumsA_
+                        : channel < gpu::kSumEmission                           ? sumsN_
+                                                                                : sumsE_;
+  const uint32_t lane = channel == gpu::kSumWeight ? 3u : channel % 3u;
+  glGetNamedBufferSubData(b.id(), 0, static_cast<GLsizeiptr>(sums.size() * 4), sums.data());
+  std::vector<uint32_t> out(n * n * n, 0u);
+  for (uint32_t i = 0; i < entries.size(); ++i) {
+    if ((entries[i] & ~gpu::kSlotMask) != params_.slotInfo.x) continue;  // not this epoch
+    const uint32_t c = codes[i / gpu::kBrickVoxels], l = i % gpu::kBrickVoxels;
+    const size_t x = (c & 1023u) * 4 + (l & 3u), y = ((c >> 10) & 1023u) * 4 + ((l >> 2) & 3u),
+                 z = ((c >> 20) & 1023u) * 4 + (l >> 4);
+    out[x + n * (y + n * z)] = sums[((entries[i] & gpu::kSlotMask) - 1) * 4 + lane];  // slot + 1
+  }
   return out;
 }
 

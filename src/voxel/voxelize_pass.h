@@ -12,11 +12,16 @@
 // attachments and 4x MSAA (GL_FRAMEBUFFER_DEFAULT_SAMPLES); a fragment runs where
 // any sample is covered and writes every voxel its plane crosses in the pixel
 // column. Values are summed in fixed point (16 fractional bits, weighted by covered
-// samples) with imageAtomicAdd on r32ui images: the grid is bit-identical whatever
-// the triangle order; sums saturate, never wrap (see voxel_shared.h for the bound).
-// The first fragment to reach a voxel appends it to a list; a compute pass over
-// the list resolves the averages (zeroing the sums as it reads them) and checksums
-// the grid, so after the first use nothing costs N^3: work follows the surface.
+// samples) with atomicAdd: the grid is bit-identical whatever the triangle order;
+// sums saturate, never wrap (see voxel_shared.h for the bound).
+// The sums are sparse. A brick map (one entry per 4^3 voxels) gives each brick a
+// fragment reaches a slot in a pool; the pool gives each voxel reached a slot of
+// sums, one uvec4 per slot in each of three SSBOs (albedo+weight, normal, emission).
+// Entries carry the voxelization's epoch, so nothing is cleared per run. A compute
+// pass over the pool bricks resolves the averages (zeroing the sums as it reads
+// them), lists the voxels, and checksums the grid; before it, the voxels of the
+// previous list this run did not reach, and the previous emissive voxels, are
+// zeroed. After the first use nothing costs N^3: work follows the surface.
 //
 // Tested by tests/voxel/voxelize_gltest.cpp (exact counts, determinism, agreement
 // with a CPU triangle-box reference, watertightness, scale invariance).
@@ -60,9 +65,9 @@ class VoxelizePass {
  public:
   struct Settings {
     int resolution = 128;
-    bool keepSums = false;  // keep the r32ui sums allocated between voxelizations
+    bool keepSums = false;  // keep the brick map, pool and sums between voxelizations
     // Tests: the resolve leaves the sums as they are (readSum() shows them) and each
-    // voxelization clears all N^3 of them first instead.
+    // voxelization clears all of them first instead.
     bool inspectSums = false;
   };
 
@@ -77,7 +82,7 @@ class VoxelizePass {
   GLuint albedo() const { return albedo_.id(); }
   GLuint normal() const { return normal_.id(); }
   GLuint emission() const { return emission_.id(); }
-  GLuint params() const { return params_.id(); }
+  GLuint params() const { return paramsBuffer_.id(); }
   // Packed coordinates (10 bits per axis) of the stats().occupied listed voxels.
   GLuint list() const { return list_.id(); }
   // World-space cube of the grid: origin and voxel size.
@@ -88,25 +93,38 @@ class VoxelizePass {
   std::vector<uint8_t> readAlbedo() const;
   std::vector<int8_t> readNormal() const;
   std::vector<uint16_t> readEmission() const;
-  // One fixed-point sum channel (kSum*), x fastest; only with Settings::inspectSums.
+  // One fixed-point sum channel (kSum*) as a dense N^3 array, x fastest (zero where
+  // no fragment reached), gathered from the sparse sums; only with inspectSums.
   std::vector<uint32_t> readSum(uint32_t channel) const;
 
  private:
   void allocateSums();
-  void allocateList(uint32_t capacity);
+  void allocateSlots();
+  void allocateBricks();
+  void allocateLists();
+  static void clear(const gl::Buffer& buffer);
+  void clearSums();
+  void nextEpoch();
   void raster(const scene::GpuScene& gs);
-  void dispatchOverList(const gl::Program& program, uint32_t count);
+  void bindSlots();
+  void dispatch(const gl::Program& program, uint64_t invocations);
 
   Settings settings_;
   const gl::Program& voxelize_;
   const gl::Program& resolve_;
-  std::vector<gl::Texture> sums_;
+  const gl::Program& unresolve_;
+  // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
+  gl::Buffer brickMap_, pool_, brickList_, sumsA_, sumsN_, sumsE_;
   gl::Texture albedo_, normal_, emission_;
   gl::Framebuffer fbo_;
-  gl::Buffer params_, statsBuffer_, list_;
-  const gl::Program& unresolve_;
-  uint32_t capacity_ = 0;
-  uint32_t listed_ = 0;  // voxels listed (and resolved) by the last voxelization
+  gl::Buffer paramsBuffer_, statsBuffer_, list_, emissiveList_;
+  gpu::VoxelParams params_{};
+  uint32_t epoch_ = 0;
+  uint32_t capacity_ = 0;       // slots, and entries of list_
+  uint32_t brickCapacity_ = 0;  // pool bricks
+  uint32_t bricksTaken_ = 0;    // by the last voxelization
+  uint32_t listed_ = 0;         // voxels listed (and resolved) by the last voxelization
+  uint32_t emissive_ = 0;       // of them, with nonzero emission (the emissive list)
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;

@@ -91,8 +91,9 @@ TEST(Cli, PointsModeReportsVoxels) {
   const auto stats = nlohmann::json::parse(in);
   EXPECT_EQ(stats["voxels"]["resolution"], 32);
   EXPECT_GT(stats["voxels"]["count"].get<int>(), 1000);
-  // 16 bytes per voxel resident, plus the list of occupied voxels (4 bytes each).
-  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * (16 + 4));
+  // 16 bytes per voxel resident, plus the lists of occupied and of emissive voxels
+  // (4 bytes an entry each, room for every voxel at this size).
+  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * (16 + 4 + 4));
   EXPECT_EQ(stats["voxels"]["checksum"].get<std::string>().size(), 16u);
   EXPECT_TRUE(stats["stages"].contains("voxelize"));
   EXPECT_TRUE(stats["stages"].contains("points"));

@@ -260,6 +260,40 @@ TEST_F(VoxelizeTest, SumsSaturateNeverWrap) {
   EXPECT_EQ(pass.readSum(gpu::kSumAlbedo + 1)[at], 0u);
 }
 
+// One pass voxelizing a scene after another (as with --revoxelize) gives exactly
+// what a fresh pass gives: albedo, normal and emission of voxels the first scene
+// reached and the second does not are zeroed, emissive voxels included.
+TEST_F(VoxelizeTest, RevoxelizingLeavesNothingOfTheLastScene) {
+  auto scene = [](float lampX, glm::vec3 lampEmission) {
+    SceneBuilder b;
+    b.addBox({-10, -10, -10}, {10, -9, 10}, b.addMaterial(glm::vec3(0.7f)));
+    b.addBox({lampX, 0, -2}, {lampX + 4, 4, 2}, b.addMaterial(glm::vec3(0.9f), lampEmission));
+    b.addBox({-5, 5, -5}, {5, 6, 5}, b.addMaterial(glm::vec3(0.2f), glm::vec3(0.5f, 0, 0)));
+    scene::Scene s = b.finish();
+    s.scale.gridOrigin = glm::vec3(-12.0f);
+    s.scale.gridSize = 24.0f;
+    return s;
+  };
+  const scene::Scene first = scene(-8.0f, glm::vec3(3.0f)), second = scene(3.0f, glm::vec3(0.0f));
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  gl::StageTimer timer;
+  gl::FrameContext ctx{programs, timer, 64, 64, 0};
+  voxel::VoxelizePass reused(programs, "llvmpipe", {64, true});
+  voxel::VoxelizePass fresh(programs, "llvmpipe", {64, false});
+  scene::GpuScene a(first), b(second);
+  reused.execute(ctx, a);
+  reused.execute(ctx, b);
+  fresh.execute(ctx, b);
+  timer.resolve();
+  EXPECT_EQ(reused.stats().occupied, fresh.stats().occupied);
+  EXPECT_EQ(reused.stats().checksum, fresh.stats().checksum);
+  EXPECT_EQ(reused.readAlbedo(), fresh.readAlbedo());
+  EXPECT_EQ(reused.readNormal(), fresh.readNormal());
+  EXPECT_EQ(reused.readEmission(), fresh.readEmission());
+  const std::vector<uint16_t> e = fresh.readEmission();
+  EXPECT_GT(std::count_if(e.begin(), e.end(), [](uint16_t h) { return h != 0; }), 0);
+}
+
 // The voxel count does not depend on where the scene is or on its unit.
 TEST_F(VoxelizeTest, CountIgnoresTranslationAndScale) {
   const uint32_t base = voxelize(scene::loadGltf(cornellRoom()), 64, false).stats.occupied;
