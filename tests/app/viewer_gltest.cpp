@@ -250,7 +250,7 @@ TEST(Viewer, SceneFileChangedUnderIt) {
   fs::copy_file(valid + "/quad.gltf", path);
 
   LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec " + voxgiBinary() + " view " +
-                     path + " --size 96x72 --stats " + dir + "/s.json'");
+                     path + " --mode raster --size 96x72 --stats " + dir + "/s.json'");
   std::string line;
   const pid_t pid = viewer.readPid();
   ASSERT_GT(pid, 0) << viewer.output();
