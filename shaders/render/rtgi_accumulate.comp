@@ -2,7 +2,7 @@
 // rtgi stage "accumulate": emission + direct + indirect + specular of this frame,
 // averaged with the frames before it while camera and scene stay still (a running
 // mean in float: frame k adds (c - mean) / (k + 1)). A non-finite term is dropped
-// rather than poisoning the mean.
+// rather than poisoning the mean. VOXGI_NO_EMISSION (effect plan) leaves emission out.
 #include "rtgi_shared.h"
 
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
@@ -18,7 +18,11 @@ vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isi
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
+#ifdef VOXGI_NO_EMISSION
+  vec3 c = vec3(0.0);
+#else
   vec3 c = finite(texelFetch(gEmission, px, 0).rgb);
+#endif
   uint flags = rtgi.counts.z;
   if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, px).rgb);
   if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, px).rgb);
