@@ -113,7 +113,7 @@ class EffectsTest : public GlTest {
     const Frames all = render(s, settings("+all"), frames);
     for (const std::string& st : plan.stages) EXPECT_TRUE(hasStage(all.stages, st)) << st;
     const auto [worst, mean] = difference(plan.linear, all.linear);
-    EXPECT_LE(worst, 1e-3) << "mean abs difference " << mean;
+    EXPECT_LE(worst, 1e-4) << "mean abs difference " << mean;
     const scene::EffectPlan p = render::effectPlan(s, settings(""));
     EXPECT_EQ(hasStage(plan.stages, "specular"), p.has("specular"));
     EXPECT_TRUE(hasStage(all.stages, "specular"));
@@ -206,7 +206,7 @@ TEST_F(EffectsTest, RasterAndPointsFollowThePlan) {
   for (render::Mode m : {render::Mode::kRaster, render::Mode::kPoints}) {
     const Frames plan = render(s, settings("", m), 1);
     const Frames all = render(s, settings("+all", m), 1);
-    EXPECT_LE(difference(plan.linear, all.linear).first, 1e-3) << render::modeName(m);
+    EXPECT_LE(difference(plan.linear, all.linear).first, 1e-4) << render::modeName(m);
   }
 }
 
