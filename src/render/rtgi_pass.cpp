@@ -11,13 +11,20 @@ namespace voxgi::render {
 
 RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
+      programs_(programs),
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
       direct_(programs.get({{"render/rtgi_direct.comp"}, settings.features.defines()})),
-      indirect_(programs.get({{"render/rtgi_indirect.comp"}, {}})),
-      specular_(programs.get({{"render/rtgi_specular.comp"}, {}})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  buildOptionalStages();
+}
+
+void RtgiPass::buildOptionalStages() {
+  if (settings_.indirect && !indirect_)
+    indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
+  if (settings_.specular && !specular_)
+    specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
 }
 
 void RtgiPass::resize(int width, int height) {
@@ -57,6 +64,7 @@ void RtgiPass::resize(int width, int height) {
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
+  buildOptionalStages();
   const bool specular = settings_.specular;
   // Without shadow rays the direct stage is cheap unshadowed light, run only when
   // there is light to add.
@@ -121,8 +129,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
   if (direct) run(shadows ? "shadows" : "direct", direct_);
-  if (settings_.indirect) run("indirect", indirect_);
-  if (specular) run("specular", specular_);
+  if (settings_.indirect) run("indirect", *indirect_);
+  if (specular) run("specular", *specular_);
   run("accumulate", accumulate_);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   for (GLuint u = 0; u < 4; ++u) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);

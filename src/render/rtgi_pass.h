@@ -53,12 +53,16 @@ class RtgiPass {
  private:
   void resize(int width, int height);
 
+  // The programs of the indirect and specular stages, built only when they run.
+  void buildOptionalStages();
+
   Settings settings_;
+  gl::ProgramCache& programs_;
   const gl::Program& gbuffer_;
   const gl::Program& direct_;
-  const gl::Program& indirect_;
-  const gl::Program& specular_;
   const gl::Program& accumulate_;
+  const gl::Program* indirect_ = nullptr;
+  const gl::Program* specular_ = nullptr;
   gl::Buffer params_;
   gl::Texture position_, normal_, albedo_, emission_, depth_;
   gl::Texture directImage_, indirectImage_, specularImage_;

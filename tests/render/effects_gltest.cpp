@@ -142,6 +142,19 @@ TEST_F(EffectsTest, DiffuseSceneHasNoSpecularStage) {
   EXPECT_EQ(difference(plan.linear, all.linear).first, 0.0);
 }
 
+// A skipped stage's program is not even built.
+TEST_F(EffectsTest, SkippedStagesCompileNothing) {
+  const scene::Scene s = diffuseScene();
+  auto programsFor = [&](const std::string& effects) {
+    gl::ProgramCache cache(sourceDir() + "/shaders");
+    render::Renderer r(cache, s, settings(effects));
+    r.renderFrame();
+    return cache.size();
+  };
+  EXPECT_EQ(programsFor("+specular"), programsFor("") + 1);
+  EXPECT_EQ(programsFor("+specular,-indirect"), programsFor(""));  // one traded for the other
+}
+
 TEST_F(EffectsTest, ForcedOffEffectsLoseTheirStage) {
   const scene::Scene s = diffuseScene();
   const Frames noIndirect = render(s, settings("-indirect"), 1);
