@@ -1,5 +1,6 @@
 #version 450 core
 // rtgi primary visibility: the G-buffer (see rtgi_shared.h for the layout).
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION.
 #include "scene_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -20,8 +21,12 @@ layout(location = 3) out vec4 outEmission;
 void main() {
   GpuMaterial m = materials[materialIndex];
   vec4 base = m.baseColor;
+#ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+#endif
+#ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+#endif
   vec3 n = normalize(vNormal);
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
   // Two-sided surfaces are shaded on the side the viewer sees.
@@ -29,5 +34,9 @@ void main() {
   outPosition = vec4(vPosition, 1.0);
   outNormal = vec4(n, m.params.y);
   outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(m.params.x, 0.0, 1.0));
+#ifdef VOXGI_NO_EMISSION
+  outEmission = vec4(0.0);
+#else
   outEmission = vec4(m.emission.rgb, 0.0);
+#endif
 }

@@ -1,6 +1,7 @@
 #version 450 core
 // Raster baseline: emission plus unshadowed direct light from punctual lights and
-// emissive surfaces, in linear HDR radiance.
+// emissive surfaces, in linear HDR radiance. Effect-plan variants (scene/effects.h):
+// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION compile that code out.
 #include "scene_shared.h"
 #include "lighting.glsl"
 
@@ -21,8 +22,12 @@ layout(location = 0) out vec4 outRadiance;
 void main() {
   GpuMaterial m = materials[materialIndex];
   vec4 base = m.baseColor;
+#ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+#endif
+#ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+#endif
 
   Surface s;
   s.p = vPosition;
@@ -36,10 +41,16 @@ void main() {
   s.f0 = mix(vec3(0.04), base.rgb, metallic);
   s.alpha = roughness * roughness;
 
+#ifdef VOXGI_NO_EMISSION
+  vec3 radiance = vec3(0.0);
+#else
   vec3 radiance = m.emission.rgb;
+#endif
   int lightCount = int(frame.counts.x);
   for (int i = 0; i < lightCount; ++i) radiance += punctualLight(lights[i], s);
+#ifndef VOXGI_NO_EMISSION
   int emitterCount = int(frame.counts.y);
   for (int i = 0; i < emitterCount; ++i) radiance += areaLight(emitters[i], s);
+#endif
   outRadiance = vec4(radiance, 1.0);
 }

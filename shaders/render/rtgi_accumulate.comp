@@ -3,7 +3,8 @@
 // averaged with the frames before it while camera and scene stay still (a running
 // mean in float: the n-th sample of a pixel adds (c - mean) / n; alpha holds n).
 // Pixels that traced nothing this frame (interleaving) keep their mean. A
-// non-finite term is dropped rather than poisoning the mean.
+// non-finite term is dropped rather than poisoning the mean. VOXGI_NO_EMISSION
+// (effect plan) leaves emission out.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -23,7 +24,11 @@ vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isi
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (outside(px)) return;
+#ifdef VOXGI_NO_EMISSION
+  vec3 c = vec3(0.0);
+#else
   vec3 c = finite(texelFetch(gEmission, px, 0).rgb);
+#endif
   uint flags = rtgi.counts.z;
   if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, px).rgb);
   if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, px).rgb);

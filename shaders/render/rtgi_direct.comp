@@ -7,6 +7,8 @@
 // many, one emitter drawn by power per pixel and frame (light importance
 // sampling), its contribution x visibility divided by its probability. Accumulation over frames turns the visibility samples into soft
 // shadows. Mirrors take no highlight here: their reflected ray sees the light.
+// Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS traces no shadow ray (the
+// renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -18,6 +20,14 @@
 layout(local_size_x = kRtgiTraceGroup) in;
 
 layout(binding = kDirectImage, rgba16f) uniform writeonly image2D directOut;
+
+float lightVisible(vec3 o, vec3 l, float dist) {
+#ifdef VOXGI_NO_SHADOWS
+  return 1.0;
+#else
+  return octreeVisible(o, l, dist, 0.0, 0.0);
+#endif
+}
 
 void main() {
   ivec2 px;
@@ -36,9 +46,15 @@ void main() {
       vec3 l;
       float dist;
       punctualDirection(lights[k], s.p, l, dist);
-      result += c * octreeVisible(o, l, dist, 0.0, 0.0);
+      result += c * lightVisible(o, l, dist);
     }
+#ifndef VOXGI_NO_EMISSION
     int emitterCount = int(rtgi.counts.y);
+#ifdef VOXGI_NO_SHADOWS
+    // Unshadowed: the exact sum of every emitter's contribution.
+    for (int k = 0; k < emitterCount; ++k) result += areaLight(emitters[k], s);
+    emitterCount = 0;
+#endif
     if (emitterCount > 0 && emitterCount <= int(rtgi.counts.w)) {
       // Few emitters: their exact unshadowed sum, times the visibility of one point
       // on one of them, drawn in proportion to its share of the sum.
@@ -70,6 +86,7 @@ void main() {
       if (pmf > 0.0 && any(greaterThan(c, vec3(0.0))))
         result += c * emitterVisible(e, o, 0.0) / pmf;
     }
+#endif
   }
   imageStore(directOut, px, vec4(result, 1.0));
 }

@@ -7,6 +7,8 @@
 // radiance becomes albedo / pi x irradiance (Lambertian exitance over pi). A voxel
 // whose normals cancel (both sides of a thin wall) is lit as if it faced each
 // light: it cannot tell its sides apart, which is how a 1-voxel wall leaks.
+// Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS casts no shadow ray (every
+// sample point counts as visible); VOXGI_NO_EMISSION leaves emitters out.
 #include "scene_shared.h"
 #include "voxel_shared.h"
 #include "lighting.glsl"
@@ -19,6 +21,14 @@ layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]
 layout(std430, binding = kOctreeRadianceBinding) buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint directOut[]; };
+
+#ifdef VOXGI_NO_SHADOWS
+#define LIGHT_VISIBLE(p, l, dist, start) 1.0
+#define EMITTER_VISIBLE(e, p, start) 1.0
+#else
+#define LIGHT_VISIBLE(p, l, dist, start) octreeVisible(p, l, dist, start, 0.0)
+#define EMITTER_VISIBLE(e, p, start) emitterVisible(e, p, start)
+#endif
 
 void main() {
   uint i = octreeInvocation();
@@ -61,10 +71,14 @@ void main() {
     s.alpha = 1.0;
     vec3 e = punctualLight(light, s) * kPi;
     if (all(equal(e, vec3(0.0)))) continue;
-    irradiance += e * octreeVisible(p, l, dist, start, 0.0);
+    irradiance += e * LIGHT_VISIBLE(p, l, dist, start);
   }
 
+#ifdef VOXGI_NO_EMISSION
+  int emitterCount = 0;
+#else
   int emitterCount = int(octree.light.z);
+#endif
   int rays = int(octree.light.x);
   if (emitterCount > 0 && rays > 0) {
     if (emitterCount <= rays) {
@@ -75,7 +89,7 @@ void main() {
                            : emitterFactor(e, centre, normalize(emitterCenter(e) - centre));
         if (g <= 0.0) continue;
         float visible = 0.0;
-        for (int r = 0; r < perEmitter; ++r) visible += emitterVisible(e, p, start);
+        for (int r = 0; r < perEmitter; ++r) visible += EMITTER_VISIBLE(e, p, start);
         irradiance += e.radiance.rgb * g * (visible / float(perEmitter));
       }
     } else {
@@ -85,7 +99,7 @@ void main() {
         float g = oriented ? emitterFactor(e, centre, n)
                            : emitterFactor(e, centre, normalize(emitterCenter(e) - centre));
         if (g <= 0.0 || pmf <= 0.0) continue;
-        irradiance += e.radiance.rgb * g * emitterVisible(e, p, start) / (pmf * float(rays));
+        irradiance += e.radiance.rgb * g * EMITTER_VISIBLE(e, p, start) / (pmf * float(rays));
       }
     }
   }

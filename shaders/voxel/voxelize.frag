@@ -7,6 +7,7 @@
 // not depend on fragment order, and there is no running-average drift.
 // Every voxel the triangle's plane crosses inside the pixel column is written, so
 // a steep surface leaves no holes along the projection axis.
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION.
 #include "scene_shared.h"
 #include "voxel_shared.h"
 
@@ -89,8 +90,12 @@ uint fixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0
 void main() {
   GpuMaterial m = materials[materialIndex];
   vec4 base = m.baseColor;
+#ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, gUv);
+#endif
+#ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+#endif
 
   uint weight = uint(bitCount(gl_SampleMaskIn[0]));
   if (weight == 0u) return;
@@ -110,7 +115,11 @@ void main() {
   uint albedo[3] = uint[3](fixedPoint(base.r), fixedPoint(base.g), fixedPoint(base.b));
   uint normal[3] = uint[3](fixedPoint(n.x * 0.5 + 0.5), fixedPoint(n.y * 0.5 + 0.5),
                            fixedPoint(n.z * 0.5 + 0.5));
+#ifdef VOXGI_NO_EMISSION
+  vec3 e = vec3(0.0);
+#else
   vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
+#endif
   uint emission[3] = uint[3](fixedPoint(e.r), fixedPoint(e.g), fixedPoint(e.b));
 
   ivec2 pixel = ivec2(uv);

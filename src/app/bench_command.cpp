@@ -37,6 +37,7 @@ int runBench(const BenchOptions& b) {
       scenePath.c_str(), scene.triangleCount(), render::modeName(o.render.mode), o.render.width,
       o.render.height, gl::backendName(context->backend()), context->renderer().c_str(), o.frames,
       gl::stageTimingMethod());
+  std::printf("effects: %s\n", render::effectPlan(scene, o.render).summary().c_str());
   bool header = false;
   std::vector<int> resolutions = b.voxels;
   if (!render::modeUsesVoxels(o.render.mode)) resolutions = {0};

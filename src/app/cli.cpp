@@ -102,6 +102,11 @@ std::string renderHelp() {
          "                    or glfw (a hidden window; needs a display)\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
          "  --tonemap T       clamp (default) or aces\n"
+         "  --effects LIST    override the effect plan, e.g. +specular,-shadows (names:\n"
+         "                    shadows, emission, indirect, specular, textures, alpha,\n"
+         "                    animation, or all). The plan comes from the scene: an effect\n"
+         "                    it lacks is skipped (stage absent, shader code compiled out)\n"
+         "                    and printed with its reason; forcing one on makes it run\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
          "  -h, --help        this text\n"
@@ -138,7 +143,7 @@ std::string viewHelp() {
   return "usage: voxgi view [SCENE.gltf|SCENE.glb] [options]\n"
          "\n"
          "Opens SCENE (default: the built-in Cornell room) in a window (GLFW, GL 4.5 core)\n"
-         "with a panel of the mode's knobs, scene facts, per-stage timings and shader\n"
+         "with a panel of the mode's knobs, the effect plan, per-stage timings and shader\n"
          "state. Shaders are reloaded when a file under the shader folder changes\n"
          "($VOXGI_SHADER_DIR, default: the source tree's shaders/); a broken file shows\n"
          "its error in the panel while the last good program keeps running.\n"
@@ -174,6 +179,8 @@ std::string viewHelp() {
          "                    1-6 + - t r p tab esc, e.g. --keys 10:2,20:1,25:+\n"
          "  --stats FILE      at exit write JSON: frames, timings, mode, reloads ok and\n"
          "                    failed, the last reload error, screenshots, gl_errors\n"
+         "  --effects LIST    override the effect plan (see voxgi render --help), e.g.\n"
+         "                    +specular,-shadows; the panel shows the plan\n"
          "  --no-panel        start with the panel hidden\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
@@ -250,6 +257,14 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
   } else if (a == "--bounce-rays") {
     rs->octree.bounceRays = parseInt("--bounce-rays", value(), 1, 1024);
+  } else if (a == "--effects") {
+    const std::string v = value();
+    try {
+      scene::checkOverrides(v);
+    } catch (const Error& e) {
+      throw UsageError(e.what());
+    }
+    rs->effects += (rs->effects.empty() ? "" : ",") + v;
   } else {
     return false;
   }

@@ -63,6 +63,23 @@ class ProgressBar {
 
 }  // namespace
 
+namespace {
+
+// "effects": {"enabled": [...], "skipped": {"name": "reason"}}, in effectNames() order.
+nlohmann::ordered_json effectsJson(const scene::EffectPlan& plan) {
+  nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
+  for (const std::string& name : scene::effectNames()) {
+    auto it = plan.skipped.find(name);
+    if (it != plan.skipped.end()) skipped[name] = it->second;
+  }
+  nlohmann::ordered_json out;
+  out["enabled"] = plan.enabledList();
+  out["skipped"] = skipped;
+  return out;
+}
+
+}  // namespace
+
 int runRender(const RenderOptions& o) {
   if (o.verbose) setLogLevel(LogLevel::kDebug);
   if (o.quiet) setLogLevel(LogLevel::kError);
@@ -95,13 +112,19 @@ int runRender(const RenderOptions& o) {
   const double loadMs = msSince(loadStart);
 
   gl::ProgramCache programs(shaderRoot());
+  const bool pathtrace = o.render.mode == render::Mode::kPathtrace;
   render::Renderer renderer(programs, scene, o.render);
+  const scene::EffectPlan& plan = renderer.effects();
+  if (!o.quiet) {
+    std::printf("effects: %s%s\n", plan.summary().c_str(),
+                pathtrace ? " [pathtrace, the reference, renders every effect]" : "");
+    std::fflush(stdout);
+  }
   // Untimed warm-up: drivers compile shader variants at first draw (llvmpipe
   // JIT-compiles them), which is start-up cost, not frame cost. The path tracer
   // warms up on one work group, not a whole image.
   renderer.warmUp();
   const double startupMs = msSince(start);
-  const bool pathtrace = o.render.mode == render::Mode::kPathtrace;
   ProgressBar bar(static_cast<int64_t>(o.render.width) * o.render.height);
   if (pathtrace && o.progress && !o.quiet && isatty(STDERR_FILENO)) {
     renderer.setProgress([&bar](int done, int total) { bar.update(done, total); });
@@ -112,7 +135,8 @@ int runRender(const RenderOptions& o) {
   std::vector<std::string> stageOrder;
   for (int f = 0; f < o.frames; ++f) {
     const auto t = Clock::now();
-    if (scene.animated() && f > 0) {  // frame f shows time + f / fps
+    // Frame f shows time + f / fps, with the animation effect (else the first pose stays).
+    if (scene.animated() && plan.has("animation") && f > 0) {
       scene.pose(o.time + f / o.fps);
       renderer.geometryChanged();
     }
@@ -221,6 +245,7 @@ int runRender(const RenderOptions& o) {
   stats["emitters"] = gs.emitterCount();
   stats["default_light"] = scene.defaultLight;
   stats["animated"] = scene.animated();
+  stats["effects"] = effectsJson(plan);
   if (scene.animated()) {
     stats["time"] = o.time;
     stats["fps"] = o.fps;

@@ -98,8 +98,8 @@ std::string mib(size_t bytes) {
   return strf("%.2f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
 }
 
-// Scene facts the effect plan will be made from (lights by type, emission,
-// textures, alpha); the plan itself does not exist yet.
+// Scene facts the effect plan is made from (lights by type, emission, textures,
+// alpha); the plan itself is the renderer's (scene/effects.h).
 struct SceneFacts {
   int directional = 0, point = 0, spot = 0;
   int emissiveMaterials = 0, maskedMaterials = 0, blendedMaterials = 0;
@@ -447,10 +447,21 @@ void Viewer::drawPanel() {
     ImGui::PopStyleColor();
     ImGui::TextDisabled("the last good scene stays");
   }
+  if (ImGui::CollapsingHeader("Effect plan", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const scene::EffectPlan& plan = renderer_->effects();
+    for (const std::string& name : scene::effectNames()) {
+      auto skip = plan.skipped.find(name);
+      if (skip == plan.skipped.end())
+        ImGui::Text("on   %s", name.c_str());
+      else
+        ImGui::TextDisabled("off  %s: %s", name.c_str(), skip->second.c_str());
+    }
+    ImGui::TextDisabled("--effects +name,-name overrides; pathtrace renders every effect");
+  }
   if (ImGui::CollapsingHeader("Scene facts")) {
     const scene::Scene& s = *scene_;
     const SceneFacts f(s);
-    ImGui::TextDisabled("what the effect plan will be derived from");
+    ImGui::TextDisabled("what the effect plan is derived from");
     ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(), s.materials.size(),
                 s.textures.size());
     ImGui::Text("lights: %d directional, %d point, %d spot%s", f.directional, f.point, f.spot,
@@ -523,6 +534,8 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["scene_reloads_failed"] = sceneReloadsFailed_;
   stats["scene_error"] = sceneError_;
   stats["screenshots"] = screenshots_;
+  stats["effects"] = {{"enabled", renderer_->effects().enabledList()},
+                      {"skipped", renderer_->effects().skipped}};
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
   stats["gl_errors"] = gl::debugErrorCount();
   image::writeText(options_.stats, stats.dump(2) + "\n");
@@ -572,6 +585,7 @@ int Viewer::run() {
   settings.spp = 1;
   programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
+  logInfo("effects: " + renderer_->effects().summary());
   camera_ = std::make_unique<FlyCamera>(scene_->camera, scene_->bounds, scene_->scale.cameraSpeed);
 
   // Our key callback first; the ImGui backend chains to it after its own.

@@ -26,7 +26,8 @@ void drawSceneGeometry(const GpuScene& gs) {
 
 RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
-      program_(programs.get({{"render/raster.vert", "render/raster.frag"}, {}})) {}
+      program_(programs.get(
+          {{"render/raster.vert", "render/raster.frag"}, settings.features.defines()})) {}
 
 void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "raster");

@@ -9,6 +9,7 @@
 #include "gl/handles.h"
 #include "render/frame_context.h"
 #include "render/gpu_scene.h"
+#include "scene/effects.h"
 
 namespace voxgi::render {
 
@@ -21,6 +22,7 @@ class RasterPass {
  public:
   struct Settings {
     glm::vec4 clearColor{0.0f, 0.0f, 0.0f, 1.0f};  // the background emits nothing
+    scene::ShaderFeatures features;                // effect-plan variant of raster.frag
   };
 
   RasterPass(gl::ProgramCache& programs, const Settings& settings);

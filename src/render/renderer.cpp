@@ -50,6 +50,13 @@ std::string availableModes() {
   return "rtgi, raster, points, dvr, pathtrace";
 }
 
+scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& settings) {
+  scene::EffectPlan plan = scene::planEffects(scene);
+  if (settings.octree.bounces == 0 && plan.has("indirect")) plan.skip("indirect", "--bounces 0");
+  scene::applyOverrides(&plan, settings.effects);
+  return plan;
+}
+
 void checkImageSize(int width, int height) {
   if (width < 1 || height < 1)
     throw Error(strf("image size %dx%d: must be at least 1x1", width, height));
@@ -75,6 +82,7 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
     : programs_(programs),
       scene_(scene),
       settings_(settings),
+      plan_(effectPlan(scene, settings)),
       gpuScene_(scene),
       tonemap_(programs, settings.tonemap) {
   createPasses();
@@ -82,29 +90,53 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
   frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
+// rtgi traces the octree for shadows, indirect and specular light; with none of
+// them in the plan it needs no voxels at all.
+bool Renderer::usesOctree(Mode m) const {
+  if (m == Mode::kRtgi)
+    return plan_.has("shadows") || plan_.has("indirect") || plan_.has("specular");
+  return modeUsesOctree(m);
+}
+
+bool Renderer::usesVoxels(Mode m) const {
+  return m == Mode::kPoints || usesOctree(m);
+}
+
 // Builds what the current mode needs and nothing else (a mode never used costs
 // neither shader compiles nor memory); passes of earlier modes are kept.
 void Renderer::createPasses() {
   const Mode mode = settings_.mode;
-  if (mode == Mode::kRaster && !raster_)
-    raster_ = std::make_unique<RasterPass>(programs_, RasterPass::Settings{});
-  if (modeUsesVoxels(mode) && !voxelize_) {
+  const scene::ShaderFeatures features = scene::shaderFeatures(plan_);
+  if (mode == Mode::kRaster && !raster_) {
+    RasterPass::Settings rs;
+    rs.features = features;
+    raster_ = std::make_unique<RasterPass>(programs_, rs);
+  }
+  if (usesVoxels(mode) && !voxelize_) {
     const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     voxel::VoxelizePass::Settings vs;
     vs.resolution = settings_.voxels;
     vs.keepSums = settings_.revoxelize;
+    vs.features = features;
     voxelize_ = std::make_unique<voxel::VoxelizePass>(programs_, r ? r : "", vs);
     voxelized_ = false;
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
-  if (modeUsesOctree(mode) && !octree_) {
-    octree_ = std::make_unique<voxel::Octree>(programs_, settings_.octree);
+  if (usesOctree(mode) && !octree_) {
+    voxel::Octree::Settings os = settings_.octree;
+    os.features = features;
+    // Voxel bounces are indirect light too (mirrors see them): without the indirect
+    // effect the voxels hold direct light only.
+    if (!plan_.has("indirect")) os.bounces = std::min(os.bounces, 1);
+    octree_ = std::make_unique<voxel::Octree>(programs_, os);
     octreeBuilt_ = false;
   }
   if (mode == Mode::kRtgi && !rtgi_) {
     RtgiPass::Settings rs = settings_.rtgi;
-    rs.indirect = settings_.octree.bounces > 0;
+    rs.indirect = plan_.has("indirect");
+    rs.specular = plan_.has("specular");
+    rs.features = features;
     if (settings_.targetFps > 0.0) {
       if (rs.interleave == 1) rs.interleave = static_cast<int>(gpu::kMaxInterleave);
       if (rs.select == RtgiPass::Settings::Select::kPattern)
@@ -245,13 +277,13 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
 
   FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
-  const bool voxelizing = modeUsesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
+  const bool voxelizing = usesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
   if (voxelizing) {
     voxelize_->execute(ctx, gpuScene_);
     voxelized_ = true;
     octreeBuilt_ = false;
   }
-  const bool building = modeUsesOctree(settings_.mode) && !octreeBuilt_;
+  const bool building = usesOctree(settings_.mode) && !octreeBuilt_;
   if (building) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
@@ -269,7 +301,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       break;
     case Mode::kRtgi:
       if (budget_) rtgi_->setTraceFraction(budget_->fraction());
-      rtgi_->execute(ctx, gpuScene_, *octree_, camera.position, accumulated_, hdr_.id());
+      rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id());
       break;
     case Mode::kPathtrace:
       // Progressive: this frame's samples join those since accumulation restarted.

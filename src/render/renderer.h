@@ -5,9 +5,10 @@
 //   dvr:       [voxelize, octree, inject: once per scene, or every frame with
 //              revoxelize] -> dvr (HDR radiance) -> tonemap
 //   rtgi:      [voxelize, octree, inject as for dvr] -> gbuffer -> shadows ->
-//              indirect -> specular (scenes with specular materials) ->
-//              accumulate (the mean over frames since accumulation restarted)
-//              -> tonemap
+//              indirect -> specular -> accumulate (the mean over frames since
+//              accumulation restarted) -> tonemap
+// The effect plan (scene/effects.h, effects()) decides which of shadows, indirect
+// and specular run, and the shader variants of every pass but pathtrace.
 //   pathtrace: pathtrace (spp samples per pixel accumulated, the mean into the same
 //              HDR target) -> tonemap; its BVH is built once, when the mode is first used.
 // Only the passes a mode uses are built (their shaders compiled, memory taken).
@@ -40,6 +41,7 @@
 #include "render/raster_pass.h"
 #include "render/rtgi_pass.h"
 #include "render/tonemap_pass.h"
+#include "scene/effects.h"
 #include "voxel/octree.h"
 #include "voxel/voxelize_pass.h"
 
@@ -77,7 +79,14 @@ struct RenderSettings {
   // pathtrace: frames add their samples to the image until accumulation restarts
   // (the viewer); otherwise each frame is a whole image of `spp` samples.
   bool progressive = false;
+  // --effects: overrides ("+name,-name") of the plan made from the scene.
+  std::string effects;
 };
+
+// The effect plan a renderer with these settings follows: planEffects(scene), less
+// indirect with --bounces 0, then the --effects overrides. Throws voxgi::Error on a
+// bad override.
+scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& settings);
 
 // Throws voxgi::Error when width x height cannot be rendered on this context.
 void checkImageSize(int width, int height);
@@ -125,8 +134,12 @@ class Renderer {
   std::vector<uint8_t> readDisplay() const;
 
   const RenderSettings& settings() const { return settings_; }
+  // What this renderer simulates (fixed at construction, for every mode but
+  // pathtrace, which is the reference and renders everything).
+  const scene::EffectPlan& effects() const { return plan_; }
   const GpuScene& gpuScene() const { return gpuScene_; }
-  // Null unless the mode uses voxels.
+  // Null unless the mode uses voxels (rtgi without shadows, indirect and specular
+  // light does not).
   const voxel::VoxelizePass* voxelGrid() const { return voxelize_.get(); }
   // Null unless the mode uses the octree.
   const voxel::Octree* octree() const { return octree_.get(); }
@@ -145,6 +158,7 @@ class Renderer {
   gl::ProgramCache& programs_;
   const scene::Scene& scene_;
   RenderSettings settings_;
+  scene::EffectPlan plan_;
   GpuScene gpuScene_;
   std::unique_ptr<RasterPass> raster_;
   std::unique_ptr<voxel::VoxelizePass> voxelize_;
@@ -171,6 +185,9 @@ class Renderer {
 
   void createTargets();
   void createPasses();
+  // modeUsesOctree / modeUsesVoxels under this renderer's effect plan.
+  bool usesOctree(Mode m) const;
+  bool usesVoxels(Mode m) const;
 };
 
 }  // namespace voxgi::render

@@ -10,21 +10,22 @@
 
 namespace voxgi::render {
 
-bool sceneHasSpecular(const scene::Scene& scene) {
-  for (const scene::Material& m : scene.materials)
-    if (m.metallic > 0.5f || m.roughness < gpu::kGlossyRoughness) return true;
-  return false;
-}
-
 RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
-      gbuffer_(programs.get({{"render/raster.vert", "render/gbuffer.frag"}, {}})),
-      direct_(programs.get({{"render/rtgi_direct.comp"}, {}})),
-      indirect_(programs.get({{"render/rtgi_indirect.comp"}, {}})),
-      specular_(programs.get({{"render/rtgi_specular.comp"}, {}})),
-      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, {}})),
-      programs_(programs) {
+      programs_(programs),
+      gbuffer_(programs.get(
+          {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
+      direct_(programs.get({{"render/rtgi_direct.comp"}, settings.features.defines()})),
+      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  buildOptionalStages();
+}
+
+void RtgiPass::buildOptionalStages() {
+  if (settings_.indirect && !indirect_)
+    indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
+  if (settings_.specular && !specular_)
+    specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
 }
 
 void RtgiPass::resize(int width, int height) {
@@ -71,14 +72,21 @@ void RtgiPass::resize(int width, int height) {
       static_cast<size_t>(width) * static_cast<size_t>(height) * (16 + 8 + 4 + 8 + 4 + 8 * 3 + 9);
 }
 
-void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree& octree,
+void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
-  const bool specular = settings_.specular && sceneHasSpecular(gs.scene());
+  buildOptionalStages();
+  const bool specular = settings_.specular;
+  // Without shadow rays the direct stage is cheap unshadowed light, run only when
+  // there is light to add.
+  const bool shadows = settings_.features.shadows;
+  const bool direct =
+      shadows || gs.lightCount() > 0 || (settings_.features.emission && gs.emitterCount() > 0);
   gpu::RtgiParams p{};
   p.frame = glm::uvec4(static_cast<uint32_t>(frameIndex), settings_.seed,
                        static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
-  const uint32_t flags = gpu::kRtgiHasDirect | (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
+  const uint32_t flags = (direct ? gpu::kRtgiHasDirect : 0u) |
+                         (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
                          (specular ? gpu::kRtgiHasSpecular : 0u);
   p.counts = glm::uvec4(
       static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
@@ -111,7 +119,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   }
 
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-  octree.bind();
+  if (octree) octree->bind();
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
@@ -193,9 +201,9 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       glDispatchCompute(tx, ty, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
-  run("shadows", direct_);
-  if (settings_.indirect) run("indirect", indirect_);
-  if (specular) run("specular", specular_);
+  if (direct) run(shadows ? "shadows" : "direct", direct_);
+  if (settings_.indirect) run("indirect", *indirect_);
+  if (specular) run("specular", *specular_);
   run("accumulate", accumulate_);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   if (listed) {

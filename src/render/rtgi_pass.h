@@ -6,9 +6,12 @@
 //   gbuffer     raster primary visibility: position, normal + roughness, base colour
 //               + metallic, emission (rtgi_shared.h);
 //   shadows     direct light with shadow rays through the octree (rtgi_direct.comp);
-//   indirect    one cosine ray per pixel into the lit voxels (rtgi_indirect.comp);
+//               with the shadows effect off, "direct": the same without shadow rays,
+//               and absent when there is no light at all;
+//   indirect    one cosine ray per pixel into the lit voxels (rtgi_indirect.comp),
+//               with the indirect effect;
 //   specular    the reflected ray of mirrors and glossy surfaces (rtgi_specular.comp),
-//               only when the scene has such materials;
+//               with the specular effect (the scene has such materials);
 //   accumulate  emission + the three terms, into the mean over still frames.
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
@@ -21,20 +24,20 @@
 #include "render/frame_context.h"
 #include "render/gpu_scene.h"
 #include "rtgi_shared.h"
+#include "scene/effects.h"
 #include "scene/scene.h"
 #include "voxel/octree.h"
 
 namespace voxgi::render {
 
-// Whether any material reflects enough, sharply enough, to trace (metallic, or a
-// dielectric smoother than kGlossyRoughness).
-bool sceneHasSpecular(const scene::Scene& scene);
-
 class RtgiPass {
  public:
   struct Settings {
-    bool indirect = true;   // bounces > 0
-    bool specular = true;   // and the scene has specular materials
+    // From the effect plan (scene/effects.h): whether the indirect and specular
+    // stages run, and the shader variants of the others.
+    bool indirect = true;
+    bool specular = true;
+    scene::ShaderFeatures features;
     int exactEmitters = 4;  // up to this many emitters, each gets a shadow ray
     int interleave = 1;     // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     // Beyond the interleave pattern, which further pixels trace (frame budget):
@@ -45,7 +48,9 @@ class RtgiPass {
 
   RtgiPass(gl::ProgramCache& programs, const Settings& settings);
   // Renders frame `frameIndex` of the accumulation (0 restarts it) into `accum`.
-  void execute(FrameContext& ctx, const GpuScene& scene, const voxel::Octree& octree,
+  // `octree` may be null when the settings trace nothing (no shadows, indirect or
+  // specular light).
+  void execute(FrameContext& ctx, const GpuScene& scene, const voxel::Octree* octree,
                const glm::vec3& cameraPosition, int frameIndex, GLuint accum);
   const Settings& settings() const { return settings_; }
   Settings& settings() { return settings_; }
@@ -69,13 +74,16 @@ class RtgiPass {
   float maskThreshold(uint64_t extra) const;
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
+  // The programs of the indirect and specular stages, built only when they run.
+  void buildOptionalStages();
+
   Settings settings_;
+  gl::ProgramCache& programs_;
   const gl::Program& gbuffer_;
   const gl::Program& direct_;
-  const gl::Program& indirect_;
-  const gl::Program& specular_;
   const gl::Program& accumulate_;
-  gl::ProgramCache& programs_;
+  const gl::Program* indirect_ = nullptr;
+  const gl::Program* specular_ = nullptr;
   double traceFraction_ = 1.0;
   double lastTraced_ = 1.0;
   bool maskValid_ = false;

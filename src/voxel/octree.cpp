@@ -46,7 +46,7 @@ Octree::Octree(gl::ProgramCache& programs, const Settings& settings)
       buildLevel_(programs.get({{"voxel/octree_build.comp"}, {}})),
       fill_(programs.get({{"voxel/octree_fill.comp"}, {}})),
       filter_(programs.get({{"voxel/octree_filter.comp"}, {}})),
-      inject_(programs.get({{"voxel/octree_inject.comp"}, {}})),
+      inject_(programs.get({{"voxel/octree_inject.comp"}, settings.features.defines()})),
       bounce_(programs.get({{"voxel/octree_bounce.comp"}, {}})) {
   if (settings.bounces < 0 || settings.bounces > 16)
     throw Error(strf("--bounces %d: must be in [0, 16]", settings.bounces));

@@ -32,6 +32,7 @@
 #include "gl/frame_context.h"
 #include "gl/handles.h"
 #include "octree_shared.h"
+#include "scene/effects.h"
 #include "scene/gpu_scene.h"
 #include "voxel/voxelize_pass.h"
 
@@ -54,6 +55,7 @@ class Octree {
     int injectRays = 16;  // shadow rays per leaf towards emissive surfaces
     int bounceRays = 16;  // rays per leaf per voxel bounce
     uint32_t seed = 1;
+    scene::ShaderFeatures features;  // effect-plan variant of octree_inject.comp
   };
 
   Octree(gl::ProgramCache& programs, const Settings& settings);

@@ -88,8 +88,8 @@ uint64_t voxelMemoryBudget(const std::string& renderer) {
 VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& renderer,
                            const Settings& settings)
     : settings_(settings),
-      voxelize_(programs.get(
-          {{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"}, {}})),
+      voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
+                              settings.features.defines()})),
       resolve_(programs.get({{"voxel/resolve.comp"},
                              settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
                                                   : std::vector<std::string>{}})),

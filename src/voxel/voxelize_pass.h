@@ -33,6 +33,7 @@
 
 #include "gl/frame_context.h"
 #include "gl/handles.h"
+#include "scene/effects.h"
 #include "scene/gpu_scene.h"
 #include "voxel_shared.h"
 
@@ -69,6 +70,7 @@ class VoxelizePass {
     // Tests: the resolve leaves the sums as they are (readSum() shows them) and each
     // voxelization clears all of them first instead.
     bool inspectSums = false;
+    scene::ShaderFeatures features;  // effect-plan variant of voxelize.frag
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.

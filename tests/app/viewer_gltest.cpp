@@ -216,8 +216,8 @@ TEST(Viewer, DeletedShaderKeepsRunningAndRecovers) {
   const std::string original = readText(frag);
 
   LiveCommand viewer("xvfb-run -a sh -c 'echo voxgi-pid $$; exec env VOXGI_SHADER_DIR=" + dir +
-                     "/shaders " + voxgiBinary() + " view --size 96x72 --stats " + dir +
-                     "/s.json'");
+                     "/shaders " + voxgiBinary() + " view --mode raster --size 96x72 --stats " +
+                     dir + "/s.json'");
   std::string failed, recovered;
   const pid_t pid = viewer.readPid();
   ASSERT_GT(pid, 0) << viewer.output();

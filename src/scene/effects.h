@@ -1,0 +1,73 @@
+// The effect plan: from the scene alone, which effects exist and therefore which
+// passes run and which shader variants are compiled (issue #7).
+//
+// Effects, by the names used in flags, stats and the viewer:
+//   shadows    shadow rays for direct light        a punctual light or an emissive surface
+//   emission   emitted light, emitters as lights   an emissive material
+//   indirect   diffuse bounces (pixel and voxels)  a punctual light or an emissive surface
+//   specular   the traced reflection stage         a mirror or glossy material
+//   textures   base-colour texture sampling        a textured material
+//   alpha      alpha-mask discard                  an alpha-masked material
+//   animation  the scene is re-posed per frame     an animated node
+// Only materials that are drawn count. A skipped effect costs nothing: its stage
+// is absent and its shader code is compiled out (ShaderFeatures). `--effects
+// +name,-name` overrides the plan; forcing an effect on that the scene cannot
+// show is allowed (it then runs, and finds nothing to do).
+#ifndef VOXGI_SCENE_EFFECTS_H
+#define VOXGI_SCENE_EFFECTS_H
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace voxgi::scene {
+
+// Every effect name, in the order plans are printed.
+const std::vector<std::string>& effectNames();
+
+// Whether a material reflects enough, sharply enough, for the specular stage to
+// trace it: metallic, or a dielectric smoother than gpu::kGlossyRoughness.
+// rtgi_specular.comp applies the same rule per pixel.
+bool isSpecular(const Material& m);
+
+struct EffectPlan {
+  std::set<std::string> enabled;
+  std::map<std::string, std::string> skipped;  // name -> reason, in plain words
+
+  bool has(const std::string& name) const { return enabled.count(name) != 0; }
+  void enable(const std::string& name);
+  void skip(const std::string& name, const std::string& reason);
+  // Enabled names in effectNames() order.
+  std::vector<std::string> enabledList() const;
+  // "shadows, indirect (skipped: specular \u2014 no mirror or glossy material, ...)"
+  std::string summary() const;
+};
+
+EffectPlan planEffects(const Scene& scene);
+// Every effect on (what tests compare a plan against).
+EffectPlan allEffects();
+
+// Applies "+name,-name,..." in order ("all" names every effect). Forced off
+// effects are skipped with the reason "--effects -name". Throws voxgi::Error with
+// a one-line message on an unknown name or a missing sign.
+void applyOverrides(EffectPlan* plan, const std::string& spec);
+// The same checks without a plan (command-line parsing).
+void checkOverrides(const std::string& spec);
+
+// The effect-dependent code a shader variant keeps. The default keeps everything;
+// each effect turned off adds a VOXGI_NO_<EFFECT> define that compiles its code out.
+struct ShaderFeatures {
+  bool shadows = true;
+  bool emission = true;
+  bool textures = true;
+  bool alpha = true;
+  std::vector<std::string> defines() const;
+};
+ShaderFeatures shaderFeatures(const EffectPlan& plan);
+
+}  // namespace voxgi::scene
+
+#endif  // VOXGI_SCENE_EFFECTS_H

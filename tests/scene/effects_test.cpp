@@ -1,0 +1,188 @@
+// The effect plan (scene/effects.h): what each scene calls for, overrides, and the
+// shader defines of a plan.
+#include "scene/effects.h"
+
+#include <gtest/gtest.h>
+
+#include "app/cli.h"
+#include "rtgi_shared.h"
+#include "scene/gltf_loader.h"
+#include "support/scene_builder.h"
+#include "support/test_paths.h"
+
+namespace voxgi::scene {
+namespace {
+
+std::vector<std::string> skippedNames(const EffectPlan& p) {
+  std::vector<std::string> out;
+  for (const std::string& n : effectNames())
+    if (p.skipped.count(n)) out.push_back(n);
+  return out;
+}
+
+// A grey quad under one point light: nothing but diffuse light.
+Scene diffuseScene(bool lit = true) {
+  test::SceneBuilder b;
+  const int grey = b.addMaterial(glm::vec3(0.5f));
+  b.addTriangles({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, grey);
+  if (lit) {
+    Light l;
+    l.position = glm::vec3(0.0f, 0.0f, 2.0f);
+    b.scene().lights.push_back(l);
+  }
+  return b.finish();
+}
+
+TEST(EffectPlan, CornellRoom) {
+  const EffectPlan p = planEffects(loadGltf(test::cornellRoom()));
+  // A ceiling panel (emissive), a mirror sphere, no textures, no masks, no animation.
+  EXPECT_EQ(p.enabledList(),
+            (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
+  EXPECT_EQ(skippedNames(p), (std::vector<std::string>{"textures", "alpha", "animation"}));
+  EXPECT_EQ(p.skipped.at("textures"), "no textured material");
+  EXPECT_EQ(p.skipped.at("alpha"), "no alpha-masked material");
+  EXPECT_EQ(p.skipped.at("animation"), "nothing animated");
+  EXPECT_EQ(p.summary(),
+            "shadows, emission, indirect, specular (skipped: textures \u2014 no textured "
+            "material, alpha \u2014 no alpha-masked material, animation \u2014 nothing animated)");
+}
+
+TEST(EffectPlan, DarkPlane) {
+  // A floor, a diffuse and a mirror sphere, and one emissive sphere as the only light.
+  const Scene s = loadGltf(test::darkPlane());
+  EXPECT_TRUE(s.lights.empty());
+  const EffectPlan p = planEffects(s);
+  EXPECT_EQ(p.enabledList(),
+            (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
+  EXPECT_EQ(skippedNames(p), (std::vector<std::string>{"textures", "alpha", "animation"}));
+}
+
+TEST(EffectPlan, DiffuseSceneHasNoSpecularOrEmission) {
+  const EffectPlan p = planEffects(diffuseScene());
+  EXPECT_EQ(p.enabledList(), (std::vector<std::string>{"shadows", "indirect"}));
+  EXPECT_EQ(p.skipped.at("specular"), "no mirror or glossy material");
+  EXPECT_EQ(p.skipped.at("emission"), "no emissive material");
+}
+
+TEST(EffectPlan, UnlitSceneHasNoLightEffects) {
+  const EffectPlan p = planEffects(diffuseScene(false));
+  EXPECT_TRUE(p.enabledList().empty());
+  EXPECT_EQ(p.skipped.at("shadows"), "no light and no emissive surface");
+  EXPECT_EQ(p.skipped.at("indirect"), "no light and no emissive surface");
+  EXPECT_EQ(p.summary().rfind("none (skipped: shadows", 0), 0u) << p.summary();
+}
+
+TEST(EffectPlan, MaterialsDecideTexturesAlphaSpecularEmission) {
+  Scene s = diffuseScene();
+  Texture t;
+  t.width = t.height = 1;
+  t.rgba8 = {255, 255, 255, 255};
+  s.textures.push_back(t);
+  s.materials[0].baseColorTexture = 0;
+  s.materials[0].alphaMode = AlphaMode::kMask;
+  s.materials[0].emission = glm::vec3(1.0f);
+  s.materials[0].metallic = 1.0f;
+  const EffectPlan p = planEffects(s);
+  for (const char* n : {"shadows", "emission", "indirect", "specular", "textures", "alpha"})
+    EXPECT_TRUE(p.has(n)) << n;
+  EXPECT_FALSE(p.has("animation"));
+  // An emissive surface is a light on its own.
+  s.lights.clear();
+  EXPECT_TRUE(planEffects(s).has("shadows"));
+  EXPECT_TRUE(planEffects(s).has("indirect"));
+}
+
+TEST(EffectPlan, MaterialsNobodyDrawsDoNotCount) {
+  Scene s = diffuseScene();
+  Material unused;
+  unused.metallic = 1.0f;
+  unused.roughness = 0.0f;
+  unused.emission = glm::vec3(5.0f);
+  unused.alphaMode = AlphaMode::kMask;
+  s.materials.push_back(unused);
+  const EffectPlan p = planEffects(s);
+  EXPECT_EQ(p.enabledList(), (std::vector<std::string>{"shadows", "indirect"}));
+}
+
+TEST(EffectPlan, Animation) {
+  const EffectPlan p = planEffects(loadGltf(test::testDataDir() + "/animated/moving_box.gltf"));
+  EXPECT_TRUE(p.has("animation"));
+}
+
+// One rule, shared with rtgi_specular.comp: metallic, or smoother than kGlossyRoughness.
+TEST(EffectPlan, SpecularRule) {
+  Material m;
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  EXPECT_FALSE(isSpecular(m));
+  m.roughness = gpu::kGlossyRoughness;
+  EXPECT_FALSE(isSpecular(m));
+  m.roughness = gpu::kGlossyRoughness - 0.01f;
+  EXPECT_TRUE(isSpecular(m));
+  m.roughness = 1.0f;
+  m.metallic = 0.51f;
+  EXPECT_TRUE(isSpecular(m));
+  m.metallic = 0.5f;
+  EXPECT_FALSE(isSpecular(m));
+}
+
+TEST(EffectPlan, Overrides) {
+  EffectPlan p = planEffects(diffuseScene());
+  applyOverrides(&p, "+specular,-shadows");
+  EXPECT_TRUE(p.has("specular"));
+  EXPECT_FALSE(p.skipped.count("specular"));
+  EXPECT_FALSE(p.has("shadows"));
+  EXPECT_EQ(p.skipped.at("shadows"), "--effects -shadows");
+  applyOverrides(&p, "-all,+indirect");
+  EXPECT_EQ(p.enabledList(), std::vector<std::string>{"indirect"});
+  applyOverrides(&p, "+all");
+  EXPECT_EQ(p.enabledList(), allEffects().enabledList());
+  EXPECT_TRUE(p.skipped.empty());
+  applyOverrides(&p, "");  // nothing to do
+  EXPECT_EQ(p.enabledList().size(), effectNames().size());
+}
+
+TEST(EffectPlan, BadOverridesAreOneLineErrors) {
+  EffectPlan p;
+  auto message = [&](const std::string& spec) {
+    try {
+      applyOverrides(&p, spec);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(message("+bloom"),
+            "--effects: unknown effect 'bloom' (shadows, emission, indirect, specular, textures, "
+            "alpha, animation, all)");
+  EXPECT_EQ(message("specular"), "--effects: 'specular' needs a sign, +specular or -specular");
+  EXPECT_EQ(message("+shadows,,-alpha"),
+            "--effects: empty entry in '+shadows,,-alpha' (expected +name,-name)");
+  EXPECT_NE(message("+specular,"), "(no error)");
+  for (const char* bad : {"+bloom", "specular", "+shadows,,-alpha"})
+    EXPECT_EQ(message(bad).find('\n'), std::string::npos);
+}
+
+TEST(EffectPlan, ShaderDefines) {
+  EXPECT_TRUE(ShaderFeatures{}.defines().empty());  // everything on: the plain shaders
+  EXPECT_TRUE(shaderFeatures(allEffects()).defines().empty());
+  const ShaderFeatures f = shaderFeatures(planEffects(diffuseScene()));
+  EXPECT_EQ(f.defines(),
+            (std::vector<std::string>{"VOXGI_NO_EMISSION", "VOXGI_NO_TEXTURES", "VOXGI_NO_ALPHA"}));
+}
+
+TEST(EffectPlan, CommandLine) {
+  const auto inv =
+      app::parseCommandLine({"render", "--effects", "+specular", "--effects", "-alpha"});
+  EXPECT_EQ(inv.render.render.effects, "+specular,-alpha");
+  EXPECT_EQ(app::parseCommandLine({"view", "--effects", "-all"}).view.render.effects, "-all");
+  EXPECT_EQ(app::parseCommandLine({"bench", "--effects", "+all"}).bench.render.render.effects,
+            "+all");
+  EXPECT_THROW(app::parseCommandLine({"render", "--effects", "+bloom"}), app::UsageError);
+  EXPECT_THROW(app::parseCommandLine({"view", "--effects", "shadows"}), app::UsageError);
+  EXPECT_NE(app::renderHelp().find("--effects"), std::string::npos);
+  EXPECT_NE(app::viewHelp().find("--effects"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace voxgi::scene
