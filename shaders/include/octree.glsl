@@ -36,8 +36,6 @@ float octreeVoxelSize() { return octree.origin.w; }
 vec3 octreeToGrid(vec3 p) { return (p - octree.origin.xyz) / octree.origin.w; }
 vec3 octreeToWorld(vec3 g) { return octree.origin.xyz + g * octree.origin.w; }
 
-uvec2 packHalf4(vec4 v) { return uvec2(packHalf2x16(v.xy), packHalf2x16(v.zw)); }
-vec4 unpackHalf4(uvec2 v) { return vec4(unpackHalf2x16(v.x), unpackHalf2x16(v.y)); }
 
 // Shared-exponent RGB (9-bit mantissas, 5-bit exponent), the layout of
 // GL_RGB9_E5 (EXT_texture_shared_exponent): 4 bytes, relative precision 2^-9 of the

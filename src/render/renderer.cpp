@@ -338,12 +338,6 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   ++accumulated_;
 }
 
-double Renderer::lastVoxelizeMs() const {
-  for (const gl::StageTime& t : sceneStages_)
-    if (t.name == "voxelize") return t.gpuMs;
-  return 0.0;
-}
-
 namespace {
 template <typename T>
 void flipRows(std::vector<T>& px, int width, int height, int channels) {

@@ -152,7 +152,6 @@ class Renderer {
   // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
   // recent run, in order.
   const std::vector<gl::StageTime>& sceneStages() const { return sceneStages_; }
-  double lastVoxelizeMs() const;
 
  private:
   gl::ProgramCache& programs_;

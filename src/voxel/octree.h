@@ -67,7 +67,6 @@ class Octree {
 
   const OctreeStats& stats() const { return stats_; }
   const Settings& settings() const { return settings_; }
-  void setBounces(int bounces) { settings_.bounces = bounces; }
   int depth() const { return stats_.depth; }
   GLuint params() const { return params_.id(); }
   GLuint nodes() const { return nodes_.id(); }
