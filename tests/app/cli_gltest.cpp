@@ -143,6 +143,37 @@ TEST(Cli, FailedRenderLeavesExistingOutputAlone) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 
+// The frame budget end to end: the mask is written, the stats record the budget
+// and each frame's share; the mask without a budget, or a bad interleave, is a
+// usage error before any work.
+TEST(Cli, FrameBudgetWritesItsMaskAndStats) {
+  const std::string dir = scratchDir();
+  const auto r =
+      runCommand(voxgi("render --size 48x40 --voxels 64 --frames 6 --target-fps 30 "
+                       "--out-mask " +
+                       dir + "/mask.png --stats " + dir + "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const image::Image mask = image::readImage(dir + "/mask.png");
+  EXPECT_EQ(mask.width, 48);
+  EXPECT_EQ(mask.height, 40);
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats["budget"]["target_fps"], 30.0);
+  EXPECT_EQ(stats["budget"]["frame_ms_each"].size(), 6u);
+  EXPECT_EQ(stats["interleave"], 16);
+  for (double share : stats["budget"]["traced_fraction_each"]) {
+    EXPECT_GE(share, 1.0 / 16.0 - 1e-9);
+    EXPECT_LE(share, 1.0);
+  }
+  for (const std::string& bad : {"--out-mask " + dir + "/m2.png", std::string("--interleave 3"),
+                                 std::string("--target-fps 0"), std::string("--budget-select x")}) {
+    const auto e = runCommand(voxgi("render --size 16x16 " + bad));
+    EXPECT_EQ(e.exitCode, 2) << bad << ": " << e.output;
+    EXPECT_EQ(std::count(e.output.begin(), e.output.end(), '\n'), 1) << e.output;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/m2.png"));
+}
+
 TEST(Cli, RendersPngExrAndStats) {
   const std::string dir = scratchDir();
   const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " +
