@@ -64,17 +64,8 @@ std::pair<double, double> difference(const std::vector<float>& a, const std::vec
   return {worst, sum / static_cast<double>(n)};
 }
 
-class EffectsTest : public GlTest {
+class EffectsTest : public GlProgramsTest {
  protected:
-  void SetUp() override {
-    GlTest::SetUp();
-    programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
-  }
-  void TearDown() override {
-    programs_.reset();
-    GlTest::TearDown();
-  }
-
   // Small and fixed: 48x48, a 64^3 grid, seed 7.
   static render::RenderSettings settings(const std::string& effects,
                                          render::Mode mode = render::Mode::kRtgi) {
@@ -120,8 +111,6 @@ class EffectsTest : public GlTest {
     EXPECT_TRUE(hasStage(all.stages, "shadows"));
     EXPECT_TRUE(hasStage(all.stages, "indirect"));
   }
-
-  std::unique_ptr<gl::ProgramCache> programs_;
 };
 
 TEST_F(EffectsTest, DiffuseSceneHasNoSpecularStage) {

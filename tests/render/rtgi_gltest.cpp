@@ -38,17 +38,8 @@ image::Image toImage(const std::vector<float>& rgba, int size) {
   return im;
 }
 
-class RtgiTest : public GlTest {
+class RtgiTest : public GlProgramsTest {
  protected:
-  void SetUp() override {
-    GlTest::SetUp();
-    programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
-  }
-  void TearDown() override {
-    programs_.reset();
-    GlTest::TearDown();
-  }
-
   static render::RenderSettings settings(int size, int voxels, render::Mode mode) {
     render::RenderSettings s;
     s.mode = mode;
@@ -101,8 +92,6 @@ class RtgiTest : public GlTest {
     const double on = meanOf(render(s, rs, 8, cam));
     return {on, off};
   }
-
-  std::unique_ptr<gl::ProgramCache> programs_;
 };
 
 // Wherever the camera is: inside the diffuse sphere, inside the wall's voxels,

@@ -4,6 +4,7 @@
 
 #include "core/log.h"
 #include "gl/debug.h"
+#include "support/test_paths.h"
 
 namespace voxgi::test {
 
@@ -54,6 +55,16 @@ void GlBackendTest::TearDown() {
 
 std::string backendParamName(const ::testing::TestParamInfo<gl::Backend>& info) {
   return gl::backendName(info.param);
+}
+
+void GlProgramsTest::SetUp() {
+  GlTest::SetUp();
+  programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
+}
+
+void GlProgramsTest::TearDown() {
+  programs_.reset();
+  GlTest::TearDown();
 }
 
 }  // namespace voxgi::test

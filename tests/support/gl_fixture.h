@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "gl/context.h"
+#include "gl/program_cache.h"
 
 namespace voxgi::test {
 
@@ -20,6 +21,15 @@ class GlTest : public ::testing::Test {
   void SetUp() override;
   void TearDown() override;
   std::unique_ptr<gl::Context> context_;
+};
+
+// A GlTest with the program cache over the repository's shaders/ (dropped before the
+// context goes).
+class GlProgramsTest : public GlTest {
+ protected:
+  void SetUp() override;
+  void TearDown() override;
+  std::unique_ptr<gl::ProgramCache> programs_;
 };
 
 // Parameterised over the headless backends.
