@@ -8,6 +8,34 @@
 
 const float kPi = 3.14159265358979;
 
+// One edge's term of Lambert's formula for the irradiance of a polygon of unit
+// radiance: theta (gamma . n), for the edge from pa to pb (relative to the receiver).
+float lambertEdge(vec3 pa, vec3 pb, vec3 n) {
+  float la = length(pa);
+  float lb = length(pb);
+  if (!(la > 1e-30) || !(lb > 1e-30)) return 0.0;  // a corner at the receiver itself
+  vec3 a = pa / la;
+  vec3 b = pb / lb;
+  vec3 c = cross(a, b);
+  float s = length(c);
+  if (!(s >= 1e-12)) return 0.0;
+  return atan(s, dot(a, b)) * dot(c / s, n);
+}
+
+// The term of edge a -> b (heights da, db above the tangent plane) clipped to the
+// upper hemisphere, without branches: an end below the plane moves to where the
+// edge crosses it. Records that crossing as the polygon's exit (a above, b below)
+// or entry (a below, b above) point on the plane.
+float lambertClippedEdge(vec3 a, vec3 b, float da, float db, vec3 n, inout vec3 exitPoint,
+                         inout vec3 entryPoint) {
+  vec3 x = a + (b - a) * (da / (da - db));  // used only when the signs differ
+  bool aboveA = da > 0.0, aboveB = db > 0.0;
+  exitPoint = aboveA && !aboveB ? x : exitPoint;
+  entryPoint = !aboveA && aboveB ? x : entryPoint;
+  float term = lambertEdge(aboveA ? a : x, aboveB ? b : x, n);
+  return aboveA || aboveB ? term : 0.0;
+}
+
 // Irradiance per unit emitted radiance at p (normal n) from one emitter.
 float emitterFactor(GpuEmitter e, vec3 p, vec3 n) {
   if (uint(e.a.w) == kEmitterCluster) {
@@ -22,34 +50,19 @@ float emitterFactor(GpuEmitter e, vec3 p, vec3 n) {
   }
   vec3 en = normalize(cross(e.b.xyz - e.a.xyz, e.c.xyz - e.a.xyz));
   if (e.radiance.w < 0.5 && dot(en, p - e.a.xyz) <= 0.0) return 0.0;
-  // Clip the triangle to the receiver's upper hemisphere (Sutherland-Hodgman).
-  vec3 tri[3] = vec3[3](e.a.xyz - p, e.b.xyz - p, e.c.xyz - p);
-  vec3 poly[4];
-  int count = 0;
-  for (int i = 0; i < 3; ++i) {
-    vec3 a = tri[i];
-    vec3 b = tri[(i + 1) % 3];
-    float da = dot(a, n);
-    float db = dot(b, n);
-    if (da > 0.0) poly[count++] = a;
-    if ((da > 0.0) != (db > 0.0)) poly[count++] = a + (b - a) * (da / (da - db));
-  }
-  if (count < 3) return 0.0;
-  // Lambert's formula: E/L = 1/2 |sum_i theta_i (gamma_i . n)|.
-  float sum = 0.0;
-  for (int i = 0; i < count; ++i) {
-    vec3 pa = poly[i];
-    vec3 pb = poly[(i + 1) % count];
-    float la = length(pa);
-    float lb = length(pb);
-    if (!(la > 1e-30) || !(lb > 1e-30)) continue;  // a corner at the receiver itself
-    vec3 a = pa / la;
-    vec3 b = pb / lb;
-    vec3 c = cross(a, b);
-    float s = length(c);
-    if (!(s >= 1e-12)) continue;
-    sum += atan(s, dot(a, b)) * dot(c / s, n);
-  }
+  // The triangle clipped to the receiver's upper hemisphere: each edge keeps its
+  // part above the tangent plane, and where the triangle dips below, the clipped
+  // polygon closes along the plane from the exit point to the entry point. Written
+  // without arrays or loops (a dynamically indexed local array is slow on a SIMD
+  // software rasterizer).
+  vec3 a = e.a.xyz - p, b = e.b.xyz - p, c = e.c.xyz - p;
+  float da = dot(a, n), db = dot(b, n), dc = dot(c, n);
+  if (da <= 0.0 && db <= 0.0 && dc <= 0.0) return 0.0;
+  vec3 exitPoint = vec3(0.0), entryPoint = vec3(0.0);
+  float sum = lambertClippedEdge(a, b, da, db, n, exitPoint, entryPoint) +
+              lambertClippedEdge(b, c, db, dc, n, exitPoint, entryPoint) +
+              lambertClippedEdge(c, a, dc, da, n, exitPoint, entryPoint);
+  if (da <= 0.0 || db <= 0.0 || dc <= 0.0) sum += lambertEdge(exitPoint, entryPoint, n);
   return 0.5 * abs(sum);
 }
 

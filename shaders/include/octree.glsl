@@ -9,8 +9,12 @@
 layout(std140, binding = kOctreeParamsBinding) uniform OctreeBlock { OctreeParams octree; };
 #ifdef OCTREE_NODES_WRITABLE
 layout(std430, binding = kOctreeNodeBinding) coherent buffer OctreeNodes { uint octreeNodes[]; };
+#define VOXGI_NODE(i) octreeNodes[i]
 #else
 layout(std430, binding = kOctreeNodeBinding) readonly buffer OctreeNodes { uint octreeNodes[]; };
+// The same words as a buffer texture: the traversal reads them this way.
+layout(binding = kOctreeNodeTexUnit) uniform usamplerBuffer octreeNodeTex;
+#define VOXGI_NODE(i) texelFetch(octreeNodeTex, int(i)).x
 #endif
 
 #include "octree_march.h"

@@ -49,6 +49,7 @@ using glm::notEqual;
 #define VOXGI_PRECISE
 #define VOXGI_NODES_PARAM const uint *octreeNodes,
 #define VOXGI_NODES_ARG octreeNodes,
+#define VOXGI_NODE(i) octreeNodes[i]
 #else
 #define VOXGI_FN
 #define VOXGI_INOUT(T) inout T
@@ -190,7 +191,7 @@ VOXGI_FN MarchHit octreeFirstHit(VOXGI_NODES_PARAM MarchRay r, int depth, VOXGI_
     uint node = stack[valid];
     int level = valid;
     while (level < depth) {
-      uint first = octreeNodes[node];
+      uint first = VOXGI_NODE(node);
       if (first == 0u) break;
       int shift = depth - 1 - level;
       uint child = uint((s.voxel.x >> shift) & 1) | (uint((s.voxel.y >> shift) & 1) << 1) |
@@ -199,7 +200,7 @@ VOXGI_FN MarchHit octreeFirstHit(VOXGI_NODES_PARAM MarchRay r, int depth, VOXGI_
       ++level;
       stack[level] = node;
     }
-    if (level == depth && octreeNodes[node] != 0u) {
+    if (level == depth && VOXGI_NODE(node) != 0u) {
       h.hit = true;
       h.voxel = s.voxel;
       h.node = node;
@@ -223,7 +224,7 @@ VOXGI_FN uint octreeLookup(VOXGI_NODES_PARAM int depth, ivec3 v, int level,
   uint node = 0u;
   int l = 0;
   while (l < level) {
-    uint first = octreeNodes[node];
+    uint first = VOXGI_NODE(node);
     if (first == 0u) break;
     int shift = depth - 1 - l;
     uint child = uint((v.x >> shift) & 1) | (uint((v.y >> shift) & 1) << 1) |

@@ -42,6 +42,7 @@ VOXGI_CONST uint kOctreeLightCdfBinding = 11u;
 VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, while bouncing
 VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
 VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
+VOXGI_CONST uint kOctreeNodeTexUnit = 8u;     // texture unit: the node words as r32ui
 
 struct OctreeParams {
   vec4 origin;  // xyz world corner of the root cube, w voxel size

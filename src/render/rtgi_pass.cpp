@@ -15,7 +15,6 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
       programs_(programs),
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
-      direct_(programs.get({{"render/rtgi_direct.comp"}, settings.features.defines()})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   buildOptionalStages();
@@ -26,6 +25,17 @@ void RtgiPass::buildOptionalStages() {
     indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
   if (settings_.specular && !specular_)
     specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
+}
+
+// The direct stage's variant for what the scene has (see rtgi_direct.comp).
+const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
+  std::vector<std::string> defines = settings_.features.defines();
+  if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
+  if (gs.emitterCount() > 0)
+    defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
+                             ? "RTGI_EMITTERS_EXACT"
+                             : "RTGI_EMITTERS_SAMPLED");
+  return programs_.get({{"render/rtgi_direct.comp"}, defines});
 }
 
 void RtgiPass::resize(int width, int height) {
@@ -201,7 +211,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       glDispatchCompute(tx, ty, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
-  if (direct) run(shadows ? "shadows" : "direct", direct_);
+  if (direct) run(shadows ? "shadows" : "direct", directProgram(gs));
   if (settings_.indirect) run("indirect", *indirect_);
   if (specular) run("specular", *specular_);
   run("accumulate", accumulate_);

@@ -74,13 +74,13 @@ class RtgiPass {
   float maskThreshold(uint64_t extra) const;
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
+  const gl::Program& directProgram(const GpuScene& gs);
   // The programs of the indirect and specular stages, built only when they run.
   void buildOptionalStages();
 
   Settings settings_;
   gl::ProgramCache& programs_;
   const gl::Program& gbuffer_;
-  const gl::Program& direct_;
   const gl::Program& accumulate_;
   const gl::Program* indirect_ = nullptr;
   const gl::Program* specular_ = nullptr;

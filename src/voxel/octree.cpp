@@ -76,12 +76,15 @@ void Octree::bind() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeRadianceBinding, radiance_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMaterialBinding, material_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeEmissionBinding, emission_.id());
+  glBindTextureUnit(gpu::kOctreeNodeTexUnit, nodeTexture_.id());
 }
 
 void Octree::allocate(uint32_t capacity) {
   capacity_ = capacity;
   const auto n = static_cast<GLsizeiptr>(capacity);
   nodes_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  nodeTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+  glTextureBuffer(nodeTexture_.id(), GL_R32UI, nodes_.id());
   radiance_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   material_ = gl::createBuffer(n * 8, nullptr, GL_DYNAMIC_STORAGE_BIT);
   emission_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);

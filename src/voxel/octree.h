@@ -99,6 +99,7 @@ class Octree {
   const gl::Program& inject_;
   const gl::Program& bounce_;
   gl::Buffer params_, counters_, nodes_, radiance_, material_, emission_;
+  gl::Texture nodeTexture_;  // nodes_ as a buffer texture (r32ui)
   uint32_t capacity_ = 0;
   GLuint listBuffer_ = 0;  // the grid's voxel list, read again by inject()
   gpu::OctreeParams paramsData_{};
