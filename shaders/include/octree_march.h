@@ -188,19 +188,20 @@ VOXGI_FN MarchHit octreeFirstHit(VOXGI_NODES_PARAM MarchRay r, int depth, VOXGI_
   int valid = 0;
   while (h.steps < maxSteps) {
     ++h.steps;
+    // Descend to the deepest node holding the voxel: one node word read per level.
     uint node = stack[valid];
     int level = valid;
-    while (level < depth) {
-      uint first = VOXGI_NODE(node);
-      if (first == 0u) break;
+    uint word = VOXGI_NODE(node);
+    while (level < depth && word != 0u) {
       int shift = depth - 1 - level;
       uint child = uint((s.voxel.x >> shift) & 1) | (uint((s.voxel.y >> shift) & 1) << 1) |
                    (uint((s.voxel.z >> shift) & 1) << 2);
-      node = first + child;
+      node = word + child;
       ++level;
       stack[level] = node;
+      word = VOXGI_NODE(node);
     }
-    if (level == depth && VOXGI_NODE(node) != 0u) {
+    if (word != 0u) {  // only a leaf (level == depth) can be nonzero here
       h.hit = true;
       h.voxel = s.voxel;
       h.node = node;
