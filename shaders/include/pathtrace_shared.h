@@ -15,12 +15,15 @@ namespace voxgi::gpu {
 #endif
 
 // Binding points (SSBOs; the uniform block is kPtParamsBinding).
-VOXGI_CONST uint kPtNodeBinding = 3u;
-VOXGI_CONST uint kPtTriangleBinding = 4u;
 VOXGI_CONST uint kPtShadingBinding = 5u;
 VOXGI_CONST uint kPtEmissiveBinding = 6u;
 VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
 VOXGI_CONST uint kPtParamsBinding = 1u;
+// Texture units: the BVH nodes and the triangles, read as RGBA32UI buffer textures
+// (a struct is sizeof / 16 texels; floats as their bit patterns). On llvmpipe a
+// texelFetch from a buffer texture costs much less than the same load from an SSBO.
+VOXGI_CONST uint kPtNodeTexUnit = 0u;
+VOXGI_CONST uint kPtTriangleTexUnit = 1u;
 // Image units: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;
 VOXGI_CONST uint kPtCompensationImage = 1u;

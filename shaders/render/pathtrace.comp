@@ -19,8 +19,8 @@ layout(local_size_x = kPtGroupX, local_size_y = kPtGroupY) in;
 layout(std140, binding = kPtParamsBinding) uniform PtParamsBlock { GpuPtParams params; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = kPtNodeBinding) readonly buffer Nodes { GpuBvhNode nodes[]; };
-layout(std430, binding = kPtTriangleBinding) readonly buffer Triangles { GpuPtTriangle tris[]; };
+layout(binding = kPtNodeTexUnit) uniform usamplerBuffer nodeTexels;
+layout(binding = kPtTriangleTexUnit) uniform usamplerBuffer triangleTexels;
 layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
 layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
 layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
@@ -29,6 +29,25 @@ layout(binding = kPtCompensationImage, rgba32f) uniform image2D compensationImag
 layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
 
 const float kInf = 1.0 / 0.0;
+
+// Node and triangle i from their buffer textures (see pathtrace_shared.h).
+GpuBvhNode loadNode(uint i) {
+  int b = int(i) * 4;
+  GpuBvhNode n;
+  n.leftMin = uintBitsToFloat(texelFetch(nodeTexels, b));
+  n.leftMax = uintBitsToFloat(texelFetch(nodeTexels, b + 1));
+  n.rightMin = uintBitsToFloat(texelFetch(nodeTexels, b + 2));
+  n.rightMax = uintBitsToFloat(texelFetch(nodeTexels, b + 3));
+  return n;
+}
+GpuPtTriangle loadTriangle(uint i) {
+  int b = int(i) * 3;
+  GpuPtTriangle t;
+  t.v0 = uintBitsToFloat(texelFetch(triangleTexels, b));
+  t.e1 = uintBitsToFloat(texelFetch(triangleTexels, b + 1));
+  t.e2 = uintBitsToFloat(texelFetch(triangleTexels, b + 2));
+  return t;
+}
 
 // --- ray casting --------------------------------------------------------------------
 // Slab test against one box; the entry distance, or +inf on a miss.
@@ -58,7 +77,7 @@ bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint tri
   uint node = 0u;
   while (loopBudget > 0u) {
     --loopBudget;
-    GpuBvhNode n = nodes[node];
+    GpuBvhNode n = loadNode(node);
     float tl = hitBox(n.leftMin.xyz, n.leftMax.xyz, o, inv, tHit);
     float tr = hitBox(n.rightMin.xyz, n.rightMax.xyz, o, inv, tHit);
     uint li = floatBitsToUint(n.leftMin.w), lc = floatBitsToUint(n.leftMax.w);
@@ -73,7 +92,7 @@ bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint tri
         if (j >= count) break;
         uint i = first + j;
         // Moeller-Trumbore; NaN (a ray in the triangle's plane) fails every test.
-        GpuPtTriangle t = tris[i];
+        GpuPtTriangle t = loadTriangle(i);
         vec3 p = cross(d, t.e2.xyz);
         float inv_det = 1.0 / dot(t.e1.xyz, p);
         vec3 s = o - t.v0.xyz;
@@ -290,7 +309,7 @@ vec3 radiance(vec3 o, vec3 d) {
     uint tri;
     vec2 bc;
     if (!trace(o, d, kInf, false, t, tri, bc)) break;  // black background
-    GpuPtTriangle T = tris[tri];
+    GpuPtTriangle T = loadTriangle(tri);
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;

@@ -140,8 +140,22 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
   auto upload = [](const void* data, size_t bytes) {
     return gl::createBuffer(static_cast<GLsizeiptr>(bytes), bytes ? data : nullptr);
   };
+  GLint maxTexels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  auto texels = [&](const gl::Buffer& buffer, size_t bytes) {
+    if (bytes / 16 > static_cast<size_t>(maxTexels))
+      throw Error(
+          strf("pathtrace: %zu triangles need a BVH of %zu texels, more than this GL's "
+               "buffer texture limit of %d",
+               bvh_.triangleCount(), bytes / 16, maxTexels));
+    gl::Texture t = gl::createTexture(GL_TEXTURE_BUFFER);
+    if (bytes) glTextureBuffer(t.id(), GL_RGBA32UI, buffer.id());
+    return t;
+  };
   nodes_ = upload(nodes.data(), nodes.size() * sizeof(gpu::GpuBvhNode));
   triangles_ = upload(triangles.data(), triangles.size() * sizeof(gpu::GpuPtTriangle));
+  nodeTexels_ = texels(nodes_, nodes.size() * sizeof(gpu::GpuBvhNode));
+  triangleTexels_ = texels(triangles_, triangles.size() * sizeof(gpu::GpuPtTriangle));
   shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
   emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   params_ = gl::createBuffer(sizeof(gpu::GpuPtParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -204,8 +218,8 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kPtParamsBinding, params_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, scene_.materials());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, scene_.lights());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtNodeBinding, nodes_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTriangleBinding, triangles_.id());
+  glBindTextureUnit(gpu::kPtNodeTexUnit, nodeTexels_.id());
+  glBindTextureUnit(gpu::kPtTriangleTexUnit, triangleTexels_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, shading_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, emissive_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
@@ -217,6 +231,8 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
     return static_cast<GLuint>((static_cast<uint32_t>(n) + g - 1) / g);
   };
   glDispatchCompute(groups(w, gpu::kPtGroupX), groups(h, gpu::kPtGroupY), 1);
+  glBindTextureUnit(gpu::kPtNodeTexUnit, 0);
+  glBindTextureUnit(gpu::kPtTriangleTexUnit, 0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                   GL_TEXTURE_UPDATE_BARRIER_BIT);
 }

@@ -85,6 +85,7 @@ class PathtracePass {
   Bvh bvh_;
   double bvhMs_ = 0.0;
   gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
+  gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
   int emissiveCount_ = 0;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;
