@@ -36,12 +36,11 @@ VOXGI_CONST uint kEpochCount = 511u;     // epochs 1..510, then both levels are 
 VOXGI_CONST uint kBrickSize = 4u;        // voxels per brick side
 VOXGI_CONST uint kBrickVoxels = 64u;
 
-// Image units: the resolve pass writes the resolved grid through 10..12. Passes
-// that read the resolved grid bind it as samplers on the texture units below.
-VOXGI_CONST uint kResolvedUnit0 = 10u;
-VOXGI_CONST uint kAlbedoTexUnit = 1u;       // rgba8: albedo rgb, opacity
-VOXGI_CONST uint kNormalTexUnit = 2u;       // rgba8_snorm: unit normal (0 when ambiguous)
-VOXGI_CONST uint kEmissionTexUnit = 3u;     // rgba16f: emitted radiance
+// The resolved grid is sparse: the list of occupied voxels (packed coordinates,
+// 10 bits per axis) and, at the same index, each voxel's attributes as one uvec4
+// (VoxelAttributes): nothing is stored for empty voxels and nothing costs N^3.
+//   x: albedo rgb + opacity, packUnorm4x8   y: unit normal (0 when ambiguous), packSnorm4x8
+//   z: emitted radiance rg, packHalf2x16    w: emitted radiance b (low half), packHalf2x16
 VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
 VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
 VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
@@ -49,11 +48,10 @@ VOXGI_CONST uint kBrickMapBinding = 5u;     // SSBO: epoch | brick slot, per bri
 VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per voxel slot
 VOXGI_CONST uint kSlotSumsNBinding = 7u;
 VOXGI_CONST uint kSlotSumsEBinding = 8u;
-VOXGI_CONST uint kBrickPoolBinding = 9u;      // SSBO: epoch | voxel slot, 64 per brick slot
-VOXGI_CONST uint kBrickListBinding = 10u;     // SSBO: packed brick coordinates per brick slot
-VOXGI_CONST uint kEmissiveListBinding = 11u;  // SSBO: packed coordinates of emissive voxels
-VOXGI_CONST uint kResolveGroupSize = 64u;     // invocations per group: one brick, or 64 voxels
-VOXGI_CONST uint kMaxGroupsX = 32768u;        // larger dispatches go 2D
+VOXGI_CONST uint kBrickPoolBinding = 9u;     // SSBO: epoch | voxel slot, 64 per brick slot
+VOXGI_CONST uint kVoxelAttribBinding = 17u;  // SSBO: uvec4 attributes per listed voxel
+VOXGI_CONST uint kResolveGroupSize = 64u;    // invocations per group: one brick, or 64 voxels
+VOXGI_CONST uint kMaxGroupsX = 32768u;       // larger dispatches go 2D
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
 // bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
 VOXGI_CONST uint kMaxListEntries = 8388606u;
@@ -66,19 +64,18 @@ struct VoxelParams {
 };
 
 struct VoxelStats {
-  uint listCount;    // slots taken (may exceed the list's capacity)
+  uint listCount;    // voxel slots taken: occupied voxels (may exceed the list's capacity)
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
   uint capacity;       // slots (and list entries) there is room for
-  uint occupied;       // voxels resolved into the list
   uint brickCount;     // pool bricks taken (may exceed brickCapacity)
   uint brickCapacity;  // pool bricks there is room for
-  uint emissive;       // voxels resolved with nonzero emission (the emissive list)
+  uint emissive;       // voxels resolved with nonzero emission
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(VoxelParams) == 48);
-static_assert(sizeof(VoxelStats) == 32);
+static_assert(sizeof(VoxelStats) == 28);
 }  // namespace voxgi::gpu
 #endif
 

@@ -8,8 +8,7 @@
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams voxel; };
 layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
-layout(binding = kAlbedoTexUnit) uniform sampler3D albedo;
-layout(binding = kEmissionTexUnit) uniform sampler3D emission;
+layout(std430, binding = kVoxelAttribBinding) readonly buffer Attributes { uvec4 attributes[]; };
 
 layout(location = 0) flat out vec3 vAlbedo;
 layout(location = 1) flat out vec3 vEmission;
@@ -33,8 +32,9 @@ void main() {
   int corner = kCorners[gl_VertexID];
   vec3 local = vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
   vPosition = voxel.gridOrigin.xyz + (vec3(v) + local) * voxel.gridOrigin.w;
-  vAlbedo = texelFetch(albedo, v, 0).rgb;
-  vEmission = texelFetch(emission, v, 0).rgb;
+  uvec4 a = attributes[gl_InstanceID];
+  vAlbedo = unpackUnorm4x8(a.x).rgb;
+  vEmission = vec3(unpackHalf2x16(a.z), unpackHalf2x16(a.w).x);
   vFaceNormal = kNormals[gl_VertexID / 6];
   mat4 viewProj = mat4(frame.viewProj[0], frame.viewProj[1], frame.viewProj[2], frame.viewProj[3]);
   gl_Position = viewProj * vec4(vPosition, 1.0);

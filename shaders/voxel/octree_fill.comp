@@ -10,9 +10,7 @@ layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]
 layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) writeonly buffer Material { uvec2 material[]; };
 layout(std430, binding = kOctreeEmissionBinding) writeonly buffer Emission { uint emission[]; };
-layout(binding = kAlbedoTexUnit) uniform sampler3D albedoGrid;
-layout(binding = kNormalTexUnit) uniform sampler3D normalGrid;
-layout(binding = kEmissionTexUnit) uniform sampler3D emissionGrid;
+layout(std430, binding = kVoxelAttribBinding) readonly buffer Attributes { uvec4 attributes[]; };
 
 void main() {
   uint i = octreeInvocation();
@@ -23,10 +21,8 @@ void main() {
   uint node = 0u;
   for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
   octreeNodes[node] = kOctreeLeafOccupied;
-  vec4 a = texelFetch(albedoGrid, v, 0);
-  vec4 n = texelFetch(normalGrid, v, 0);
-  vec4 e = texelFetch(emissionGrid, v, 0);
-  material[node] = uvec2(packUnorm4x8(a), packSnorm4x8(vec4(n.xyz, 0.0)));
-  emission[node] = packRgb9e5(e.rgb);
+  uvec4 a = attributes[i];  // albedo + opacity, normal: the formats the nodes keep
+  material[node] = a.xy;
+  emission[node] = packRgb9e5(vec3(unpackHalf2x16(a.z), unpackHalf2x16(a.w).x));
   radiance[node] = 0u;
 }

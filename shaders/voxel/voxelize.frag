@@ -19,7 +19,7 @@ layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
 layout(std430, binding = kBrickMapBinding) coherent buffer BrickMap { uint brickMap[]; };
 layout(std430, binding = kBrickPoolBinding) coherent buffer BrickPool { uint pool[]; };
-layout(std430, binding = kBrickListBinding) writeonly buffer BrickList { uint brickVoxels[]; };
+layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
 layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
 layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
 layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
@@ -70,8 +70,7 @@ uint slotOf(ivec3 p) {
   uint bi = b.x + voxel.slotInfo.y * (b.y + voxel.slotInfo.y * b.z);
   uint brick;
   {
-    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity,
-          brickVoxels[ticket] = b.x | (b.y << 10) | (b.z << 20))
+    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity, {})
     brick = (seen & kSlotMask) - 1u;
   }
   if (brick == kSlotFull - 1u) return kSlotFull;
@@ -79,7 +78,9 @@ uint slotOf(ivec3 p) {
   uint vi = brick * kBrickVoxels + (l.x | (l.y << 2) | (l.z << 4));
   uint slot;
   {
-    CLAIM(pool, vi, stats.listCount, stats.capacity, {})
+    // The voxel's slot is its place in the list of occupied voxels.
+    CLAIM(pool, vi, stats.listCount, stats.capacity,
+          voxels[ticket] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20))
     slot = (seen & kSlotMask) - 1u;
   }
   return slot == kSlotFull - 1u ? kSlotFull : slot;

@@ -21,12 +21,9 @@ void PointsPass::execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid,
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, grid.params());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, grid.list());
-  glBindTextureUnit(gpu::kAlbedoTexUnit, grid.albedo());
-  glBindTextureUnit(gpu::kEmissionTexUnit, grid.emission());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelAttribBinding, grid.attributes());
   const uint32_t count = grid.stats().occupied;
   if (count > 0) glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(count));
-  glBindTextureUnit(gpu::kAlbedoTexUnit, 0);
-  glBindTextureUnit(gpu::kEmissionTexUnit, 0);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_TEST);
 }

@@ -160,13 +160,9 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   // Leaves: mark them and copy the resolved voxel into them.
   bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, grid.list());
-  glBindTextureUnit(gpu::kAlbedoTexUnit, grid.albedo());
-  glBindTextureUnit(gpu::kNormalTexUnit, grid.normal());
-  glBindTextureUnit(gpu::kEmissionTexUnit, grid.emission());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelAttribBinding, grid.attributes());
   setPass(static_cast<uint32_t>(stats_.depth), 0, listed);
   dispatch(fill_, listed);
-  for (GLuint u : {gpu::kAlbedoTexUnit, gpu::kNormalTexUnit, gpu::kEmissionTexUnit})
-    glBindTextureUnit(u, 0);
 
   stats_.leaves = listed;
   listBuffer_ = grid.list();

@@ -12,10 +12,9 @@
 namespace voxgi::voxel {
 namespace {
 
-constexpr uint64_t kResolvedBytesPerVoxel = 4 + 4 + 8;
-constexpr uint64_t kBytesPerSlot = 3 * 16;                      // sums
-constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4 + 4;  // pool entries, coordinates
-constexpr uint64_t kBytesPerListEntry = 4 + 4;                  // the list and the emissive list
+constexpr uint64_t kBytesPerSlot = 3 * 16;                  // sums
+constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4;  // pool entries
+constexpr uint64_t kBytesPerListEntry = 4 + 16;             // coordinates, attributes
 
 uint64_t bricksPerAxis(int resolution) {
   return (static_cast<uint64_t>(resolution) + gpu::kBrickSize - 1) / gpu::kBrickSize;
@@ -52,13 +51,11 @@ uint32_t initialListCapacity(int resolution) {
 }
 
 VoxelMemory voxelMemory(int resolution) {
-  const uint64_t n = static_cast<uint64_t>(resolution);
-  const uint64_t voxels = n * n * n;
   const uint64_t b = bricksPerAxis(resolution);
   const uint64_t list = kBytesPerListEntry * initialListCapacity(resolution);
   const uint64_t sparse = b * b * b * 4 + kBytesPerBrick * initialBrickCapacity(resolution) +
                           kBytesPerSlot * initialListCapacity(resolution);
-  return {voxels * kResolvedBytesPerVoxel + sparse + list, voxels * kResolvedBytesPerVoxel + list};
+  return {sparse + list, list};
 }
 
 uint64_t voxelMemoryBudget(const std::string& renderer) {
@@ -92,16 +89,11 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
                               settings.features.defines()})),
       resolve_(programs.get({{"voxel/resolve.comp"},
                              settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
-                                                  : std::vector<std::string>{}})),
-      unresolve_(programs.get({{"voxel/unresolve.comp"}, {}})) {
+                                                  : std::vector<std::string>{}})) {
   const int n = settings.resolution;
   if (n < kMinResolution || n > kMaxResolution)
     throw Error(strf("--voxels %d: the grid resolution must be in [%d, %d]", n, kMinResolution,
                      kMaxResolution));
-  GLint max3d = 0;
-  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
-  if (n > max3d)
-    throw Error(strf("--voxels %d: larger than this GL's 3D texture limit %d", n, max3d));
   const VoxelMemory need = voxelMemory(n);
   const uint64_t budget = voxelMemoryBudget(renderer);
   if (need.peakBytes > budget)
@@ -111,24 +103,6 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
              n, static_cast<double>(need.peakBytes) / (1 << 30),
              static_cast<double>(budget) / (1 << 30)));
 
-  auto make3d = [n](GLenum format) {
-    gl::Texture t = gl::createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, format, n, n, n);
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_BORDER);
-    return t;
-  };
-  albedo_ = make3d(GL_RGBA8);
-  normal_ = make3d(GL_RGBA8_SNORM);
-  emission_ = make3d(GL_RGBA16F);
-  // Cleared once; afterwards only listed voxels are ever written or zeroed.
-  const uint32_t zero[4] = {0, 0, 0, 0};
-  glClearTexImage(albedo_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, zero);
-  glClearTexImage(normal_.id(), 0, GL_RGBA, GL_BYTE, zero);
-  glClearTexImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, zero);
   capacity_ = initialListCapacity(n);
   brickCapacity_ = initialBrickCapacity(n);
   allocateLists();
@@ -160,7 +134,7 @@ void VoxelizePass::allocateSums() {
 
 void VoxelizePass::allocateLists() {
   list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
-  emissiveList_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
+  attributes_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 16, nullptr);
 }
 
 void VoxelizePass::clear(const gl::Buffer& buffer) {
@@ -179,7 +153,6 @@ void VoxelizePass::allocateBricks() {
   pool_ =
       gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * gpu::kBrickVoxels * 4, nullptr);
   clear(pool_);
-  brickList_ = gl::createBuffer(static_cast<GLsizeiptr>(brickCapacity_) * 4, nullptr);
 }
 
 void VoxelizePass::clearSums() {
@@ -234,10 +207,9 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
 void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelStatsBinding, statsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, list_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmissiveListBinding, emissiveList_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelAttribBinding, attributes_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickMapBinding, brickMap_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickPoolBinding, pool_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kBrickListBinding, brickList_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsABinding, sumsA_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsNBinding, sumsN_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsEBinding, sumsE_.id());
@@ -248,14 +220,9 @@ void VoxelizePass::dispatch(const gl::Program& program, uint64_t invocations) {
   glUseProgram(program.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   bindSlots();
-  glBindImageTexture(gpu::kResolvedUnit0 + 0, albedo_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-  glBindImageTexture(gpu::kResolvedUnit0 + 1, normal_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                     GL_RGBA8_SNORM);
-  glBindImageTexture(gpu::kResolvedUnit0 + 2, emission_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                     GL_RGBA16F);
   dispatchFor(invocations);
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                  GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                  GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
 }
 
 void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
@@ -280,7 +247,6 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   raster(gs);
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  const uint32_t oldCapacity = capacity_;
   // Out of voxel slots or pool bricks: grow what ran out and raster again in a fresh
   // epoch (bricks that did not fit took no voxel slots, so this can take two rounds).
   for (int round = 0; out.listCount > capacity_ || out.brickCount > brickCapacity_; ++round) {
@@ -294,6 +260,7 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
     if (out.listCount > capacity_) {
       capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
       allocateSlots();
+      allocateLists();
     }
     if (out.brickCount > brickCapacity_) {
       brickCapacity_ = std::min<uint32_t>(gpu::kMaxBricks, out.brickCount + out.brickCount / 4);
@@ -303,71 +270,74 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   }
-  // What the previous voxelization listed and this one did not reach is zeroed
-  // before its list is overwritten.
-  glUseProgram(unresolve_.id());
-  glUniform1ui(0, listed_);
-  glUniform1ui(1, emissive_);
-  dispatch(unresolve_, std::max(listed_, emissive_));
-  if (capacity_ != oldCapacity) allocateLists();
-  dispatch(resolve_, uint64_t{out.brickCount} * gpu::kBrickVoxels);
-  for (uint32_t u = 0; u < 3; ++u)
-    glBindImageTexture(gpu::kResolvedUnit0 + u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  dispatch(resolve_, out.listCount);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  listed_ = out.occupied;
-  emissive_ = out.emissive;
-  bricksTaken_ = out.brickCount;
+  listed_ = out.listCount;  // the rounds above made room for every one
   stats_.occupied = listed_;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
-  stats_.bytes = voxelMemory(n).residentBytes +
-                 kBytesPerListEntry * (uint64_t{capacity_} - initialListCapacity(n));
-  stats_.peakBytes =
-      voxelMemory(n).peakBytes +
-      (kBytesPerListEntry + kBytesPerSlot) * (uint64_t{capacity_} - initialListCapacity(n)) +
-      kBytesPerBrick * (uint64_t{brickCapacity_} - initialBrickCapacity(n));
+  const uint64_t b = bricksPerAxis(n);
+  stats_.peakBytes = b * b * b * 4 + kBytesPerBrick * brickCapacity_ +
+                     (kBytesPerSlot + kBytesPerListEntry) * uint64_t{capacity_};
   if (!settings_.keepSums && !settings_.inspectSums) {
-    // only the resolved grid stays resident
-    for (gl::Buffer* b : {&brickMap_, &pool_, &brickList_, &sumsA_, &sumsN_, &sumsE_}) b->reset();
+    // Only the list stays resident, trimmed to the voxels it holds.
+    for (gl::Buffer* buffer : {&brickMap_, &pool_, &sumsA_, &sumsN_, &sumsE_}) buffer->reset();
+    if (listed_ < capacity_) {
+      const uint32_t keep = std::max<uint32_t>(listed_, 1);
+      gl::Buffer list = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 4, nullptr);
+      gl::Buffer attributes = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 16, nullptr);
+      if (listed_ > 0) {
+        glCopyNamedBufferSubData(list_.id(), list.id(), 0, 0, static_cast<GLsizeiptr>(listed_) * 4);
+        glCopyNamedBufferSubData(attributes_.id(), attributes.id(), 0, 0,
+                                 static_cast<GLsizeiptr>(listed_) * 16);
+      }
+      list_ = std::move(list);
+      attributes_ = std::move(attributes);
+      capacity_ = keep;
+    }
   }
+  stats_.bytes = kBytesPerListEntry * uint64_t{capacity_};
+}
+
+template <typename T>
+std::vector<T> VoxelizePass::readResolved(uint32_t component) const {
+  const size_t n = static_cast<size_t>(settings_.resolution);
+  std::vector<uint32_t> codes(listed_);
+  std::vector<uint32_t> attributes(size_t{listed_} * 4);
+  if (listed_ > 0) {
+    glGetNamedBufferSubData(list_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4), codes.data());
+    glGetNamedBufferSubData(attributes_.id(), 0, static_cast<GLsizeiptr>(attributes.size() * 4),
+                            attributes.data());
+  }
+  std::vector<T> out(n * n * n * 4, T{0});
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const uint32_t c = codes[i];
+    const size_t voxel = (c & 1023u) + n * (((c >> 10) & 1023u) + n * ((c >> 20) & 1023u));
+    if constexpr (sizeof(T) == 1) {  // 4 bytes of one packed word
+      std::memcpy(&out[voxel * 4], &attributes[i * 4 + component], 4);
+    } else {  // 4 half floats: emission rgb, 0
+      std::memcpy(&out[voxel * 4], &attributes[i * 4 + 2], 8);
+    }
+  }
+  return out;
 }
 
 std::vector<uint8_t> VoxelizePass::readAlbedo() const {
-  const size_t n = static_cast<size_t>(settings_.resolution);
-  std::vector<uint8_t> out(n * n * n * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(albedo_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(out.size()),
-                    out.data());
-  return out;
+  return readResolved<uint8_t>(0);
 }
-
 std::vector<int8_t> VoxelizePass::readNormal() const {
-  const size_t n = static_cast<size_t>(settings_.resolution);
-  std::vector<int8_t> out(n * n * n * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(normal_.id(), 0, GL_RGBA, GL_BYTE, static_cast<GLsizei>(out.size()),
-                    out.data());
-  return out;
+  return readResolved<int8_t>(1);
 }
-
 std::vector<uint16_t> VoxelizePass::readEmission() const {
-  const size_t n = static_cast<size_t>(settings_.resolution);
-  std::vector<uint16_t> out(n * n * n * 4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(emission_.id(), 0, GL_RGBA, GL_HALF_FLOAT, static_cast<GLsizei>(out.size() * 2),
-                    out.data());
-  return out;
+  return readResolved<uint16_t>(2);
 }
 
 std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
   VOXGI_CHECK(settings_.inspectSums && channel < gpu::kSumChannels);
   const size_t n = static_cast<size_t>(settings_.resolution);
-  const uint32_t bricks = std::min(bricksTaken_, brickCapacity_);
-  std::vector<uint32_t> codes(bricks), entries(size_t{bricks} * gpu::kBrickVoxels),
-      sums(size_t{capacity_} * 4);
-  glGetNamedBufferSubData(brickList_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4),
-                          codes.data());
-  glGetNamedBufferSubData(pool_.id(), 0, static_cast<GLsizeiptr>(entries.size() * 4),
-                          entries.data());
+  // Slot i of the sums is voxel i of the list.
+  std::vector<uint32_t> codes(listed_), sums(size_t{listed_} * 4);
+  if (listed_ == 0) return std::vector<uint32_t>(n * n * n, 0u);
+  glGetNamedBufferSubData(list_.id(), 0, static_cast<GLsizeiptr>(codes.size() * 4), codes.data());
   // albedo rgb + weight, normal xyz, emission rgb: see voxel_shared.h
   const gl::Buffer& b = channel < gpu::kSumNormal || channel == gpu::kSumWeight ? sumsA_
                         : channel < gpu::kSumEmission                           ? sumsN_
@@ -375,12 +345,9 @@ std::vector<uint32_t> VoxelizePass::readSum(uint32_t channel) const {
   const uint32_t lane = channel == gpu::kSumWeight ? 3u : channel % 3u;
   glGetNamedBufferSubData(b.id(), 0, static_cast<GLsizeiptr>(sums.size() * 4), sums.data());
   std::vector<uint32_t> out(n * n * n, 0u);
-  for (uint32_t i = 0; i < entries.size(); ++i) {
-    if ((entries[i] & ~gpu::kSlotMask) != params_.slotInfo.x) continue;  // not this epoch
-    const uint32_t c = codes[i / gpu::kBrickVoxels], l = i % gpu::kBrickVoxels;
-    const size_t x = (c & 1023u) * 4 + (l & 3u), y = ((c >> 10) & 1023u) * 4 + ((l >> 2) & 3u),
-                 z = ((c >> 20) & 1023u) * 4 + (l >> 4);
-    out[x + n * (y + n * z)] = sums[((entries[i] & gpu::kSlotMask) - 1) * 4 + lane];  // slot + 1
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const uint32_t c = codes[i];
+    out[(c & 1023u) + n * (((c >> 10) & 1023u) + n * ((c >> 20) & 1023u))] = sums[i * 4 + lane];
   }
   return out;
 }

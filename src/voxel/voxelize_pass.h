@@ -1,11 +1,13 @@
-// Voxelization: the scene's triangles into a dense N^3 grid of averaged surface
-// attributes.
+// Voxelization: the scene's triangles into an N^3 grid of averaged surface
+// attributes, stored sparsely.
 //
 // Reads: the GpuScene (scene-space triangles, materials, base-colour textures).
-// Writes: three 3D textures of N^3 texels over the cube Scene::scale (gridOrigin,
-// gridSize): albedo + opacity (RGBA8, linear), unit normal (RGBA8_SNORM, zero where
-// opposite normals cancel), emitted radiance (RGBA16F). Texel (i,j,k) covers
-// gridOrigin + [i,i+1)x[j,j+1)x[k,k+1) * voxelSize.
+// Writes: the list of occupied voxels (packed coordinates) and, at the same index,
+// each one's attributes (voxel_shared.h): albedo + opacity (RGBA8, linear), unit
+// normal (RGBA8 snorm, zero where opposite normals cancel), emitted radiance (RGB
+// half floats). Voxel (i,j,k) covers gridOrigin + [i,i+1)x[j,j+1)x[k,k+1) * voxelSize
+// over the cube Scene::scale (gridOrigin, gridSize). Nothing is stored per empty
+// voxel: the octree and the points view read the list.
 //
 // Method (Crassin & Green, OpenGL Insights ch. 22): one raster pass, each triangle
 // projected along its dominant axis onto an N x N viewport of a framebuffer with no
@@ -19,9 +21,8 @@
 // sums, one uvec4 per slot in each of three SSBOs (albedo+weight, normal, emission).
 // Entries carry the voxelization's epoch, so nothing is cleared per run. A compute
 // pass over the pool bricks resolves the averages (zeroing the sums as it reads
-// them), lists the voxels, and checksums the grid; before it, the voxels of the
-// previous list this run did not reach, and the previous emissive voxels, are
-// zeroed. After the first use nothing costs N^3: work follows the surface.
+// them), lists the voxels with their attributes, and checksums the grid. After the
+// first use nothing costs N^3: work follows the surface.
 //
 // Tested by tests/voxel/voxelize_gltest.cpp (exact counts, determinism, agreement
 // with a CPU triangle-box reference, watertightness, scale invariance).
@@ -81,17 +82,17 @@ class VoxelizePass {
 
   const VoxelGridStats& stats() const { return stats_; }
   int resolution() const { return settings_.resolution; }
-  GLuint albedo() const { return albedo_.id(); }
-  GLuint normal() const { return normal_.id(); }
-  GLuint emission() const { return emission_.id(); }
   GLuint params() const { return paramsBuffer_.id(); }
   // Packed coordinates (10 bits per axis) of the stats().occupied listed voxels.
   GLuint list() const { return list_.id(); }
+  // Their attributes, one uvec4 each at the same index (see voxel_shared.h).
+  GLuint attributes() const { return attributes_.id(); }
   // World-space cube of the grid: origin and voxel size.
   glm::vec3 gridOrigin() const { return gridOrigin_; }
   float voxelSize() const { return voxelSize_; }
 
-  // Resolved grid as bytes (tests): rgba8, rgba8 snorm, rgba16f per voxel, x fastest.
+  // Resolved grid as dense N^3 arrays (tests), gathered from the list: rgba8, rgba8
+  // snorm, rgba16f per voxel, x fastest, zero where empty.
   std::vector<uint8_t> readAlbedo() const;
   std::vector<int8_t> readNormal() const;
   std::vector<uint16_t> readEmission() const;
@@ -104,6 +105,8 @@ class VoxelizePass {
   void allocateSlots();
   void allocateBricks();
   void allocateLists();
+  template <typename T>
+  std::vector<T> readResolved(uint32_t component) const;
   static void clear(const gl::Buffer& buffer);
   void clearSums();
   void nextEpoch();
@@ -114,19 +117,15 @@ class VoxelizePass {
   Settings settings_;
   const gl::Program& voxelize_;
   const gl::Program& resolve_;
-  const gl::Program& unresolve_;
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
-  gl::Buffer brickMap_, pool_, brickList_, sumsA_, sumsN_, sumsE_;
-  gl::Texture albedo_, normal_, emission_;
+  gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
   gl::Framebuffer fbo_;
-  gl::Buffer paramsBuffer_, statsBuffer_, list_, emissiveList_;
+  gl::Buffer paramsBuffer_, statsBuffer_, list_, attributes_;
   gpu::VoxelParams params_{};
   uint32_t epoch_ = 0;
   uint32_t capacity_ = 0;       // slots, and entries of list_
   uint32_t brickCapacity_ = 0;  // pool bricks
-  uint32_t bricksTaken_ = 0;    // by the last voxelization
   uint32_t listed_ = 0;         // voxels listed (and resolved) by the last voxelization
-  uint32_t emissive_ = 0;       // of them, with nonzero emission (the emissive list)
   glm::vec3 gridOrigin_{0.0f};
   float voxelSize_ = 1.0f;
   VoxelGridStats stats_;

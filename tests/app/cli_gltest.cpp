@@ -91,13 +91,27 @@ TEST(Cli, PointsModeReportsVoxels) {
   const auto stats = nlohmann::json::parse(in);
   EXPECT_EQ(stats["voxels"]["resolution"], 32);
   EXPECT_GT(stats["voxels"]["count"].get<int>(), 1000);
-  // 16 bytes per voxel resident, plus the lists of occupied and of emissive voxels
-  // (4 bytes an entry each, room for every voxel at this size).
-  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * (16 + 4 + 4));
+  // Resident: the list of occupied voxels, 4 bytes of coordinates and 16 of
+  // attributes an entry; re-voxelizing keeps room for every voxel at this size.
+  EXPECT_EQ(stats["voxels"]["bytes"], 32 * 32 * 32 * (4 + 16));
   EXPECT_EQ(stats["voxels"]["checksum"].get<std::string>().size(), 16u);
   EXPECT_TRUE(stats["stages"].contains("voxelize"));
   EXPECT_TRUE(stats["stages"].contains("points"));
   EXPECT_FALSE(stats["stages"].contains("raster"));
+}
+
+TEST(Cli, VoxelizedOnceKeepsOnlyItsOccupiedVoxels) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(
+      voxgi("render --mode points --voxels 64 --size 32x32 --frames 1 --stats " + dir + "/s.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::json::parse(in);
+  const auto count = stats["voxels"]["count"].get<uint64_t>();
+  EXPECT_GT(count, 10000u);
+  // 20 bytes per occupied voxel and nothing else: no N^3 texture, no spare list room.
+  EXPECT_EQ(stats["voxels"]["bytes"].get<uint64_t>(), count * (4 + 16));
+  EXPECT_GT(stats["voxels"]["peak_bytes"].get<uint64_t>(), count * (4 + 16));
 }
 
 TEST(Cli, BenchPrintsATableAndWritesJson) {
