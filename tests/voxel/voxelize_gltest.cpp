@@ -294,6 +294,43 @@ TEST_F(VoxelizeTest, RevoxelizingLeavesNothingOfTheLastScene) {
   EXPECT_GT(std::count_if(e.begin(), e.end(), [](uint16_t h) { return h != 0; }), 0);
 }
 
+// Voxelized once, the list is trimmed to its voxels; voxelizing a larger scene with
+// the same pass grows it again (the raster runs again in a fresh epoch) and gives
+// exactly what a fresh pass gives.
+TEST_F(VoxelizeTest, TrimmedListGrowsForALargerScene) {
+  auto scene = [](int boxes) {
+    SceneBuilder b;
+    const int m = b.addMaterial(glm::vec3(0.6f), glm::vec3(0.25f, 0, 0));
+    for (int i = 0; i < boxes; ++i) {
+      const float x = -10.0f + 5.0f * static_cast<float>(i);
+      b.addBox({x, -10, -10}, {x + 3, 10, 10}, m);
+    }
+    scene::Scene s = b.finish();
+    s.scale.gridOrigin = glm::vec3(-12.0f);
+    s.scale.gridSize = 24.0f;
+    return s;
+  };
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  gl::StageTimer timer;
+  gl::FrameContext ctx{programs, timer, 64, 64, 0};
+  voxel::VoxelizePass reused(programs, "llvmpipe", {64, false});
+  voxel::VoxelizePass fresh(programs, "llvmpipe", {64, false});
+  const scene::Scene one = scene(1), four = scene(4);  // GpuScene keeps a reference
+  scene::GpuScene small(one), large(four);
+  reused.execute(ctx, small);
+  const voxel::VoxelGridStats first = reused.stats();
+  EXPECT_EQ(first.bytes, uint64_t{first.occupied} * 20);  // trimmed: 20 bytes a voxel
+  reused.execute(ctx, large);
+  fresh.execute(ctx, large);
+  timer.resolve();
+  EXPECT_GT(reused.stats().occupied, 3 * first.occupied);
+  EXPECT_EQ(reused.stats().occupied, fresh.stats().occupied);
+  EXPECT_EQ(reused.stats().checksum, fresh.stats().checksum);
+  EXPECT_EQ(reused.readAlbedo(), fresh.readAlbedo());
+  EXPECT_EQ(reused.readNormal(), fresh.readNormal());
+  EXPECT_EQ(reused.readEmission(), fresh.readEmission());
+}
+
 // The voxel count does not depend on where the scene is or on its unit.
 TEST_F(VoxelizeTest, CountIgnoresTranslationAndScale) {
   const uint32_t base = voxelize(scene::loadGltf(cornellRoom()), 64, false).stats.occupied;
