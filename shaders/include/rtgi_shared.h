@@ -28,12 +28,16 @@ VOXGI_CONST uint kPixelListBinding = 15u;      // SSBO: PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // SSBO: uint[kMaskBins]
 VOXGI_CONST uint kMaskBins = 256u;
 // How the pixels that trace are chosen (RtgiParams::work.z).
-VOXGI_CONST uint kSelectPattern = 0u;  // every interleave-th frame, Bayer order
-VOXGI_CONST uint kSelectMask = 1u;     // the pattern, plus pixels whose mask exceeds work.y
-VOXGI_CONST uint kSelectUniform = 2u;  // the pattern, plus a random work.y of the others
-VOXGI_CONST int kMaxExactEmitters = 8;
-VOXGI_CONST uint kMaxInterleave =
-    16u;  // a 4x4 ordered pattern  // RtgiPass::Settings::exactEmitters at most
+VOXGI_CONST uint kSelectPattern = 0u;   // every interleave-th frame, Bayer order
+VOXGI_CONST uint kSelectMask = 1u;      // the pattern, plus pixels whose mask exceeds work.y
+VOXGI_CONST uint kSelectUniform = 2u;   // the pattern, plus a random work.y of the others
+VOXGI_CONST int kMaxExactEmitters = 8;  // RtgiPass::Settings::exactEmitters at most
+VOXGI_CONST uint kMaxInterleave = 16u;  // a 4x4 ordered pattern
+// RtgiParams::work.w flags.
+// The first frame of an accumulation traces the pattern only, like the others, and
+// a pixel that has not traced yet shows the light of traced neighbours on its surface
+// (RtgiPass::Settings::sparseStart).
+VOXGI_CONST uint kRtgiSparseStart = 1u;
 VOXGI_CONST uint kRtgiTraceGroup = 64u;  // tracing stages: 1D groups over packed pixels
 VOXGI_CONST uint kRtgiGroupX = 8u;
 VOXGI_CONST uint kRtgiGroupY = 8u;
@@ -57,7 +61,8 @@ struct RtgiParams {
   vec4 cameraUp;       // up * tan(fov/2)
   vec4 cameraForward;  // w: opacity at which dvr stops
   uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame;
-                       // y: mask threshold or uniform fraction (float bits); z: kSelect*
+                       // y: mask threshold or uniform fraction (float bits); z: kSelect*;
+                       // w: flags (kRtgiSparseStart)
 };
 
 // Pixels that trace this frame, appended by rtgi_select.comp; `groups` doubles as

@@ -2,9 +2,11 @@
 // rtgi stage "accumulate": emission + direct + indirect + specular of this frame,
 // averaged with the frames before it while camera and scene stay still (a running
 // mean in float: the n-th sample of a pixel adds (c - mean) / n; alpha holds n).
-// Pixels that traced nothing this frame (interleaving) keep their mean. A
+// Pixels that traced nothing this frame (interleaving) keep their mean; with a sparse
+// start, those that have not traced yet borrow their neighbours' light. A
 // non-finite term is dropped rather than poisoning the mean. VOXGI_NO_EMISSION
-// (effect plan) leaves emission out.
+// (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
+// adds the light lent to pixels that have not traced yet.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -21,19 +23,81 @@ layout(binding = kAccumImage, rgba32f) uniform image2D accum;
 
 vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isinf(c)))); }
 
+// This frame's traced light (direct + indirect + specular) at pixel q.
+vec3 tracedLight(ivec2 q) {
+  vec3 c = vec3(0.0);
+  uint flags = rtgi.counts.z;
+  if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, q).rgb);
+  if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, q).rgb);
+  if ((flags & kRtgiHasSpecular) != 0u) c += finite(imageLoad(specularIn, q).rgb);
+  return c;
+}
+
+#ifdef RTGI_SPARSE_START
+// A sparse start: light for a pixel that has not traced since the accumulation
+// restarted, from the pixels around it that traced this frame. The pattern's turn
+// puts one such pixel in every 4x4 block (the cell of turnRank()); the four of them
+// around px are blended with bilinear weights, counting only those on px's surface
+// (covered alike, normals within 25 degrees, depth within 5%), or, when none is,
+// every covered one.
+vec3 borrowedLight(ivec2 px) {
+  ivec2 size = ivec2(rtgi.frame.zw);
+  uint cell = patternCell(turnRank());
+  ivec2 c = ivec2(cell & 3u, cell >> 2u);
+  ivec2 block0 = (px - c) >> 2;  // the block whose traced pixel is at or before px
+  vec2 t = vec2(px - (block0 * 4 + c)) / 4.0;
+  vec4 p0 = texelFetch(gPosition, px, 0);
+  vec3 n0 = texelFetch(gNormal, px, 0).xyz;
+  float d0 = length(p0.xyz - rtgi.camera.xyz);
+  vec3 same = vec3(0.0), near = vec3(0.0);
+  float wSame = 0.0, wNear = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 b = block0 + ivec2(k & 1, k >> 1);
+    ivec2 q = b * 4 + c;
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+    float w = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y) + 1e-4;
+    vec4 p1 = texelFetch(gPosition, q, 0);
+    if (p1.w < 0.5) continue;  // nothing drawn there: no light traced
+    vec3 light = tracedLight(q);
+    vec3 n1 = texelFetch(gNormal, q, 0).xyz;
+    float d1 = length(p1.xyz - rtgi.camera.xyz);
+    near += w * light;
+    wNear += w;
+    if (p0.w == p1.w && dot(n0, n1) > 0.9 && abs(d1 - d0) < 0.05 * d0) {
+      same += w * light;
+      wSame += w;
+    }
+  }
+  return wSame > 0.0 ? same / wSame : (wNear > 0.0 ? near / wNear : vec3(0.0));
+}
+#endif
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (outside(px)) return;
+  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
+  bool traced = !outside(px);
+#ifndef RTGI_SPARSE_START
+  if (!traced) return;  // traced nothing this frame: it keeps its mean
+  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+#else
+  // Until a pixel first traces it shows borrowed light with a count of 0, which its
+  // first sample replaces; after that, untraced, it keeps its mean.
+  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+  if (!traced && previous.a > 0.0) return;
+#endif
 #ifdef VOXGI_NO_EMISSION
   vec3 c = vec3(0.0);
 #else
   vec3 c = finite(texelFetch(gEmission, px, 0).rgb);
 #endif
-  uint flags = rtgi.counts.z;
-  if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, px).rgb);
-  if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, px).rgb);
-  if ((flags & kRtgiHasSpecular) != 0u) c += finite(imageLoad(specularIn, px).rgb);
-  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+#ifdef RTGI_SPARSE_START
+  if (!traced) {
+    bool covered = texelFetch(gPosition, px, 0).w > 0.5;
+    imageStore(accum, px, vec4(c + (covered ? borrowedLight(px) : vec3(0.0)), 0.0));
+    return;
+  }
+#endif
+  c += tracedLight(px);
   float n = previous.a + 1.0;
   vec3 mean = previous.rgb + (c - previous.rgb) / n;
   imageStore(accum, px, vec4(mean, n));

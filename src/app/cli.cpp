@@ -120,7 +120,11 @@ std::string renderHelp() {
          "  --target-fps F    hold F frames per second: a PID controller on the frame time\n"
          "                    sets the share of pixels that trace each frame (at least\n"
          "                    1/16, an interleave of 16); the extra pixels are those the\n"
-         "                    work mask finds noisy (edges of the noisy image, blurred)\n"
+         "                    work mask finds noisy (edges of the noisy image, blurred);\n"
+         "                    off (the default) traces as --interleave says\n"
+         "  --sparse-start    with interleaving or a frame budget, the first frame traces\n"
+         "                    its share only, like the others; pixels that have not traced\n"
+         "                    yet show their traced neighbours' light (as the viewer does)\n"
          "  --budget-select S mask (default) or uniform: how the budget picks its pixels\n"
          "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces (default 16)\n"
@@ -181,6 +185,14 @@ std::string viewHelp() {
          "                    failed, the last reload error, screenshots, gl_errors\n"
          "  --effects LIST    override the effect plan (see voxgi render --help), e.g.\n"
          "                    +specular,-shadows; the panel shows the plan\n"
+         "  --voxels N, --revoxelize, --bounces N, --inject-rays N, --bounce-rays N,\n"
+         "  --interleave N, --budget-select S\n"
+         "                    as for voxgi render\n"
+         "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
+         "                    pixels each frame (default 30; off: every pixel, every\n"
+         "                    frame). A camera move restarts the accumulation: its first\n"
+         "                    frame traces that share too, and pixels that have not traced\n"
+         "                    yet show their traced neighbours' light\n"
          "  --no-panel        start with the panel hidden\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
@@ -242,9 +254,12 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     if ((n & (n - 1)) != 0) throw UsageError("--interleave: must be 1, 2, 4, 8 or 16");
     rs->rtgi.interleave = n;
   } else if (a == "--target-fps") {
-    rs->targetFps = parseFloat("--target-fps", value());
-    if (!(rs->targetFps > 0.0 && rs->targetFps <= 1000.0))
-      throw UsageError("--target-fps: must be in (0, 1000]");
+    const std::string v = value();
+    rs->targetFps = v == "off" ? 0.0 : parseFloat("--target-fps", v);
+    if (v != "off" && !(rs->targetFps > 0.0 && rs->targetFps <= 1000.0))
+      throw UsageError("--target-fps: must be in (0, 1000], or off");
+  } else if (a == "--sparse-start") {
+    rs->rtgi.sparseStart = true;
   } else if (a == "--budget-select") {
     const std::string v = value();
     if (v == "mask")
@@ -277,6 +292,10 @@ Invocation parseView(const std::vector<std::string>& args) {
   ViewOptions& o = inv.view;
   o.render.width = 960;
   o.render.height = 540;
+  // Interactive by default: rtgi holds 30 fps by tracing a share of the pixels, and
+  // a restarted accumulation (every camera move) costs no more than other frames.
+  o.render.targetFps = kViewTargetFps;
+  o.render.rtgi.sparseStart = true;
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> std::string {

@@ -18,6 +18,9 @@ class UsageError : public Error {
   using Error::Error;
 };
 
+// The frame rate `voxgi view` holds in rtgi unless told otherwise (--target-fps).
+constexpr double kViewTargetFps = 30.0;
+
 struct RenderOptions {
   std::string scene;  // empty: the built-in Cornell room
   render::RenderSettings render;

@@ -105,7 +105,18 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
       (settings_.interleave & (settings_.interleave - 1)) != 0)
     throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
-  p.work = glm::uvec4(static_cast<uint32_t>(settings_.interleave), 0u, 0u, 0u);
+  // This frame's interleave: the setting's, except on the first frame of a sparse
+  // start under a frame budget, which takes the pattern nearest below the budget's
+  // share (a restart costs what the budget allows; every pixel where it allows all).
+  int frameInterleave = settings_.interleave;
+  if (frameIndex == 0 && settings_.sparseStart && settings_.select != Settings::Select::kPattern)
+    while (frameInterleave > 1 && 2.0 / frameInterleave <= traceFraction_ + 1e-9)
+      frameInterleave /= 2;
+  p.work = glm::uvec4(static_cast<uint32_t>(frameInterleave), 0u, 0u,
+                      settings_.sparseStart ? gpu::kRtgiSparseStart : 0u);
+  // Every pixel traces without interleaving, and on the first frame unless it starts
+  // sparse.
+  const bool everyPixel = frameInterleave <= 1 || (frameIndex == 0 && !settings_.sparseStart);
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
 
   {
@@ -152,11 +163,11 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   const auto gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
   // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
   // built by the select stage, dispatched indirectly.
-  const int n = settings_.interleave;
+  const int n = frameInterleave;
   const uint64_t pixelsTotal =
       uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height);
   const bool listed = settings_.select != Settings::Select::kPattern && frameIndex > 0;
-  lastTraced_ = frameIndex == 0 ? 1.0 : 1.0 / n;
+  lastTraced_ = everyPixel ? 1.0 : 1.0 / n;
   if (listed) {
     const double patternShare = 1.0 / n;
     const double extraShare = std::max(0.0, traceFraction_ - patternShare);
@@ -193,17 +204,16 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
   }
   const uint64_t tracing =
-      n <= 1 || frameIndex == 0
-          ? uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height)
-          : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
-                static_cast<uint32_t>((ctx.height + 3) / 4) * static_cast<uint32_t>(16 / n);
+      everyPixel ? uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height)
+                 : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
+                       static_cast<uint32_t>((ctx.height + 3) / 4) * static_cast<uint32_t>(16 / n);
   const uint64_t groups = (tracing + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup;
   const auto tx = static_cast<GLuint>(std::min<uint64_t>(groups, 65535));
   const auto ty = static_cast<GLuint>((groups + tx - 1) / tx);
   auto run = [&](const char* name, const gl::Program& program) {
     gl::StageScope stage(ctx.timer, name);
     glUseProgram(program.id());
-    if (&program == &accumulate_)
+    if (&program == &accumulate_ || &program == accumulateSparse_)
       glDispatchCompute(gx, gy, 1);
     else if (listed)
       glDispatchComputeIndirect(0);
@@ -214,7 +224,20 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   if (direct) run(shadows ? "shadows" : "direct", directProgram(gs));
   if (settings_.indirect) run("indirect", *indirect_);
   if (specular) run("specular", *specular_);
-  run("accumulate", accumulate_);
+  // A sparse start: until every pixel has had its turn (n frames; a budget's list
+  // includes the pattern), the variant that lends traced light to those still
+  // waiting. It is a separate program because a SIMD software rasterizer would run
+  // the lending code, masked, for every pixel of every frame.
+  if (settings_.sparseStart && !everyPixel && frameIndex < settings_.interleave) {
+    if (!accumulateSparse_) {
+      std::vector<std::string> defines = settings_.features.defines();
+      defines.push_back("RTGI_SPARSE_START");
+      accumulateSparse_ = &programs_.get({{"render/rtgi_accumulate.comp"}, defines});
+    }
+    run("accumulate", *accumulateSparse_);
+  } else {
+    run("accumulate", accumulate_);
+  }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   if (listed) {
     gpu::PixelListHeader header{};

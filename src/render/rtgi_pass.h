@@ -43,6 +43,12 @@ class RtgiPass {
     // Beyond the interleave pattern, which further pixels trace (frame budget):
     // none, those the work mask marks as noisy, or a uniform random share.
     enum class Select { kPattern, kMask, kUniform } select = Select::kPattern;
+    // With interleaving: the first frame of an accumulation traces the pattern only,
+    // like the others, instead of every pixel, and a pixel that has not traced yet
+    // shows the light its traced neighbours on the same surface found. Every frame
+    // costs the same, the first included: what a moving camera needs, since each
+    // move restarts the accumulation (the viewer).
+    bool sparseStart = false;
     uint32_t seed = 1;
   };
 
@@ -82,6 +88,7 @@ class RtgiPass {
   gl::ProgramCache& programs_;
   const gl::Program& gbuffer_;
   const gl::Program& accumulate_;
+  const gl::Program* accumulateSparse_ = nullptr;  // built at the first sparse start
   const gl::Program* indirect_ = nullptr;
   const gl::Program* specular_ = nullptr;
   double traceFraction_ = 1.0;

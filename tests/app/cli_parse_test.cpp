@@ -123,6 +123,14 @@ TEST(CliParse, ViewDefaultsAndOptions) {
   EXPECT_EQ(inv.view.render.height, 540);
   EXPECT_EQ(inv.view.frames, 0);  // until the window closes
   EXPECT_TRUE(inv.view.panel);
+  // Interactive: rtgi holds 30 fps, and a restart costs no more than other frames.
+  EXPECT_EQ(inv.view.render.targetFps, kViewTargetFps);
+  EXPECT_TRUE(inv.view.render.rtgi.sparseStart);
+  EXPECT_EQ(parse({"view", "--target-fps", "off"}).view.render.targetFps, 0.0);
+  EXPECT_EQ(parse({"view", "--target-fps", "60"}).view.render.targetFps, 60.0);
+  EXPECT_EQ(parse({"render"}).render.render.targetFps, 0.0);  // render: every pixel
+  EXPECT_FALSE(parse({"render"}).render.render.rtgi.sparseStart);
+  EXPECT_TRUE(parse({"render", "--sparse-start"}).render.render.rtgi.sparseStart);
   inv = parse({"view",         "s.glb",  "--size",           "320x200", "--frames",  "30",
                "--screenshot", "a.png",  "--screenshot-dir", "shots",   "--keys",    "10:2,5:+",
                "--stats",      "s.json", "--exposure",       "2",       "--tonemap", "aces",

@@ -193,6 +193,58 @@ TEST_F(RtgiTest, InterleavedTracingGivesEveryPixelItsTurn) {
   EXPECT_LT(m.relMse, 0.05);
 }
 
+// A sparse start: the first frame traces the pattern's share only; the pixels still
+// waiting show their traced neighbours' light with a sample count of 0 (an image as
+// bright as the converged one, not one with 15 of 16 pixels black), and after 16
+// frames every pixel holds exactly its one sample.
+TEST_F(RtgiTest, SparseStartTracesItsShareAndLendsTheRest) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+  const auto converged = render(room, rs, 32, room.camera);
+  rs.rtgi.interleave = 16;
+  rs.rtgi.sparseStart = true;
+  render::Renderer r(*programs_, room, rs);
+  r.renderFrame(room.camera);
+  EXPECT_DOUBLE_EQ(r.rtgi()->lastTracedFraction(), 1.0 / 16.0);
+  const auto first = r.readLinear();
+  EXPECT_EQ(nonFinite(first), 0u);
+  size_t traced = 0, dark = 0;
+  for (size_t i = 0; i < first.size(); i += 4) {
+    EXPECT_TRUE(first[i + 3] == 0.0f || first[i + 3] == 1.0f) << first[i + 3];
+    traced += first[i + 3] == 1.0f;
+    dark += first[i] + first[i + 1] + first[i + 2] == 0.0f;
+  }
+  EXPECT_EQ(traced, size_t{48 * 48 / 16});
+  // Lent light reaches pixels as often as their own first sample would: black pixels
+  // (a ray that found no light) no more often than in a first frame traced in full.
+  render::RenderSettings fullRate = settings(48, 64, render::Mode::kRtgi);
+  const auto full = render(room, fullRate, 1, room.camera);
+  size_t darkFull = 0;
+  for (size_t i = 0; i < full.size(); i += 4)
+    darkFull += full[i] + full[i + 1] + full[i + 2] == 0.0f;
+  std::printf("black pixels in the first frame: sparse %zu, full %zu of %d\n", dark, darkFull,
+              48 * 48);
+  EXPECT_LE(dark, darkFull + 10);
+  EXPECT_NEAR(meanOf(first) / meanOf(converged), 1.0, 0.25);
+  for (int f = 1; f < 16; ++f) r.renderFrame(room.camera);
+  const auto turns = r.readLinear();
+  size_t wrongCount = 0;
+  for (size_t i = 3; i < turns.size(); i += 4) wrongCount += turns[i] != 1.0f;
+  EXPECT_EQ(wrongCount, 0u);
+  EXPECT_EQ(nonFinite(turns), 0u);
+  // Under a frame budget a restart traces the share the budget allows: all of it
+  // when every frame meets the target, the pattern's 1/16 when none does.
+  for (double fps : {0.01, 1000.0}) {
+    rs.targetFps = fps;
+    rs.rtgi.select = render::RtgiPass::Settings::Select::kMask;
+    render::Renderer b(*programs_, room, rs);
+    for (int f = 0; f < 40; ++f) b.renderFrame(room.camera);
+    b.restartAccumulation();
+    b.renderFrame(room.camera);
+    EXPECT_DOUBLE_EQ(b.rtgi()->lastTracedFraction(), fps < 1.0 ? 1.0 : 1.0 / 16.0) << fps;
+  }
+}
+
 // The frame budget moves the traced share between its floor (1/16, an unreachable
 // target) and every pixel (a target any frame meets); the mask it selects by
 // exists and lies in [0, 1); the uniform choice traces the same shares.
