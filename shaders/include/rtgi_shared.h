@@ -24,6 +24,7 @@ VOXGI_CONST uint kAccumImage = 3u;  // the running mean (the renderer's HDR targ
 VOXGI_CONST uint kEdgeImage = 4u;              // r16f
 VOXGI_CONST uint kMaskImage = 5u;              // r16f, in [0, 1)
 VOXGI_CONST uint kTracedImage = 6u;            // r8ui: 1 where the pixel traces this frame
+VOXGI_CONST uint kMaskKeyImage = 7u;           // rgba32ui: what the edges compare, per pixel
 VOXGI_CONST uint kPixelListBinding = 15u;      // SSBO: PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // SSBO: uint[kMaskBins]
 VOXGI_CONST uint kMaskBins = 256u;

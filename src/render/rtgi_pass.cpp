@@ -55,6 +55,7 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
+  make(maskKeyImage_, GL_RGBA32UI);
   make(edgeImage_, GL_R16F);
   make(maskImage_, GL_R16F);
   make(tracedImage_, GL_R8UI);
@@ -78,8 +79,8 @@ void RtgiPass::resize(int width, int height) {
   const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
     throw Error(strf("rtgi G-buffer %dx%d: framebuffer incomplete (0x%x)", width, height, status));
-  targetBytes_ =
-      static_cast<size_t>(width) * static_cast<size_t>(height) * (16 + 8 + 4 + 8 + 4 + 8 * 3 + 9);
+  targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
+                 (16 + 8 + 4 + 8 + 4 + 8 * 3 + 16 + 9);
 }
 
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
@@ -257,6 +258,11 @@ void RtgiPass::runMask(FrameContext& ctx, GLuint gx, GLuint gy) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaskHistogramBinding, histogram_.id());
   glBindImageTexture(gpu::kEdgeImage, edgeImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R16F);
   glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+  glBindImageTexture(gpu::kMaskKeyImage, maskKeyImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                     GL_RGBA32UI);
+  glUseProgram(programs_.get({{"render/rtgi_mask_key.comp"}, {}}).id());
+  glDispatchCompute(gx, gy, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   glUseProgram(programs_.get({{"render/rtgi_mask.comp"}, {}}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

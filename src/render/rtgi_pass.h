@@ -94,7 +94,7 @@ class RtgiPass {
   double traceFraction_ = 1.0;
   double lastTraced_ = 1.0;
   bool maskValid_ = false;
-  gl::Texture edgeImage_, maskImage_, tracedImage_;
+  gl::Texture maskKeyImage_, edgeImage_, maskImage_, tracedImage_;
   gl::Buffer pixelList_, histogram_;
   std::vector<uint32_t> histogramBins_;
   gl::Buffer params_;
