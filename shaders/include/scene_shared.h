@@ -48,7 +48,7 @@ struct GpuMaterial {
   vec4 emission;   // rgb radiance, a: unused
   vec4 params;     // x metallic, y roughness, z alpha cutoff, w unused
   uint flags;
-  uint pad0;
+  uint texture;  // base-colour texture: index into Scene::textures (with kMaterialHasTexture)
   uint pad1;
   uint pad2;
 };

@@ -24,6 +24,11 @@ layout(binding = kPtTriangleTexUnit) uniform usamplerBuffer triangleTexels;
 layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
 layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
 layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
+#ifndef VOXGI_NO_TEXTURES
+layout(std430, binding = kPtTextureBinding) readonly buffer Textures { uvec4 textures[]; };
+layout(binding = kPtUvTexUnit) uniform usamplerBuffer uvTexels;
+layout(binding = kPtTexelTexUnit) uniform usamplerBuffer textureTexels;
+#endif
 layout(binding = kPtSumImage, rgba32f) uniform image2D sumImage;
 layout(binding = kPtCompensationImage, rgba32f) uniform image2D compensationImage;
 layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
@@ -133,6 +138,36 @@ bool occluded(vec3 o, vec3 d, float tMax) {
   vec2 b;
   return trace(o, d, tMax, true, t, tri, b);
 }
+
+#ifndef VOXGI_NO_TEXTURES
+// --- base-colour textures -------------------------------------------------------------
+// Texture coordinates at barycentrics bc of triangle tri.
+vec2 triangleUv(uint tri, vec2 bc) {
+  vec4 a = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2));
+  vec2 c = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2 + 1).xy);
+  return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+}
+
+vec4 srgbTexel(uvec4 t, ivec2 p) {
+  vec4 c = unpackUnorm4x8(texelFetch(textureTexels, int(t.x) + p.y * int(t.y) + p.x).x);
+  vec3 lo = c.rgb / 12.92, hi = pow((c.rgb + 0.055) / 1.055, vec3(2.4));
+  return vec4(mix(hi, lo, lessThanEqual(c.rgb, vec3(0.04045))), c.a);
+}
+
+// Texture t at uv, bilinear over linear (decoded) texels, repeating as the raster
+// sampler does. No mipmaps: paths jittered over the pixel average the footprint.
+vec4 sampleTexture(uvec4 t, vec2 uv) {
+  ivec2 size = ivec2(t.yz);
+  uv = mix(uv, vec2(0.0), bvec2(uvec2(isnan(uv)) | uvec2(isinf(uv))));
+  vec2 x = fract(uv) * vec2(size) - 0.5;  // in [-0.5, size - 0.5)
+  vec2 f = x - floor(x);
+  ivec2 i0 = ivec2(floor(x));  // -1 .. size - 1
+  ivec2 a = i0 + size * ivec2(lessThan(i0, ivec2(0)));
+  ivec2 b = a + 1 - size * ivec2(greaterThanEqual(a + 1, size));
+  return mix(mix(srgbTexel(t, a), srgbTexel(t, ivec2(b.x, a.y)), f.x),
+             mix(srgbTexel(t, ivec2(a.x, b.y)), srgbTexel(t, b), f.x), f.y);
+}
+#endif
 
 // --- materials ----------------------------------------------------------------------
 // Three kinds, as in scenes/reference_scenes.md: metallic 0 + roughness 1 is pure
@@ -312,6 +347,10 @@ vec3 radiance(vec3 o, vec3 d) {
     GpuPtTriangle T = loadTriangle(tri);
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+#ifndef VOXGI_NO_TEXTURES
+    if ((m.flags & kMaterialHasTexture) != 0u)
+      m.baseColor *= sampleTexture(textures[m.texture], triangleUv(tri, bc));
+#endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
     bool front = dot(ng, d) < 0.0;

@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "core/log.h"
 #include "pathtrace_shared.h"
@@ -44,13 +45,27 @@ void buildAliasTable(const std::vector<double>& weights, std::vector<float>* pro
   // What is left holds (up to rounding) exactly 1.
 }
 
+// Whether the kernel reads base-colour textures: the plan allows them and a draw's
+// material has one.
+bool usesTextures(const scene::Scene& s, const PathtracePass::Settings& settings) {
+  if (!settings.textures) return false;
+  for (const scene::Draw& d : s.draws) {
+    const int t = s.materials[static_cast<size_t>(d.material)].baseColorTexture;
+    if (t >= 0 && static_cast<size_t>(t) < s.textures.size()) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
                              const Settings& settings)
     : settings_(settings),
       scene_(gs),
-      program_(programs.get({{"render/pathtrace.comp"}, {}})),
+      program_(programs.get({{"render/pathtrace.comp"},
+                             usesTextures(gs.scene(), settings)
+                                 ? std::vector<std::string>{}
+                                 : std::vector<std::string>{"VOXGI_NO_TEXTURES"}})),
       camera_(gs.scene().camera) {
   const scene::Scene& s = gs.scene();
   const auto start = std::chrono::steady_clock::now();
@@ -157,6 +172,44 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
   nodeTexels_ = texels(nodes_, nodes.size() * sizeof(gpu::GpuBvhNode));
   triangleTexels_ = texels(triangles_, triangles.size() * sizeof(gpu::GpuPtTriangle));
   shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
+  textured_ = usesTextures(s, settings_);
+  if (textured_) {
+    // Corner UVs in BVH order (triangle t is the t-th triple over the draws), then
+    // every texture's texels in one buffer and where each starts.
+    std::vector<glm::vec4> uvs(2 * order.size());
+    std::vector<uint32_t> firstIndexOf;
+    for (const scene::Draw& d : s.draws)
+      for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3)
+        firstIndexOf.push_back(i);
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t i = firstIndexOf[order[slot]];
+      const glm::vec2 a = s.vertices[s.indices[i]].uv, b = s.vertices[s.indices[i + 1]].uv,
+                      c = s.vertices[s.indices[i + 2]].uv;
+      uvs[2 * slot] = glm::vec4(a, b);
+      uvs[2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
+    }
+    std::vector<glm::uvec4> table;
+    std::vector<uint32_t> pixels;
+    for (const scene::Texture& t : s.textures) {
+      table.push_back(glm::uvec4(static_cast<uint32_t>(pixels.size()), t.width, t.height, 0u));
+      const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
+      VOXGI_CHECK_EQ(t.rgba8.size(), n * 4);
+      const size_t first = pixels.size();
+      pixels.resize(first + n);
+      std::memcpy(pixels.data() + first, t.rgba8.data(), n * 4);
+    }
+    if (pixels.size() > static_cast<size_t>(maxTexels))
+      throw Error(
+          strf("pathtrace: the scene's textures hold %zu texels, more than this GL's "
+               "buffer texture limit of %d",
+               pixels.size(), maxTexels));
+    uvs_ = upload(uvs.data(), uvs.size() * sizeof(glm::vec4));
+    uvTexels_ = texels(uvs_, uvs.size() * sizeof(glm::vec4));
+    texels_ = upload(pixels.data(), pixels.size() * 4);
+    textureTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
+    textureTable_ = upload(table.data(), table.size() * sizeof(glm::uvec4));
+  }
   emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   params_ = gl::createBuffer(sizeof(gpu::GpuPtParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   const uint32_t zero = 0;
@@ -220,6 +273,11 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, scene_.lights());
   glBindTextureUnit(gpu::kPtNodeTexUnit, nodeTexels_.id());
   glBindTextureUnit(gpu::kPtTriangleTexUnit, triangleTexels_.id());
+  if (textured_) {
+    glBindTextureUnit(gpu::kPtUvTexUnit, uvTexels_.id());
+    glBindTextureUnit(gpu::kPtTexelTexUnit, textureTexels_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTextureBinding, textureTable_.id());
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, shading_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, emissive_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
@@ -231,8 +289,9 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
     return static_cast<GLuint>((static_cast<uint32_t>(n) + g - 1) / g);
   };
   glDispatchCompute(groups(w, gpu::kPtGroupX), groups(h, gpu::kPtGroupY), 1);
-  glBindTextureUnit(gpu::kPtNodeTexUnit, 0);
-  glBindTextureUnit(gpu::kPtTriangleTexUnit, 0);
+  for (GLuint unit :
+       {gpu::kPtNodeTexUnit, gpu::kPtTriangleTexUnit, gpu::kPtUvTexUnit, gpu::kPtTexelTexUnit})
+    glBindTextureUnit(unit, 0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                   GL_TEXTURE_UPDATE_BARRIER_BIT);
 }

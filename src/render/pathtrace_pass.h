@@ -50,6 +50,9 @@ class PathtracePass {
     // enough that a dispatch stays well under a second on llvmpipe, so progress
     // stays live; larger images are cut into bands of whole rows.
     int64_t pixelsPerDispatch = 1 << 18;
+    // Base-colour textures (the effect plan's `textures`); off, or with no textured
+    // material, the kernel is compiled without them (VOXGI_NO_TEXTURES).
+    bool textures = true;
   };
   // Called after each batch of dispatches with the samples per pixel done so far.
   using Progress = std::function<void(int done, int total)>;
@@ -86,6 +89,11 @@ class PathtracePass {
   double bvhMs_ = 0.0;
   gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
   gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
+  // Base-colour textures: per-triangle UVs, every texture's texels, and where each
+  // texture starts (empty without textures).
+  gl::Buffer uvs_, texels_, textureTable_;
+  gl::Texture uvTexels_, textureTexels_;
+  bool textured_ = false;
   int emissiveCount_ = 0;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;

@@ -149,7 +149,9 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
-    pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, settings_.pathtrace);
+    PathtracePass::Settings ps = settings_.pathtrace;
+    ps.textures = features.textures;
+    pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps);
     startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
   }
 }

@@ -15,6 +15,7 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
               (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u);
+    g.texture = m.baseColorTexture >= 0 ? static_cast<uint32_t>(m.baseColorTexture) : 0u;
     out.push_back(g);
   }
   return out;

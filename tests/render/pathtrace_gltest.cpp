@@ -391,6 +391,79 @@ TEST_F(PathtraceTest, GpuCoverageMatchesCpuTraversal) {
   EXPECT_LT(worst, 0.2);             // jitter noise at a partly covered pixel: sd <= 0.5 / 16
 }
 
+// Base-colour textures: a quad facing the camera, its texture red on the left half
+// and green on the right, lit along the view by a directional light of irradiance
+// pi, so that radiance equals the albedo. Bilinear texels repeat as in the raster
+// sampler; with the effect plan's `-textures` the same quad is its white base colour.
+TEST_F(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
+  std::vector<scene::Vertex> v;
+  for (glm::vec2 p : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)})
+    v.push_back({glm::vec3(p, 0.0f), glm::vec3(0, 0, 1), glm::vec2((p.x + 1) / 2, (1 - p.y) / 2)});
+  scene::Material m;
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  m.baseColorTexture = 0;
+  scene::Camera cam;
+  cam.position = glm::vec3(0, 0, 2);
+  cam.yfov = 2.0f * std::atan(0.4f);  // the image spans x, y in [-0.8, 0.8]: u in [0.1, 0.9]
+  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, m, cam);
+  scene::Texture t;
+  t.width = t.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (uint8_t c :
+           {uint8_t(x < 2 ? 255 : 0), uint8_t(x < 2 ? 0 : 255), uint8_t(0), uint8_t(255)})
+        t.rgba8.push_back(c);
+  s.textures.push_back(t);
+  scene::Light sun;
+  sun.type = scene::LightType::kDirectional;
+  sun.direction = glm::vec3(0, 0, -1);
+  sun.intensity = kPi;
+  s.lights.push_back(sun);
+
+  auto render = [&](const std::string& effects) {
+    gl::ProgramCache programs(sourceDir() + "/shaders");
+    render::RenderSettings rs;
+    rs.width = rs.height = 40;
+    rs.mode = render::Mode::kPathtrace;
+    rs.spp = 4;
+    rs.effects = effects;
+    render::Renderer r(programs, s, rs);
+    r.renderFrame();
+    return r.readLinear();
+  };
+  // Columns where u is a pure texel colour: u in [0.125, 0.375] (red) and [0.625,
+  // 0.875] (green), i.e. x in [-0.75, -0.25] and [0.25, 0.75] of [-0.8, 0.8].
+  auto columnMeans = [](const std::vector<float>& px, float x0, float x1) {
+    glm::dvec3 sum(0.0);
+    int n = 0;
+    for (int y = 0; y < 40; ++y)
+      for (int x = 0; x < 40; ++x) {
+        const float cx = -0.8f + 1.6f * (static_cast<float>(x) + 0.5f) / 40.0f;
+        if (cx < x0 + 0.05f || cx > x1 - 0.05f) continue;
+        const size_t i = (static_cast<size_t>(y) * 40 + static_cast<size_t>(x)) * 4;
+        sum += glm::dvec3(px[i], px[i + 1], px[i + 2]);
+        ++n;
+      }
+    return sum / static_cast<double>(n);
+  };
+  const auto textured = render("");
+  ASSERT_TRUE(allFinite(textured));
+  const glm::dvec3 left = columnMeans(textured, -0.75f, -0.25f);
+  const glm::dvec3 right = columnMeans(textured, 0.25f, 0.75f);
+  std::printf("textured quad: left (%.3f, %.3f, %.3f), right (%.3f, %.3f, %.3f)\n", left.r, left.g,
+              left.b, right.r, right.g, right.b);
+  EXPECT_NEAR(left.r, 1.0, 0.02);
+  EXPECT_LT(left.g, 0.01);
+  EXPECT_NEAR(right.g, 1.0, 0.02);
+  EXPECT_LT(right.r, 0.01);
+  EXPECT_LT(left.b + right.b, 0.01);
+  const auto plain = render("-textures");
+  const glm::dvec3 whiteLeft = columnMeans(plain, -0.75f, -0.25f);
+  EXPECT_NEAR(whiteLeft.r, 1.0, 0.02);
+  EXPECT_NEAR(whiteLeft.g, 1.0, 0.02);
+}
+
 TEST_F(PathtraceTest, SharedLayoutsMatchCpp) {
   gl::ProgramCache cache(sourceDir() + "/shaders");
   const GLuint p = cache.get({{"render/pathtrace.comp"}, {}}).id();
