@@ -73,6 +73,15 @@ struct PixelListHeader {
   uvec4 count;   // x: pixels listed
 };
 
+#ifndef __cplusplus
+// Whether two pixels show the same surface, for the work mask's edges and the light a
+// sparse start lends: both drawn or both not, normals within 25 degrees, distances
+// from the camera within 5%.
+bool sameSurface(bool covered0, vec3 n0, float d0, bool covered1, vec3 n1, float d1) {
+  return covered0 == covered1 && dot(n0, n1) > 0.9 && abs(d1 - d0) < 0.05 * d0;
+}
+#endif
+
 #ifdef __cplusplus
 static_assert(sizeof(RtgiParams) == 112);
 static_assert(sizeof(PixelListHeader) == 32);

@@ -63,7 +63,7 @@ vec3 borrowedLight(ivec2 px) {
     float d1 = length(p1.xyz - rtgi.camera.xyz);
     near += w * light;
     wNear += w;
-    if (p0.w == p1.w && dot(n0, n1) > 0.9 && abs(d1 - d0) < 0.05 * d0) {
+    if (sameSurface(p0.w > 0.5, n0, d0, true, n1, d1)) {
       same += w * light;
       wSame += w;
     }

@@ -28,8 +28,7 @@ void main() {
       uvec4 k1 = imageLoad(keys, q);
       float d1 = uintBitsToFloat(k1.y);
       vec3 n1 = unpackSnorm4x8(k1.z).xyz;
-      bool same = (d0 > 0.0) == (d1 > 0.0) && dot(n0, n1) > 0.9 && abs(d1 - d0) < 0.05 * d0;
-      if (!same) continue;
+      if (!sameSurface(d0 > 0.0, n0, d0, d1 > 0.0, n1, d1)) continue;
       sum += uintBitsToFloat(k1.x);
       weight += 1.0;
     }

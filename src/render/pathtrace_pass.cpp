@@ -62,10 +62,10 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
                              const Settings& settings)
     : settings_(settings),
       scene_(gs),
+      textured_(usesTextures(gs.scene(), settings)),
       program_(programs.get({{"render/pathtrace.comp"},
-                             usesTextures(gs.scene(), settings)
-                                 ? std::vector<std::string>{}
-                                 : std::vector<std::string>{"VOXGI_NO_TEXTURES"}})),
+                             textured_ ? std::vector<std::string>{}
+                                       : std::vector<std::string>{"VOXGI_NO_TEXTURES"}})),
       camera_(gs.scene().camera) {
   const scene::Scene& s = gs.scene();
   const auto start = std::chrono::steady_clock::now();
@@ -117,13 +117,15 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
     power.push_back(p);
     emitterSlot.push_back(slot);
   }
-  // Vertex normals in BVH order: triangle t is the t-th triple over the draws.
+  // Triangle t is the t-th triple over the draws: its first index, for the per-corner
+  // data (normals, UVs) in BVH order.
+  std::vector<uint32_t> firstIndexOf;
+  firstIndexOf.reserve(tris.size());
+  for (const scene::Draw& d : s.draws)
+    for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3)
+      firstIndexOf.push_back(i);
+  // Vertex normals in BVH order.
   {
-    std::vector<uint32_t> firstIndexOf;
-    firstIndexOf.reserve(tris.size());
-    for (const scene::Draw& d : s.draws)
-      for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3)
-        firstIndexOf.push_back(i);
     for (size_t slot = 0; slot < order.size(); ++slot) {
       const uint32_t i = firstIndexOf[order[slot]];
       gpu::GpuPtShading& g = shade[slot];
@@ -172,15 +174,10 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
   nodeTexels_ = texels(nodes_, nodes.size() * sizeof(gpu::GpuBvhNode));
   triangleTexels_ = texels(triangles_, triangles.size() * sizeof(gpu::GpuPtTriangle));
   shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
-  textured_ = usesTextures(s, settings_);
   if (textured_) {
-    // Corner UVs in BVH order (triangle t is the t-th triple over the draws), then
-    // every texture's texels in one buffer and where each starts.
+    // Corner UVs in BVH order, then every texture's texels in one buffer and where
+    // each starts.
     std::vector<glm::vec4> uvs(2 * order.size());
-    std::vector<uint32_t> firstIndexOf;
-    for (const scene::Draw& d : s.draws)
-      for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3)
-        firstIndexOf.push_back(i);
     for (size_t slot = 0; slot < order.size(); ++slot) {
       const uint32_t i = firstIndexOf[order[slot]];
       const glm::vec2 a = s.vertices[s.indices[i]].uv, b = s.vertices[s.indices[i + 1]].uv,

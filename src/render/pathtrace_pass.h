@@ -84,6 +84,7 @@ class PathtracePass {
 
   Settings settings_;
   const GpuScene& scene_;
+  bool textured_ = false;  // the kernel reads base-colour textures (declared before program_)
   const gl::Program& program_;
   Bvh bvh_;
   double bvhMs_ = 0.0;
@@ -93,7 +94,6 @@ class PathtracePass {
   // texture starts (empty without textures).
   gl::Buffer uvs_, texels_, textureTable_;
   gl::Texture uvTexels_, textureTexels_;
-  bool textured_ = false;
   int emissiveCount_ = 0;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;
