@@ -1,8 +1,7 @@
 #version 450 core
 // Voxelization, geometry stage: each triangle is projected orthographically along
-// the axis its normal is most aligned with (Crassin & Green, "Octree-Based Sparse
-// Voxelization Using the GPU Hardware Rasterizer", OpenGL Insights ch. 22), which
-// maximises its rasterized area. Grid space is swizzled so that axis becomes z.
+// its dominant axis (voxel_triangle.glsl). Small triangles are left to the compute
+// path (voxelize_small.comp), which covers them with the same samples.
 #include "voxel_shared.h"
 
 layout(triangles) in;
@@ -10,34 +9,28 @@ layout(triangle_strip, max_vertices = 3) out;
 
 layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams voxel; };
 
+#include "voxel_triangle.glsl"
+
 layout(location = 0) in vec3 vGrid[];
 layout(location = 1) in vec3 vNormal[];
 layout(location = 2) in vec2 vUv[];
 
 layout(location = 0) centroid out vec3 gNormal;
 layout(location = 1) centroid out vec2 gUv;
-layout(location = 2) flat out int gAxis;     // 0: x, 1: y, 2: z is the projection axis
-layout(location = 3) flat out vec4 gPlane;   // swizzled plane: z = plane.x + plane.y*u + plane.z*v
-layout(location = 4) flat out vec2 gDepth;   // the triangle's swizzled z range
-
-vec3 swizzle(vec3 p, int axis) {
-  return axis == 0 ? p.yzx : (axis == 1 ? p.zxy : p);
-}
+layout(location = 2) flat out int gAxis;    // 0: x, 1: y, 2: z is the projection axis
+layout(location = 3) flat out vec4 gPlane;  // swizzled plane: z = plane.x + plane.y*u + plane.z*v
+layout(location = 4) flat out vec2 gDepth;  // the triangle's swizzled z range
 
 void main() {
-  vec3 n = cross(vGrid[1] - vGrid[0], vGrid[2] - vGrid[0]);
-  vec3 a = abs(n);
-  int axis = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
-  if (!(a[axis] > 0.0)) return;  // degenerate in grid space
-  vec3 s0 = swizzle(vGrid[0], axis);
-  vec3 s1 = swizzle(vGrid[1], axis);
-  vec3 s2 = swizzle(vGrid[2], axis);
-  vec3 sn = swizzle(n, axis);
-  // z(u, v) on the triangle's plane, for the depth span inside each pixel.
-  vec4 plane = vec4(dot(sn, s0) / sn.z, -sn.x / sn.z, -sn.y / sn.z, 0.0);
-  vec2 depth = vec2(min(s0.z, min(s1.z, s2.z)), max(s0.z, max(s1.z, s2.z)));
+  vec3 n;
+  int axis = voxelProjectionAxis(vGrid[0], vGrid[1], vGrid[2], n);
+  if (axis < 0) return;  // degenerate in grid space
+  vec3 s[3] = vec3[3](voxelSwizzle(vGrid[0], axis), voxelSwizzle(vGrid[1], axis),
+                      voxelSwizzle(vGrid[2], axis));
+  if (voxelIsSmallTriangle(s[0], s[1], s[2])) return;
+  vec4 plane = voxelPlane(s[0], voxelSwizzle(n, axis));
+  vec2 depth = voxelDepthRange(s[0], s[1], s[2]);
   float res = voxel.gridInfo.x;
-  vec3 s[3] = vec3[3](s0, s1, s2);
   for (int i = 0; i < 3; ++i) {
     gNormal = vNormal[i];
     gUv = vUv[i];

@@ -5,6 +5,8 @@
 
 layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams voxel; };
 
+#include "voxel_triangle.glsl"
+
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
@@ -14,7 +16,7 @@ layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
 
 void main() {
-  vGrid = (inPosition - voxel.gridOrigin.xyz) / voxel.gridOrigin.w;
+  vGrid = voxelGridPosition(inPosition);
   vNormal = inNormal;
   vUv = inUv;
 }

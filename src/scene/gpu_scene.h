@@ -20,6 +20,9 @@ class GpuScene {
   // Re-uploads the animated vertices (and emitters) after Scene::pose().
   void updateGeometry();
   GLuint vertexArray() const { return vao_.id(); }
+  // The vertex array's buffers: scene::Vertex per vertex, uint32 indices.
+  GLuint vertexBuffer() const { return vertices_.id(); }
+  GLuint indexBuffer() const { return indices_.id(); }
   GLuint materials() const { return materials_.id(); }
   GLuint lights() const { return lights_.id(); }
   GLuint emitters() const { return emitters_.id(); }

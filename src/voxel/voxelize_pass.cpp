@@ -87,6 +87,8 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
     : settings_(settings),
       voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
                               settings.features.defines()})),
+      voxelizeSmall_(
+          programs.get({{"voxel/voxelize_small.comp"}, settings.features.defines()})),
       resolve_(programs.get({{"voxel/resolve.comp"},
                              settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
                                                   : std::vector<std::string>{}})) {
@@ -113,6 +115,23 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, n);
   glNamedFramebufferParameteri(fbo_.id(), GL_FRAMEBUFFER_DEFAULT_SAMPLES,
                                static_cast<GLint>(gpu::kSamplesPerFragment));
+  // The compute path for small triangles covers them with the rasterizer's own
+  // samples and sub-pixel grid.
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  for (uint32_t i = 0; i < gpu::kSamplesPerFragment; ++i) {
+    // The standard 4x pattern where the driver reports fewer samples.
+    const float standard[8] = {0.375f, 0.125f, 0.875f, 0.375f, 0.125f, 0.625f, 0.625f, 0.875f};
+    float xy[2] = {standard[2 * i], standard[2 * i + 1]};
+    if (i < static_cast<uint32_t>(samples)) glGetMultisamplefv(GL_SAMPLE_POSITION, i, xy);
+    params_.samplePositions[i / 2][(i % 2) * 2] = xy[0];
+    params_.samplePositions[i / 2][(i % 2) * 2 + 1] = xy[1];
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  GLint subpixelBits = 0;
+  glGetIntegerv(GL_SUBPIXEL_BITS, &subpixelBits);
+  params_.slotInfo.z = 1u << std::clamp(subpixelBits, 4, 12);
   paramsBuffer_ = gl::createBuffer(sizeof(gpu::VoxelParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   statsBuffer_ =
       gl::createBuffer(sizeof(gpu::VoxelStats), nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -165,8 +184,8 @@ void VoxelizePass::nextEpoch() {
     clear(pool_);
     epoch_ = 1;
   }
-  params_.slotInfo = glm::uvec4(epoch_ << gpu::kSlotBits,
-                                static_cast<uint32_t>(bricksPerAxis(settings_.resolution)), 0u, 0u);
+  params_.slotInfo.x = epoch_ << gpu::kSlotBits;
+  params_.slotInfo.y = static_cast<uint32_t>(bricksPerAxis(settings_.resolution));
   glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
@@ -177,6 +196,37 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   fresh.capacity = capacity_;
   fresh.brickCapacity = brickCapacity_;
   glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
+
+  // Small triangles: one compute invocation each (the geometry stage drops them).
+  if (texturedVertices_ != gs.vertexBuffer() || texturedIndices_ != gs.indexBuffer()) {
+    vertexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    indexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    if (!s.vertices.empty()) glTextureBuffer(vertexTexture_.id(), GL_RGBA32F, gs.vertexBuffer());
+    if (!s.indices.empty()) glTextureBuffer(indexTexture_.id(), GL_R32UI, gs.indexBuffer());
+    texturedVertices_ = gs.vertexBuffer();
+    texturedIndices_ = gs.indexBuffer();
+  }
+  glUseProgram(voxelizeSmall_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  bindSlots();
+  glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture_.id());
+  glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture_.id());
+  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  for (const scene::Draw& d : s.draws) {
+    const uint32_t triangles = d.indexCount / 3;
+    if (triangles == 0) continue;
+    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
+    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    glUniform1i(gpu::kMaterialIndexLocation, d.material);
+    glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
+    glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
+    dispatchFor(triangles);
+  }
+  glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
+  glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, n, n);
   glDisable(GL_DEPTH_TEST);

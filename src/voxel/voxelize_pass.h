@@ -13,7 +13,9 @@
 // projected along its dominant axis onto an N x N viewport of a framebuffer with no
 // attachments and 4x MSAA (GL_FRAMEBUFFER_DEFAULT_SAMPLES); a fragment runs where
 // any sample is covered and writes every voxel its plane crosses in the pixel
-// column. Values are summed in fixed point (16 fractional bits, weighted by covered
+// column. Triangles whose projection spans at most 2 x 2 pixels take a compute path
+// instead (Rauwendaal & Bailey, JCGT 2013) that tests the rasterizer's own samples
+// and adds what a fragment would: see voxelize_small.comp. Values are summed in fixed point (16 fractional bits, weighted by covered
 // samples) with atomicAdd: the grid is bit-identical whatever the triangle order;
 // sums saturate, never wrap (see voxel_shared.h for the bound).
 // The sums are sparse. A brick map (one entry per 4^3 voxels) gives each brick a
@@ -116,7 +118,11 @@ class VoxelizePass {
 
   Settings settings_;
   const gl::Program& voxelize_;
+  const gl::Program& voxelizeSmall_;  // the compute path for small triangles
   const gl::Program& resolve_;
+  // The scene's vertices and indices as buffer textures, for voxelizeSmall_.
+  gl::Texture vertexTexture_, indexTexture_;
+  GLuint texturedVertices_ = 0, texturedIndices_ = 0;  // the buffers they view
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
   gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
   gl::Framebuffer fbo_;

@@ -1,0 +1,118 @@
+// Voxelization: what one covered pixel of a triangle adds to the grid. Shared by
+// the raster's fragment stage and the compute path for small triangles, so both
+// write the same sums the same way. The includer declares the VoxelBlock uniform
+// block (`voxel`).
+//
+// Each fragment adds its values, weighted by its covered samples, into fixed-point
+// sums with integer atomics: the result does not depend on fragment order, and
+// there is no running-average drift. Every voxel the triangle's plane crosses
+// inside the pixel column is written, so a steep surface leaves no holes along the
+// projection axis.
+
+layout(std430, binding = kVoxelStatsBinding) buffer Stats { VoxelStats stats; };
+layout(std430, binding = kBrickMapBinding) coherent buffer BrickMap { uint brickMap[]; };
+layout(std430, binding = kBrickPoolBinding) coherent buffer BrickPool { uint pool[]; };
+layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[]; };
+layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
+layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
+layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
+
+ivec3 voxelUnswizzle(ivec3 p, int axis) {
+  return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p);
+}
+
+// Saturating adds: once a sum would pass 2^32 - 1 it stays there.
+#define ADD_SATURATING(sums, i, value)                         \
+  {                                                            \
+    uint v_ = (value);                                         \
+    if (v_ != 0u && atomicAdd(sums[i], v_) > 0xFFFFFFFFu - v_) \
+      atomicMax(sums[i], 0xFFFFFFFFu);                         \
+  }
+
+// Claiming an entry of the brick map or the pool, with atomicMax only (a
+// compare-and-swap between lanes of one SIMD batch aimed at one address is not
+// reliable on every driver). Entries hold epoch | (slot + 1); epoch | 0 means "being
+// claimed". The invocation whose atomicMax raises an older epoch to this one is the
+// first: it takes the next slot and publishes it. Every other one reads the entry
+// until the slot is there (it waits only on a claim made by another thread: a
+// claim made in its own batch is published before the wait).
+#define CLAIM(entries, index, counter, capacity, firstAction)                 \
+  uint seen = entries[index];                                              \
+  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {          \
+    seen = atomicMax(entries[index], epoch);                               \
+    if ((seen & ~kSlotMask) != epoch) {                                    \
+      uint ticket = atomicAdd(counter, 1u);                                \
+      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u); \
+      atomicMax(entries[index], seen);                                     \
+      if (ticket < capacity) firstAction;                                  \
+    }                                                                      \
+    while ((seen & kSlotMask) == 0u) seen = atomicOr(entries[index], 0u);  \
+  }
+
+// The slot of voxel p in this epoch (kSlotFull when out of room), taking the next
+// brick and voxel slots where this invocation is the first to reach them.
+uint voxelSlot(ivec3 p) {
+  uint epoch = voxel.slotInfo.x;
+  uvec3 b = uvec3(p) / kBrickSize;
+  uint bi = b.x + voxel.slotInfo.y * (b.y + voxel.slotInfo.y * b.z);
+  uint brick;
+  {
+    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity, {})
+    brick = (seen & kSlotMask) - 1u;
+  }
+  if (brick == kSlotFull - 1u) return kSlotFull;
+  uvec3 l = uvec3(p) % kBrickSize;
+  uint vi = brick * kBrickVoxels + (l.x | (l.y << 2) | (l.z << 4));
+  uint slot;
+  {
+    // The voxel's slot is its place in the list of occupied voxels.
+    CLAIM(pool, vi, stats.listCount, stats.capacity,
+          voxels[ticket] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20))
+    slot = (seen & kSlotMask) - 1u;
+  }
+  return slot == kSlotFull - 1u ? kSlotFull : slot;
+}
+
+uint voxelFixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
+
+// Adds one fragment: pixel (u, v) of the swizzled projection along `axis`, the
+// triangle's plane z = plane.x + plane.y u + plane.z v and z range `depth`, linear
+// albedo, unit normal (or 0), emission already scaled to [0, 1], and `weight` covered
+// samples (1..4).
+void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo, vec3 n, vec3 e,
+                      uint weight) {
+  int res = int(voxel.gridInfo.x);
+  // Depth span of the plane over this pixel, clipped to the triangle's own span.
+  vec2 uv = vec2(pixel) + 0.5;
+  float zc = plane.x + plane.y * uv.x + plane.z * uv.y;
+  float half_ = 0.5 * (abs(plane.y) + abs(plane.z));
+  float z0 = max(zc - half_, depth.x);
+  float z1 = min(zc + half_, depth.y);
+  int k0 = clamp(int(floor(z0)), 0, res - 1);
+  int k1 = clamp(int(floor(z1)), 0, res - 1);
+
+  uint a[3] = uint[3](voxelFixedPoint(albedo.r), voxelFixedPoint(albedo.g),
+                      voxelFixedPoint(albedo.b));
+  uint nf[3] = uint[3](voxelFixedPoint(n.x * 0.5 + 0.5), voxelFixedPoint(n.y * 0.5 + 0.5),
+                       voxelFixedPoint(n.z * 0.5 + 0.5));
+  uint ef[3] = uint[3](voxelFixedPoint(e.r), voxelFixedPoint(e.g), voxelFixedPoint(e.b));
+  bool emits = ef[0] + ef[1] + ef[2] != 0u;
+  for (int k = k0; k <= k1; ++k) {
+    ivec3 p = voxelUnswizzle(ivec3(pixel, k), axis);
+    uint slot = voxelSlot(p);
+    if (slot == kSlotFull) continue;  // the list overflowed: the pass runs again
+    uint i = slot * 4u;
+    ADD_SATURATING(sumsA, i + 0u, a[0] * weight);
+    ADD_SATURATING(sumsA, i + 1u, a[1] * weight);
+    ADD_SATURATING(sumsA, i + 2u, a[2] * weight);
+    ADD_SATURATING(sumsA, i + 3u, weight);
+    ADD_SATURATING(sumsN, i + 0u, nf[0] * weight);
+    ADD_SATURATING(sumsN, i + 1u, nf[1] * weight);
+    ADD_SATURATING(sumsN, i + 2u, nf[2] * weight);
+    if (emits) {
+      ADD_SATURATING(sumsE, i + 0u, ef[0] * weight);
+      ADD_SATURATING(sumsE, i + 1u, ef[1] * weight);
+      ADD_SATURATING(sumsE, i + 2u, ef[2] * weight);
+    }
+  }
+}
