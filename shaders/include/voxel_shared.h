@@ -54,22 +54,22 @@ VOXGI_CONST uint kVoxelAttribBinding = 17u;  // SSBO: uvec4 attributes per liste
 // projection reaches at most this many pixel columns and rows (at most 8: one bit
 // per pixel of the box in a uvec2).
 VOXGI_CONST uint kSmallTriangleSpan = 6u;
-VOXGI_CONST uint kVoxelVertexUnit = 1u;            // samplerBuffer: the scene's vertices
-VOXGI_CONST uint kVoxelIndexUnit = 2u;             // usamplerBuffer: the scene's indices
-VOXGI_CONST int kVoxelFirstIndexLocation = 1;      // uniform uint: the draw's first index
+VOXGI_CONST uint kVoxelVertexUnit = 1u;           // samplerBuffer: the scene's vertices
+VOXGI_CONST uint kVoxelIndexUnit = 2u;            // usamplerBuffer: the scene's indices
+VOXGI_CONST int kVoxelFirstIndexLocation = 1;     // uniform uint: the draw's first index
 VOXGI_CONST int kVoxelTriangleCountLocation = 2;  // uniform uint: the draw's triangles
-VOXGI_CONST uint kResolveGroupSize = 64u;    // invocations per group: one brick, or 64 voxels
-VOXGI_CONST uint kMaxGroupsX = 32768u;       // larger dispatches go 2D
+VOXGI_CONST uint kResolveGroupSize = 64u;         // invocations per group: one brick, or 64 voxels
+VOXGI_CONST uint kMaxGroupsX = 32768u;            // larger dispatches go 2D
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
 // bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
 VOXGI_CONST uint kMaxListEntries = 8388606u;
 VOXGI_CONST uint kMaxBricks = 524288u;
 
 struct VoxelParams {
-  vec4 gridOrigin;  // xyz world (scene-relative) corner, w voxel size
-  vec4 gridInfo;    // x resolution, y emission fixed-point scale, z 1/scale
-  uvec4 slotInfo;   // x this voxelization's epoch << kSlotBits, y bricks per axis,
-                    // z the rasterizer's sub-pixel steps per pixel (2^GL_SUBPIXEL_BITS)
+  vec4 gridOrigin;          // xyz world (scene-relative) corner, w voxel size
+  vec4 gridInfo;            // x resolution, y emission fixed-point scale, z 1/scale
+  uvec4 slotInfo;           // x this voxelization's epoch << kSlotBits, y bricks per axis,
+                            // z the rasterizer's sub-pixel steps per pixel (2^GL_SUBPIXEL_BITS)
   vec4 samplePositions[2];  // the rasterizer's kSamplesPerFragment sample positions, xy xy
 };
 
@@ -77,15 +77,16 @@ struct VoxelStats {
   uint listCount;    // voxel slots taken: occupied voxels (may exceed the list's capacity)
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint capacity;       // slots (and list entries) there is room for
-  uint brickCount;     // pool bricks taken (may exceed brickCapacity)
-  uint brickCapacity;  // pool bricks there is room for
-  uint emissive;       // voxels resolved with nonzero emission
+  uint capacity;        // slots (and list entries) there is room for
+  uint brickCount;      // pool bricks taken (may exceed brickCapacity)
+  uint brickCapacity;   // pool bricks there is room for
+  uint emissive;        // voxels resolved with nonzero emission
+  uint smallTriangles;  // triangles the compute path took (counted for tests only)
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(VoxelParams) == 80);
-static_assert(sizeof(VoxelStats) == 28);
+static_assert(sizeof(VoxelStats) == 32);
 }  // namespace voxgi::gpu
 #endif
 

@@ -12,7 +12,8 @@
 // covered samples (the pixel centre when all are covered), the base-colour texture
 // with the triangle's own UV gradients. What a covered pixel adds to the grid is
 // the fragment stage's code (voxel_fragment.glsl).
-// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION.
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION; tests:
+// VOXGI_COUNT_SMALL counts the triangles taken.
 #include "scene_shared.h"
 #include "voxel_shared.h"
 
@@ -53,6 +54,9 @@ void main() {
   if (axis < 0) return;
   vec3 s0 = voxelSwizzle(g[0], axis), s1 = voxelSwizzle(g[1], axis), s2 = voxelSwizzle(g[2], axis);
   if (!voxelIsSmallTriangle(s0, s1, s2)) return;  // rasterized
+#ifdef VOXGI_COUNT_SMALL
+  atomicAdd(stats.smallTriangles, 1u);
+#endif
   vec4 plane = voxelPlane(s0, voxelSwizzle(n, axis));
   vec2 depth = voxelDepthRange(s0, s1, s2);
 
@@ -129,37 +133,35 @@ void main() {
     covered[word] &= ~(1u << bit);
     bit += 32 * word;
     int px = bit % int(kSmallTriangleSpan), py = bit / int(kSmallTriangleSpan);
-    {
-      ivec3 e0 = edgeC + edgeX * (px * snap) + edgeY * (py * snap);
-      uint mask = 0u;
-      vec2 at = vec2(0.0);  // sum, then centroid, of the covered samples
-      for (int s = 0; s < 4; ++s) {
-        if (all(greaterThan(e0 + offset[s], ivec3(0)))) {
-          mask |= 1u << s;
-          at += (s & 1) == 0 ? voxel.samplePositions[s >> 1].xy : voxel.samplePositions[s >> 1].zw;
-        }
+    ivec3 e0 = edgeC + edgeX * (px * snap) + edgeY * (py * snap);
+    uint mask = 0u;
+    vec2 at = vec2(0.0);  // sum, then centroid, of the covered samples
+    for (int s = 0; s < 4; ++s) {
+      if (all(greaterThan(e0 + offset[s], ivec3(0)))) {
+        mask |= 1u << s;
+        at += (s & 1) == 0 ? voxel.samplePositions[s >> 1].xy : voxel.samplePositions[s >> 1].zw;
       }
-      uint weight = uint(bitCount(mask));
-      if (weight == 0u) continue;
-      at = vec2(px, py) + (mask == 0xFu ? vec2(0.5) : at / float(weight));
-      vec2 d = at - p0;
-      float b1 = dot(d, db1), b2 = dot(d, db2);
-      if (det == 0.0) b1 = b2 = 1.0 / 3.0;
-      float b0 = 1.0 - b1 - b2;
+    }
+    uint weight = uint(bitCount(mask));
+    if (weight == 0u) continue;
+    at = vec2(px, py) + (mask == 0xFu ? vec2(0.5) : at / float(weight));
+    vec2 d = at - p0;
+    float b1 = dot(d, db1), b2 = dot(d, db2);
+    if (det == 0.0) b1 = b2 = 1.0 / 3.0;
+    float b0 = 1.0 - b1 - b2;
 
-      vec4 base = m.baseColor;
+    vec4 base = m.baseColor;
 #ifndef VOXGI_NO_TEXTURES
-      if ((m.flags & kMaterialHasTexture) != 0u) {
-        vec2 uv = b0 * vt[0] + b1 * vt[1] + b2 * vt[2];
-        base *= textureGrad(baseColorTexture, uv, duvdx, duvdy);
-      }
+    if ((m.flags & kMaterialHasTexture) != 0u) {
+      vec2 uv = b0 * vt[0] + b1 * vt[1] + b2 * vt[2];
+      base *= textureGrad(baseColorTexture, uv, duvdx, duvdy);
+    }
 #endif
 #ifndef VOXGI_NO_ALPHA
-      if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) continue;
+    if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) continue;
 #endif
-      vec3 nn = normalize(b0 * vn[0] + b1 * vn[1] + b2 * vn[2]);
-      if (any(isnan(nn))) nn = vec3(0.0);
-      voxelAddFragment(ivec2(lo) + ivec2(px, py), axis, plane, depth, base.rgb, nn, e, weight);
-    }
+    vec3 nn = normalize(b0 * vn[0] + b1 * vn[1] + b2 * vn[2]);
+    if (any(isnan(nn))) nn = vec3(0.0);
+    voxelAddFragment(ivec2(lo) + ivec2(px, py), axis, plane, depth, base.rgb, nn, e, weight);
   }
 }

@@ -71,7 +71,8 @@ std::string benchHelp() {
          "options:\n"
          "  --voxels N,M,...  grid resolutions, 32..512 (default 128,256)\n"
          "  --json FILE       write the results as JSON\n"
-         "  --mode, --size, --frames, --backend, --exposure, --tonemap, --verbose, --quiet\n"
+         "  --mode, --size, --frames, --backend, --exposure, --tonemap, --small-triangles,\n"
+         "  --verbose, --quiet\n"
          "                    as for render (default mode points, size 256x256)\n";
 }
 
@@ -96,6 +97,9 @@ std::string renderHelp() {
          "  --voxels N        voxel grid resolution, N^3 voxels, 32..512 (default 128);\n"
          "                    used by modes that voxelize (points, dvr, rtgi)\n"
          "  --revoxelize      voxelize every frame instead of once per scene (animated scenes)\n"
+         "  --small-triangles P  voxelize triangles that span at most 6x6 voxels in a\n"
+         "                    compute pass (compute, the default) or rasterize every\n"
+         "                    triangle (raster); the grids agree to a few voxels\n"
          "  --time T          animated scenes: pose of the first frame, seconds (default 0)\n"
          "  --fps F           animated scenes: frame f shows T + f/F (default 30)\n"
          "  --backend B       egl (default; surfaceless Mesa or an NVIDIA device), osmesa,\n"
@@ -185,8 +189,8 @@ std::string viewHelp() {
          "                    failed, the last reload error, screenshots, gl_errors\n"
          "  --effects LIST    override the effect plan (see voxgi render --help), e.g.\n"
          "                    +specular,-shadows; the panel shows the plan\n"
-         "  --voxels N, --revoxelize, --bounces N, --inject-rays N, --bounce-rays N,\n"
-         "  --interleave N, --budget-select S\n"
+         "  --voxels N, --revoxelize, --small-triangles P, --bounces N, --inject-rays N,\n"
+         "  --bounce-rays N, --interleave N, --budget-select S\n"
          "                    as for voxgi render\n"
          "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
          "                    pixels each frame (default 30; off: every pixel, every\n"
@@ -247,6 +251,11 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->voxels = parseInt("--voxels", value(), 32, 512);
   } else if (a == "--revoxelize") {
     rs->revoxelize = true;
+  } else if (a == "--small-triangles") {
+    const std::string v = value();
+    if (v != "compute" && v != "raster")
+      throw UsageError("--small-triangles: '" + v + "' is neither compute nor raster");
+    rs->smallTrianglesInCompute = v == "compute";
   } else if (a == "--bounces") {
     rs->octree.bounces = parseInt("--bounces", value(), 0, 16);
   } else if (a == "--interleave") {

@@ -255,12 +255,14 @@ int runRender(const RenderOptions& o) {
   stats["gpu_scene_bytes"] = gs.bytes();
   if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
     const voxel::VoxelGridStats& vs = grid->stats();
-    stats["voxels"] = {{"resolution", vs.resolution},
-                       {"count", vs.occupied},
-                       {"checksum", strf("%016llx", static_cast<unsigned long long>(vs.checksum))},
-                       {"bytes", vs.bytes},
-                       {"peak_bytes", vs.peakBytes},
-                       {"revoxelize", o.render.revoxelize}};
+    stats["voxels"] = {
+        {"resolution", vs.resolution},
+        {"count", vs.occupied},
+        {"checksum", strf("%016llx", static_cast<unsigned long long>(vs.checksum))},
+        {"bytes", vs.bytes},
+        {"peak_bytes", vs.peakBytes},
+        {"revoxelize", o.render.revoxelize},
+        {"small_triangles", o.render.smallTrianglesInCompute ? "compute" : "raster"}};
   }
   if (const voxel::Octree* tree = renderer.octree()) {
     const voxel::OctreeStats& os = tree->stats();

@@ -117,6 +117,7 @@ void Renderer::createPasses() {
     voxel::VoxelizePass::Settings vs;
     vs.resolution = settings_.voxels;
     vs.keepSums = settings_.revoxelize;
+    vs.smallTrianglesInCompute = settings_.smallTrianglesInCompute;
     vs.features = features;
     voxelize_ = std::make_unique<voxel::VoxelizePass>(programs_, r ? r : "", vs);
     voxelized_ = false;

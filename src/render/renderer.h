@@ -66,8 +66,10 @@ struct RenderSettings {
   int height = 256;
   Mode mode = Mode::kRtgi;
   TonemapPass::Settings tonemap;
-  int voxels = 128;                // grid resolution N (N^3 voxels) for modes that use voxels
-  bool revoxelize = false;         // voxelize every frame (animated scenes) instead of once
+  int voxels = 128;         // grid resolution N (N^3 voxels) for modes that use voxels
+  bool revoxelize = false;  // voxelize every frame (animated scenes) instead of once
+  // Voxelize small triangles in the compute path (false: all of them in the raster).
+  bool smallTrianglesInCompute = true;
   voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
   RtgiPass::Settings rtgi;
   // rtgi: hold this frame rate (0: off) by tracing a varying share of the pixels,

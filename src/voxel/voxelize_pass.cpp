@@ -32,6 +32,11 @@ void dispatchFor(uint64_t count) {
   glDispatchCompute(static_cast<GLuint>(x), static_cast<GLuint>((groups + x - 1) / x), 1);
 }
 
+std::vector<std::string> withDefine(std::vector<std::string> defines, const char* extra) {
+  if (*extra) defines.emplace_back(extra);
+  return defines;
+}
+
 bool hasGlExtension(const char* name) {
   GLint n = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &n);
@@ -85,10 +90,13 @@ uint64_t voxelMemoryBudget(const std::string& renderer) {
 VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& renderer,
                            const Settings& settings)
     : settings_(settings),
-      voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
-                              settings.features.defines()})),
-      voxelizeSmall_(
-          programs.get({{"voxel/voxelize_small.comp"}, settings.features.defines()})),
+      voxelize_(
+          programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
+                        withDefine(settings.features.defines(),
+                                   settings.smallTrianglesInCompute ? "" : "VOXGI_RASTER_ALL")})),
+      voxelizeSmall_(programs.get({{"voxel/voxelize_small.comp"},
+                                   withDefine(settings.features.defines(),
+                                              settings.inspectSums ? "VOXGI_COUNT_SMALL" : "")})),
       resolve_(programs.get({{"voxel/resolve.comp"},
                              settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
                                                   : std::vector<std::string>{}})) {
@@ -198,34 +206,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
 
   // Small triangles: one compute invocation each (the geometry stage drops them).
-  if (texturedVertices_ != gs.vertexBuffer() || texturedIndices_ != gs.indexBuffer()) {
-    vertexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
-    indexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
-    if (!s.vertices.empty()) glTextureBuffer(vertexTexture_.id(), GL_RGBA32F, gs.vertexBuffer());
-    if (!s.indices.empty()) glTextureBuffer(indexTexture_.id(), GL_R32UI, gs.indexBuffer());
-    texturedVertices_ = gs.vertexBuffer();
-    texturedIndices_ = gs.indexBuffer();
-  }
-  glUseProgram(voxelizeSmall_.id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  bindSlots();
-  glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture_.id());
-  glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture_.id());
-  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (const scene::Draw& d : s.draws) {
-    const uint32_t triangles = d.indexCount / 3;
-    if (triangles == 0) continue;
-    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
-    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
-    glUniform1i(gpu::kMaterialIndexLocation, d.material);
-    glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
-    glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
-    dispatchFor(triangles);
-  }
-  glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
-  glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  if (settings_.smallTrianglesInCompute) rasterSmall(gs);
 
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, n, n);
@@ -252,6 +233,40 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
+  const scene::Scene& s = gs.scene();
+  if (texturedVertices_ != gs.vertexBuffer() || texturedIndices_ != gs.indexBuffer()) {
+    vertexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    indexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    if (!s.vertices.empty()) glTextureBuffer(vertexTexture_.id(), GL_RGBA32F, gs.vertexBuffer());
+    if (!s.indices.empty()) glTextureBuffer(indexTexture_.id(), GL_R32UI, gs.indexBuffer());
+    texturedVertices_ = gs.vertexBuffer();
+    texturedIndices_ = gs.indexBuffer();
+  }
+  glUseProgram(voxelizeSmall_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  bindSlots();
+  glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture_.id());
+  glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture_.id());
+  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  for (const scene::Draw& d : s.draws) {
+    const uint32_t triangles = d.indexCount / 3;
+    if (triangles == 0) continue;
+    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
+    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    glUniform1i(gpu::kMaterialIndexLocation, d.material);
+    glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
+    glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
+    dispatchFor(triangles);
+  }
+  glBindTextureUnit(gpu::kBaseColorUnit, 0);
+  glBindSampler(gpu::kBaseColorUnit, 0);
+  glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
+  glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 void VoxelizePass::bindSlots() {
@@ -324,6 +339,7 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   listed_ = out.listCount;  // the rounds above made room for every one
   stats_.occupied = listed_;
+  stats_.smallTriangles = out.smallTriangles;
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
   const uint64_t b = bricksPerAxis(n);
   stats_.peakBytes = b * b * b * 4 + kBytesPerBrick * brickCapacity_ +

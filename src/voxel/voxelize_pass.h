@@ -15,14 +15,13 @@
 // any sample is covered and writes every voxel its plane crosses in the pixel
 // column. Triangles whose projection spans at most 2 x 2 pixels take a compute path
 // instead (Rauwendaal & Bailey, JCGT 2013) that tests the rasterizer's own samples
-// and adds what a fragment would: see voxelize_small.comp. Values are summed in fixed point (16 fractional bits, weighted by covered
-// samples) with atomicAdd: the grid is bit-identical whatever the triangle order;
-// sums saturate, never wrap (see voxel_shared.h for the bound).
-// The sums are sparse. A brick map (one entry per 4^3 voxels) gives each brick a
-// fragment reaches a slot in a pool; the pool gives each voxel reached a slot of
-// sums, one uvec4 per slot in each of three SSBOs (albedo+weight, normal, emission).
-// Entries carry the voxelization's epoch, so nothing is cleared per run. A compute
-// pass over the pool bricks resolves the averages (zeroing the sums as it reads
+// and adds what a fragment would: see voxelize_small.comp. Values are summed in fixed point (16
+// fractional bits, weighted by covered samples) with atomicAdd: the grid is bit-identical whatever
+// the triangle order; sums saturate, never wrap (see voxel_shared.h for the bound). The sums are
+// sparse. A brick map (one entry per 4^3 voxels) gives each brick a fragment reaches a slot in a
+// pool; the pool gives each voxel reached a slot of sums, one uvec4 per slot in each of three SSBOs
+// (albedo+weight, normal, emission). Entries carry the voxelization's epoch, so nothing is cleared
+// per run. A compute pass over the pool bricks resolves the averages (zeroing the sums as it reads
 // them), lists the voxels with their attributes, and checksums the grid. After the
 // first use nothing costs N^3: work follows the surface.
 //
@@ -61,8 +60,9 @@ struct VoxelGridStats {
   int resolution = 0;
   uint32_t occupied = 0;
   uint64_t checksum = 0;
-  uint64_t bytes = 0;      // resident (resolved grid)
-  uint64_t peakBytes = 0;  // while voxelizing
+  uint64_t bytes = 0;           // resident (resolved grid)
+  uint64_t peakBytes = 0;       // while voxelizing
+  uint32_t smallTriangles = 0;  // taken by the compute path; counted with inspectSums only
 };
 
 class VoxelizePass {
@@ -74,6 +74,9 @@ class VoxelizePass {
     // voxelization clears all of them first instead.
     bool inspectSums = false;
     scene::ShaderFeatures features;  // effect-plan variant of voxelize.frag
+    // Triangles whose projection spans at most kSmallTriangleSpan pixels per axis go to
+    // the compute path; false rasterizes every triangle (for comparison).
+    bool smallTrianglesInCompute = true;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.
@@ -113,6 +116,7 @@ class VoxelizePass {
   void clearSums();
   void nextEpoch();
   void raster(const scene::GpuScene& gs);
+  void rasterSmall(const scene::GpuScene& gs);  // the compute path
   void bindSlots();
   void dispatch(const gl::Program& program, uint64_t invocations);
 

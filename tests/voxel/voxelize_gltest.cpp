@@ -331,6 +331,117 @@ TEST_F(VoxelizeTest, TrimmedListGrowsForALargerScene) {
   EXPECT_EQ(reused.readEmission(), fresh.readEmission());
 }
 
+// A UV sphere: `rings` rings of 2 x `rings` quads, two flat triangles each.
+std::vector<glm::vec3> sphereTriangles(glm::vec3 centre, float radius, int rings) {
+  auto at = [&](int i, int j) {
+    const float theta = 3.14159265f * static_cast<float>(i) / static_cast<float>(rings);
+    const float phi = 3.14159265f * static_cast<float>(j) / static_cast<float>(rings);
+    return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                       std::sin(theta) * std::sin(phi));
+  };
+  std::vector<glm::vec3> t;
+  for (int i = 0; i < rings; ++i) {
+    for (int j = 0; j < 2 * rings; ++j) {
+      t.insert(t.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      t.insert(t.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return t;
+}
+
+struct PathResult {
+  voxel::VoxelGridStats stats;
+  std::vector<uint8_t> occupied;
+  std::vector<int8_t> normal;
+  std::vector<uint32_t> weight;
+};
+
+PathResult voxelizeWithPath(const scene::Scene& s, int n, bool smallInCompute) {
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  gl::StageTimer timer;
+  scene::GpuScene gs(s);
+  gl::FrameContext ctx{programs, timer, n, n, 0};
+  voxel::VoxelizePass::Settings settings{n, false, true};
+  settings.smallTrianglesInCompute = smallInCompute;
+  voxel::VoxelizePass pass(programs, "llvmpipe", settings);
+  pass.execute(ctx, gs);
+  timer.resolve();
+  return {pass.stats(), occupancyFromAlbedo(pass.readAlbedo()), pass.readNormal(),
+          pass.readSum(gpu::kSumWeight)};
+}
+
+// Small triangles take the compute path, which tests the rasterizer's own samples
+// on its sub-pixel grid: the grid matches the one the raster gives for the same
+// triangles. The covered samples add up to the same total (a triangle taken by
+// both paths, or by neither, would double or drop its share), the voxels and the
+// normals agree.
+TEST_F(VoxelizeTest, SmallTrianglePathMatchesTheRaster) {
+  SceneBuilder b;
+  const int m = b.addMaterial(glm::vec3(0.4f, 0.5f, 0.6f));
+  b.addTriangles(sphereTriangles(glm::vec3(0.0f), 1.0f, 48), m);  // 9216 small triangles
+  const glm::mat4 tilt = glm::rotate(glm::mat4(1.0f), 0.4f, glm::normalize(glm::vec3(1, 2, 3)));
+  b.addTriangles({{-1.2f, -1.2f, 0}, {1.2f, -1.2f, 0}, {1.2f, 1.2f, 0}}, m, tilt);  // one large
+  const scene::Scene s = b.finish();
+  for (int n : {64, 128}) {
+    const PathResult compute = voxelizeWithPath(s, n, true);
+    const PathResult raster = voxelizeWithPath(s, n, false);
+    EXPECT_GT(compute.stats.smallTriangles, 9216u * 9 / 10) << n;
+    EXPECT_LT(compute.stats.smallTriangles, 9216u + 1u) << n;  // never the large one
+    EXPECT_EQ(raster.stats.smallTriangles, 0u) << n;
+
+    uint64_t wCompute = 0, wRaster = 0;
+    size_t differ = 0, both = 0;
+    double cosine = 0.0;
+    for (size_t i = 0; i < raster.occupied.size(); ++i) {
+      wCompute += compute.weight[i];
+      wRaster += raster.weight[i];
+      differ += compute.occupied[i] != raster.occupied[i];
+      if (!compute.occupied[i] || !raster.occupied[i]) continue;
+      ++both;
+      glm::vec3 a(0.0f), c(0.0f);
+      for (int k = 0; k < 3; ++k) {
+        a[k] = compute.normal[i * 4 + static_cast<size_t>(k)] / 127.0f;
+        c[k] = raster.normal[i * 4 + static_cast<size_t>(k)] / 127.0f;
+      }
+      cosine += glm::length(a) > 0.5f && glm::length(c) > 0.5f
+                    ? glm::dot(glm::normalize(a), glm::normalize(c))
+                    : 1.0;
+    }
+    std::printf(
+        "[small triangles] %d^3: %u of 9217 in compute, %zu voxels differ of %u, "
+        "samples %llu vs %llu, mean normal cosine %.5f\n",
+        n, compute.stats.smallTriangles, differ, raster.stats.occupied,
+        static_cast<unsigned long long>(wCompute), static_cast<unsigned long long>(wRaster),
+        cosine / static_cast<double>(both));
+    EXPECT_LE(static_cast<double>(differ), 0.002 * raster.stats.occupied) << n;
+    EXPECT_NEAR(static_cast<double>(wCompute) / static_cast<double>(wRaster), 1.0, 0.002) << n;
+    EXPECT_GT(cosine / static_cast<double>(both), 0.999) << n;
+  }
+}
+
+// A closed sphere of small triangles stays closed, whichever path takes them.
+TEST_F(VoxelizeTest, ClosedSphereOfSmallTrianglesIsWatertight) {
+  for (int rings : {24, 64}) {
+    SceneBuilder b;
+    const glm::mat4 t = glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(3, 1, 2)));
+    b.addTriangles(sphereTriangles(glm::vec3(0.0f), 1.0f, rings), b.addMaterial(glm::vec3(0.5f)),
+                   t);
+    const scene::Scene s = b.finish();
+    for (int n : {32, 64}) {
+      const glm::vec3 c =
+          (glm::vec3(0.0f) - s.scale.gridOrigin) / s.scale.gridSize * static_cast<float>(n);
+      for (bool compute : {true, false}) {
+        const PathResult r = voxelizeWithPath(s, n, compute);
+        if (compute) {
+          EXPECT_GT(r.stats.smallTriangles, 0u);
+        }
+        EXPECT_FALSE(reachableFromOutside(r.occupied, n, glm::ivec3(c)))
+            << rings << " rings at " << n << (compute ? " (compute)" : " (raster)");
+      }
+    }
+  }
+}
+
 // The voxel count does not depend on where the scene is or on its unit.
 TEST_F(VoxelizeTest, CountIgnoresTranslationAndScale) {
   const uint32_t base = voxelize(scene::loadGltf(cornellRoom()), 64, false).stats.occupied;
