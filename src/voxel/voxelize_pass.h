@@ -13,17 +13,19 @@
 // projected along its dominant axis onto an N x N viewport of a framebuffer with no
 // attachments and 4x MSAA (GL_FRAMEBUFFER_DEFAULT_SAMPLES); a fragment runs where
 // any sample is covered and writes every voxel its plane crosses in the pixel
-// column. Triangles whose projection spans at most 2 x 2 pixels take a compute path
+// column. Triangles whose projection spans at most 6 x 6 pixels take a compute path
 // instead (Rauwendaal & Bailey, JCGT 2013) that tests the rasterizer's own samples
-// and adds what a fragment would: see voxelize_small.comp. Values are summed in fixed point (16
-// fractional bits, weighted by covered samples) with atomicAdd: the grid is bit-identical whatever
-// the triangle order; sums saturate, never wrap (see voxel_shared.h for the bound). The sums are
-// sparse. A brick map (one entry per 4^3 voxels) gives each brick a fragment reaches a slot in a
-// pool; the pool gives each voxel reached a slot of sums, one uvec4 per slot in each of three SSBOs
-// (albedo+weight, normal, emission). Entries carry the voxelization's epoch, so nothing is cleared
-// per run. A compute pass over the pool bricks resolves the averages (zeroing the sums as it reads
-// them), lists the voxels with their attributes, and checksums the grid. After the
-// first use nothing costs N^3: work follows the surface.
+// and adds what a fragment would: see voxelize_small.comp.
+// Values are summed in fixed point (16 fractional bits, weighted by covered samples)
+// with atomicAdd: the grid is bit-identical whatever the triangle order; sums
+// saturate, never wrap (see voxel_shared.h for the bound). The sums are sparse. A
+// brick map (one entry per 4^3 voxels) gives each brick a fragment reaches a slot in
+// a pool; the pool gives each voxel reached a slot of sums, one uvec4 per slot in
+// each of three SSBOs (albedo+weight, normal, emission). Entries carry the
+// voxelization's epoch, so nothing is cleared per run. A compute pass over the slots
+// resolves the averages (zeroing the sums as it reads them), lists the voxels with
+// their attributes, and checksums the grid. After the first use nothing costs N^3:
+// work follows the surface.
 //
 // Tested by tests/voxel/voxelize_gltest.cpp (exact counts, determinism, agreement
 // with a CPU triangle-box reference, watertightness, scale invariance).
