@@ -57,7 +57,7 @@ uint voxelSlot(ivec3 p) {
   uint bi = b.x + voxel.slotInfo.y * (b.y + voxel.slotInfo.y * b.z);
   uint brick;
   {
-    CLAIM(brickMap, bi, stats.brickCount, stats.brickCapacity, {})
+    CLAIM(brickMap, bi, stats.brickCount, voxel.limits.y, {})
     brick = (seen & kSlotMask) - 1u;
   }
   if (brick == kSlotFull - 1u) return kSlotFull;
@@ -66,7 +66,7 @@ uint voxelSlot(ivec3 p) {
   uint slot;
   {
     // The voxel's slot is its place in the list of occupied voxels.
-    CLAIM(pool, vi, stats.listCount, stats.capacity,
+    CLAIM(pool, vi, stats.listCount, voxel.limits.x,
           voxels[ticket] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20))
     slot = (seen & kSlotMask) - 1u;
   }

@@ -71,22 +71,28 @@ struct VoxelParams {
   uvec4 slotInfo;           // x this voxelization's epoch << kSlotBits, y bricks per axis,
                             // z the rasterizer's sub-pixel steps per pixel (2^GL_SUBPIXEL_BITS)
   vec4 samplePositions[2];  // the rasterizer's kSamplesPerFragment sample positions, xy xy
+  uvec4 limits;             // x list entries (voxel slots) there is room for, y pool bricks there
+                            // is room for, z slots for the resolve
 };
 
+// Counters the passes add to, each on its own 64-byte cache line: two cores (or GPU
+// units) adding to counters on one line pass it back and forth, and every read of a
+// field sharing that line waits for it. What the shaders only read is in VoxelParams.
 struct VoxelStats {
-  uint listCount;    // voxel slots taken: occupied voxels (may exceed the list's capacity)
+  uint listCount;  // voxel slots taken: occupied voxels (may exceed limits.x)
+  uint pad0[15];
+  uint brickCount;  // pool bricks taken (may exceed limits.y)
+  uint pad1[15];
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint capacity;        // slots (and list entries) there is room for
-  uint brickCount;      // pool bricks taken (may exceed brickCapacity)
-  uint brickCapacity;   // pool bricks there is room for
   uint emissive;        // voxels resolved with nonzero emission
   uint smallTriangles;  // triangles the compute path took (counted for tests only)
+  uint pad2[12];
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(VoxelParams) == 80);
-static_assert(sizeof(VoxelStats) == 32);
+static_assert(sizeof(VoxelParams) == 96);
+static_assert(sizeof(VoxelStats) == 192);
 }  // namespace voxgi::gpu
 #endif
 

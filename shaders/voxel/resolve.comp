@@ -30,7 +30,7 @@ uint hash(uint x) {  // a 32-bit integer mix (lowbias32)
 void main() {
   uint i = (gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x) * kResolveGroupSize +
            gl_LocalInvocationIndex;
-  if (i >= min(stats.listCount, stats.capacity)) return;
+  if (i >= voxel.limits.z) return;
   uint code = voxels[i];
   uvec3 p = uvec3(code & 1023u, (code >> 10) & 1023u, code >> 20);
 

@@ -194,6 +194,7 @@ void VoxelizePass::nextEpoch() {
   }
   params_.slotInfo.x = epoch_ << gpu::kSlotBits;
   params_.slotInfo.y = static_cast<uint32_t>(bricksPerAxis(settings_.resolution));
+  params_.limits = glm::uvec4(capacity_, brickCapacity_, 0u, 0u);
   glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
@@ -201,8 +202,6 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   const scene::Scene& s = gs.scene();
   const int n = settings_.resolution;
   gpu::VoxelStats fresh{};
-  fresh.capacity = capacity_;
-  fresh.brickCapacity = brickCapacity_;
   glNamedBufferSubData(statsBuffer_.id(), 0, sizeof(fresh), &fresh);
 
   // Small triangles: one compute invocation each (the geometry stage drops them).
@@ -335,6 +334,8 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   }
+  params_.limits.z = out.listCount;  // slots to resolve
+  glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
   dispatch(resolve_, out.listCount);
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   listed_ = out.listCount;  // the rounds above made room for every one
