@@ -236,20 +236,17 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
 
 void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   const scene::Scene& s = gs.scene();
-  if (texturedVertices_ != gs.vertexBuffer() || texturedIndices_ != gs.indexBuffer()) {
-    vertexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
-    indexTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
-    if (!s.vertices.empty()) glTextureBuffer(vertexTexture_.id(), GL_RGBA32F, gs.vertexBuffer());
-    if (!s.indices.empty()) glTextureBuffer(indexTexture_.id(), GL_R32UI, gs.indexBuffer());
-    texturedVertices_ = gs.vertexBuffer();
-    texturedIndices_ = gs.indexBuffer();
-  }
+  // Views made afresh each time: a buffer name can come back for another scene.
+  const gl::Texture vertexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
+  const gl::Texture indexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
+  if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RGBA32F, gs.vertexBuffer());
+  if (!s.indices.empty()) glTextureBuffer(indexTexture.id(), GL_R32UI, gs.indexBuffer());
   glUseProgram(voxelizeSmall_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
   bindSlots();
-  glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture_.id());
-  glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture_.id());
+  glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture.id());
+  glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture.id());
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
   for (const scene::Draw& d : s.draws) {
     const uint32_t triangles = d.indexCount / 3;

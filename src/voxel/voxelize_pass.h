@@ -126,9 +126,6 @@ class VoxelizePass {
   const gl::Program& voxelize_;
   const gl::Program& voxelizeSmall_;  // the compute path for small triangles
   const gl::Program& resolve_;
-  // The scene's vertices and indices as buffer textures, for voxelizeSmall_.
-  gl::Texture vertexTexture_, indexTexture_;
-  GLuint texturedVertices_ = 0, texturedIndices_ = 0;  // the buffers they view
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
   gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
   gl::Framebuffer fbo_;
