@@ -1,9 +1,9 @@
 // Voxelization: grid-space set-up of one triangle, shared by the vertex and
 // geometry stages of the raster and by the compute path for small triangles.
-// Which path takes a triangle is decided twice, once in each, from the same
-// inputs: every value the decision reads is `precise` (no fused or reordered
-// arithmetic), so both reach the same answer and each triangle is voxelized
-// exactly once. The includer declares the VoxelBlock uniform block (`voxel`).
+// Which path takes a triangle is decided once, by the compute path, which passes
+// the others on to the raster. Grid positions are `precise` (no fused or reordered
+// arithmetic), so both paths place a vertex at the same point and test the same
+// samples. The includer declares the VoxelBlock uniform block (`voxel`).
 //
 // Projection along the dominant axis (Crassin & Green, "Octree-Based Sparse
 // Voxelization Using the GPU Hardware Rasterizer", OpenGL Insights ch. 22): the

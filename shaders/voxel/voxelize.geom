@@ -1,8 +1,7 @@
 #version 450 core
 // Voxelization, geometry stage: each triangle is projected orthographically along
-// its dominant axis (voxel_triangle.glsl). Small triangles are left to the compute
-// path (voxelize_small.comp), which covers them with the same samples, unless
-// VOXGI_RASTER_ALL (--small-triangles raster).
+// its dominant axis (voxel_triangle.glsl). With the compute path for small
+// triangles (voxelize_small.comp) the raster draws only the triangles it passed on.
 #include "voxel_shared.h"
 
 layout(triangles) in;
@@ -28,9 +27,6 @@ void main() {
   if (axis < 0) return;  // degenerate in grid space
   vec3 s[3] = vec3[3](voxelSwizzle(vGrid[0], axis), voxelSwizzle(vGrid[1], axis),
                       voxelSwizzle(vGrid[2], axis));
-#ifndef VOXGI_RASTER_ALL
-  if (voxelIsSmallTriangle(s[0], s[1], s[2])) return;
-#endif
   vec4 plane = voxelPlane(s[0], voxelSwizzle(n, axis));
   vec2 depth = voxelDepthRange(s[0], s[1], s[2]);
   float res = voxel.gridInfo.x;

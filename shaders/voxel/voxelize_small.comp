@@ -12,6 +12,9 @@
 // covered samples (the pixel centre when all are covered), the base-colour texture
 // with the triangle's own UV gradients. What a covered pixel adds to the grid is
 // the fragment stage's code (voxel_fragment.glsl).
+// Every other triangle of some area is passed on to the raster: its indices are
+// appended to the draw's range of the large-triangle indices and its indirect
+// command counts them (voxel_shared.h). So each triangle is decided once, here.
 // Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION; tests:
 // VOXGI_COUNT_SMALL counts the triangles taken.
 #include "scene_shared.h"
@@ -24,6 +27,9 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(location = kVoxelFirstIndexLocation) uniform uint firstIndex;
 layout(location = kVoxelTriangleCountLocation) uniform uint triangleCount;
+layout(location = kVoxelDrawLocation) uniform uint drawNumber;
+layout(std430, binding = kLargeIndexBinding) writeonly buffer LargeIndices { uint largeIndices[]; };
+layout(std430, binding = kDrawCommandBinding) buffer DrawCommands { uint drawCommands[]; };
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 // The scene's vertices (scene::Vertex, 32 bytes: 2 texels) and indices.
 layout(binding = kVoxelVertexUnit) uniform samplerBuffer vertexData;
@@ -41,8 +47,10 @@ void main() {
 
   vec3 g[3], vn[3];
   vec2 vt[3];
+  uint index[3];
   for (int i = 0; i < 3; ++i) {
-    int v = int(texelFetch(indexData, int(firstIndex + 3u * t) + i).x);
+    index[i] = texelFetch(indexData, int(firstIndex + 3u * t) + i).x;
+    int v = int(index[i]);
     vec4 a = texelFetch(vertexData, 2 * v);
     vec4 b = texelFetch(vertexData, 2 * v + 1);
     g[i] = voxelGridPosition(a.xyz);
@@ -53,7 +61,14 @@ void main() {
   int axis = voxelProjectionAxis(g[0], g[1], g[2], n);
   if (axis < 0) return;
   vec3 s0 = voxelSwizzle(g[0], axis), s1 = voxelSwizzle(g[1], axis), s2 = voxelSwizzle(g[2], axis);
-  if (!voxelIsSmallTriangle(s0, s1, s2)) return;  // rasterized
+  if (!voxelIsSmallTriangle(s0, s1, s2)) {  // to the raster
+    // The command's first index is the draw's: count from there.
+    uint at = firstIndex + atomicAdd(drawCommands[drawNumber * kDrawCommandWords], 3u);
+    largeIndices[at] = index[0];
+    largeIndices[at + 1u] = index[1];
+    largeIndices[at + 2u] = index[2];
+    return;
+  }
 #ifdef VOXGI_COUNT_SMALL
   atomicAdd(stats.smallTriangles, 1u);
 #endif

@@ -90,10 +90,8 @@ uint64_t voxelMemoryBudget(const std::string& renderer) {
 VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& renderer,
                            const Settings& settings)
     : settings_(settings),
-      voxelize_(
-          programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
-                        withDefine(settings.features.defines(),
-                                   settings.smallTrianglesInCompute ? "" : "VOXGI_RASTER_ALL")})),
+      voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
+                              settings.features.defines()})),
       voxelizeSmall_(programs.get({{"voxel/voxelize_small.comp"},
                                    withDefine(settings.features.defines(),
                                               settings.inspectSums ? "VOXGI_COUNT_SMALL" : "")})),
@@ -220,16 +218,31 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
   bindSlots();
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (const scene::Draw& d : s.draws) {
+  // After the compute path: only the triangles it passed on, counted on the GPU.
+  if (settings_.smallTrianglesInCompute) {
+    glVertexArrayElementBuffer(gs.vertexArray(), largeIndices_.id());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, drawCommands_.id());
+  }
+  for (size_t i = 0; i < s.draws.size(); ++i) {
+    const scene::Draw& d = s.draws[i];
+    if (d.indexCount < 3) continue;
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
     glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
+    if (settings_.smallTrianglesInCompute)
+      glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(i * gpu::kDrawCommandWords * 4));
+    else
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
   }
   glBindTextureUnit(gpu::kBaseColorUnit, 0);
   glBindSampler(gpu::kBaseColorUnit, 0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (settings_.smallTrianglesInCompute) {
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glVertexArrayElementBuffer(gs.vertexArray(), gs.indexBuffer());
+  }
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT);
 }
@@ -241,6 +254,26 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   const gl::Texture indexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
   if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RGBA32F, gs.vertexBuffer());
   if (!s.indices.empty()) glTextureBuffer(indexTexture.id(), GL_R32UI, gs.indexBuffer());
+  // Where the triangles it passes on go: per draw, a command counting from zero.
+  const size_t indexBytes = std::max<size_t>(s.indices.size(), 1) * 4;
+  if (!largeIndices_ || largeIndexBytes_ != indexBytes) {
+    largeIndices_ = gl::createBuffer(static_cast<GLsizeiptr>(indexBytes), nullptr);
+    largeIndexBytes_ = indexBytes;
+  }
+  std::vector<uint32_t> commands(std::max<size_t>(s.draws.size(), 1) * gpu::kDrawCommandWords, 0);
+  for (size_t i = 0; i < s.draws.size(); ++i) {
+    commands[i * gpu::kDrawCommandWords + 1] = 1;  // one instance
+    commands[i * gpu::kDrawCommandWords + 2] = s.draws[i].firstIndex;
+  }
+  const auto commandBytes = static_cast<GLsizeiptr>(commands.size() * 4);
+  if (!drawCommands_ || drawCommandBytes_ != commandBytes) {
+    drawCommands_ = gl::createBuffer(commandBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    drawCommandBytes_ = commandBytes;
+  }
+  glNamedBufferSubData(drawCommands_.id(), 0, commandBytes, commands.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLargeIndexBinding, largeIndices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kDrawCommandBinding, drawCommands_.id());
+
   glUseProgram(voxelizeSmall_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
@@ -248,7 +281,8 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture.id());
   glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture.id());
   glBindSampler(gpu::kBaseColorUnit, gs.sampler());
-  for (const scene::Draw& d : s.draws) {
+  for (size_t i = 0; i < s.draws.size(); ++i) {
+    const scene::Draw& d = s.draws[i];
     const uint32_t triangles = d.indexCount / 3;
     if (triangles == 0) continue;
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
@@ -256,13 +290,15 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
     glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
+    glUniform1ui(gpu::kVoxelDrawLocation, static_cast<GLuint>(i));
     dispatchFor(triangles);
   }
   glBindTextureUnit(gpu::kBaseColorUnit, 0);
   glBindSampler(gpu::kBaseColorUnit, 0);
   glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
   glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                  GL_ELEMENT_ARRAY_BARRIER_BIT);
 }
 
 void VoxelizePass::bindSlots() {
@@ -338,13 +374,23 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   listed_ = out.listCount;  // the rounds above made room for every one
   stats_.occupied = listed_;
   stats_.smallTriangles = out.smallTriangles;
+  stats_.rasterTriangles = 0;
+  if (settings_.inspectSums && settings_.smallTrianglesInCompute && drawCommands_) {
+    std::vector<uint32_t> commands(static_cast<size_t>(drawCommandBytes_) / 4);
+    glGetNamedBufferSubData(drawCommands_.id(), 0, drawCommandBytes_, commands.data());
+    for (size_t i = 0; i < commands.size(); i += gpu::kDrawCommandWords)
+      stats_.rasterTriangles += commands[i] / 3;
+  }
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
   const uint64_t b = bricksPerAxis(n);
   stats_.peakBytes = b * b * b * 4 + kBytesPerBrick * brickCapacity_ +
-                     (kBytesPerSlot + kBytesPerListEntry) * uint64_t{capacity_};
+                     (kBytesPerSlot + kBytesPerListEntry) * uint64_t{capacity_} +
+                     (settings_.smallTrianglesInCompute ? largeIndexBytes_ : 0);
   if (!settings_.keepSums && !settings_.inspectSums) {
     // Only the list stays resident, trimmed to the voxels it holds.
-    for (gl::Buffer* buffer : {&brickMap_, &pool_, &sumsA_, &sumsN_, &sumsE_}) buffer->reset();
+    for (gl::Buffer* buffer :
+         {&brickMap_, &pool_, &sumsA_, &sumsN_, &sumsE_, &largeIndices_, &drawCommands_})
+      buffer->reset();
     if (listed_ < capacity_) {
       const uint32_t keep = std::max<uint32_t>(listed_, 1);
       gl::Buffer list = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 4, nullptr);

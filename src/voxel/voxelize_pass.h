@@ -15,7 +15,9 @@
 // any sample is covered and writes every voxel its plane crosses in the pixel
 // column. Triangles whose projection spans at most 6 x 6 pixels take a compute path
 // instead (Rauwendaal & Bailey, JCGT 2013) that tests the rasterizer's own samples
-// and adds what a fragment would: see voxelize_small.comp.
+// and adds what a fragment would: see voxelize_small.comp. It passes the other
+// triangles on, compacted per draw, and the raster draws only those (indirect
+// draws), so no small triangle costs the raster's vertex and geometry stages.
 // Values are summed in fixed point (16 fractional bits, weighted by covered samples)
 // with atomicAdd: the grid is bit-identical whatever the triangle order; sums
 // saturate, never wrap (see voxel_shared.h for the bound). The sums are sparse. A
@@ -62,9 +64,10 @@ struct VoxelGridStats {
   int resolution = 0;
   uint32_t occupied = 0;
   uint64_t checksum = 0;
-  uint64_t bytes = 0;           // resident (resolved grid)
-  uint64_t peakBytes = 0;       // while voxelizing
-  uint32_t smallTriangles = 0;  // taken by the compute path; counted with inspectSums only
+  uint64_t bytes = 0;            // resident (resolved grid)
+  uint64_t peakBytes = 0;        // while voxelizing
+  uint32_t smallTriangles = 0;   // taken by the compute path; counted with inspectSums only
+  uint32_t rasterTriangles = 0;  // passed on to the raster; counted with inspectSums only
 };
 
 class VoxelizePass {
@@ -128,6 +131,11 @@ class VoxelizePass {
   const gl::Program& resolve_;
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
   gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
+  // The compute path's output for the raster: the triangles it passed on, and one
+  // indirect draw command per draw of the scene.
+  gl::Buffer largeIndices_, drawCommands_;
+  size_t largeIndexBytes_ = 0;
+  GLsizeiptr drawCommandBytes_ = 0;
   gl::Framebuffer fbo_;
   gl::Buffer paramsBuffer_, statsBuffer_, list_, attributes_;
   gpu::VoxelParams params_{};
