@@ -94,9 +94,8 @@ struct VoxelStats {
   uint pad1[15];
   uint checksumSum;  // order-independent hash of the resolved bytes
   uint checksumXor;
-  uint emissive;        // voxels resolved with nonzero emission
   uint smallTriangles;  // triangles the compute path took (counted for tests only)
-  uint pad2[12];
+  uint pad2[13];
 };
 
 #ifdef __cplusplus

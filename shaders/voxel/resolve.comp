@@ -55,7 +55,6 @@ void main() {
   uvec4 a = uvec4(packUnorm4x8(vec4(albedo, opacity)), packSnorm4x8(vec4(normal, 0.0)),
                   packHalf2x16(emission.rg), packHalf2x16(vec2(emission.b, 0.0)));
   attributes[i] = a;
-  if (se != uvec4(0u)) atomicAdd(stats.emissive, 1u);
 
   uint res = uint(voxel.gridInfo.x);
   uint h = hash((p.x + res * (p.y + res * p.z)) ^ 0x9e3779b9u);
