@@ -5,7 +5,7 @@
 // voxel_shared.h). The sums are zeroed as they are read, so the next voxelization
 // starts clean. Also an order-independent checksum of the resolved values (a sum
 // and an xor of per-voxel hashes of index and values as quantised to the stored
-// formats).
+// formats), unless VOXGI_NO_CHECKSUM.
 #include "voxel_shared.h"
 
 layout(local_size_x = kResolveGroupSize) in;
@@ -56,6 +56,7 @@ void main() {
                   packHalf2x16(emission.rg), packHalf2x16(vec2(emission.b, 0.0)));
   attributes[i] = a;
 
+#ifndef VOXGI_NO_CHECKSUM
   uint res = uint(voxel.gridInfo.x);
   uint h = hash((p.x + res * (p.y + res * p.z)) ^ 0x9e3779b9u);
   h = hash(h ^ a.x);
@@ -64,4 +65,5 @@ void main() {
   h = hash(h ^ a.w);
   atomicAdd(stats.checksumSum, h);
   atomicXor(stats.checksumXor, hash(h + 0x632be5abu));
+#endif
 }

@@ -45,6 +45,7 @@ int runBench(const BenchOptions& b) {
     render::RenderSettings rs = o.render;
     if (n > 0) rs.voxels = n;
     rs.revoxelize = true;
+    rs.voxelChecksum = false;  // not shown
     render::Renderer renderer(programs, scene, rs);
     renderer.renderFrame();  // warm-up: shader variants compile at first use
     std::vector<std::string> order;

@@ -583,6 +583,7 @@ int Viewer::run() {
   // nothing changes, instead of a whole image of --spp samples per frame.
   settings.progressive = true;
   settings.spp = 1;
+  settings.voxelChecksum = false;  // not shown
   programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
   logInfo("effects: " + renderer_->effects().summary());

@@ -118,6 +118,7 @@ void Renderer::createPasses() {
     vs.resolution = settings_.voxels;
     vs.keepSums = settings_.revoxelize;
     vs.smallTrianglesInCompute = settings_.smallTrianglesInCompute;
+    vs.checksum = settings_.voxelChecksum;
     vs.features = features;
     voxelize_ = std::make_unique<voxel::VoxelizePass>(programs_, r ? r : "", vs);
     voxelized_ = false;

@@ -70,6 +70,9 @@ struct RenderSettings {
   bool revoxelize = false;  // voxelize every frame (animated scenes) instead of once
   // Voxelize small triangles in the compute path (false: all of them in the raster).
   bool smallTrianglesInCompute = true;
+  // Checksum the voxel grid (the stats JSON's "voxels"."checksum"); off where nothing
+  // shows it (bench, the viewer): it costs the resolve two shared atomics a voxel.
+  bool voxelChecksum = true;
   voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
   RtgiPass::Settings rtgi;
   // rtgi: hold this frame rate (0: off) by tracing a varying share of the pixels,

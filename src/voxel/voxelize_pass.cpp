@@ -37,6 +37,13 @@ std::vector<std::string> withDefine(std::vector<std::string> defines, const char
   return defines;
 }
 
+std::vector<std::string> resolveDefines(const VoxelizePass::Settings& settings) {
+  std::vector<std::string> defines;
+  if (settings.inspectSums) defines.emplace_back("VOXGI_KEEP_SUMS");
+  if (!settings.checksum) defines.emplace_back("VOXGI_NO_CHECKSUM");
+  return defines;
+}
+
 bool hasGlExtension(const char* name) {
   GLint n = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &n);
@@ -95,9 +102,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
       voxelizeSmall_(programs.get({{"voxel/voxelize_small.comp"},
                                    withDefine(settings.features.defines(),
                                               settings.inspectSums ? "VOXGI_COUNT_SMALL" : "")})),
-      resolve_(programs.get({{"voxel/resolve.comp"},
-                             settings.inspectSums ? std::vector<std::string>{"VOXGI_KEEP_SUMS"}
-                                                  : std::vector<std::string>{}})) {
+      resolve_(programs.get({{"voxel/resolve.comp"}, resolveDefines(settings)})) {
   const int n = settings.resolution;
   if (n < kMinResolution || n > kMaxResolution)
     throw Error(strf("--voxels %d: the grid resolution must be in [%d, %d]", n, kMinResolution,

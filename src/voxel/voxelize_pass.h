@@ -82,6 +82,9 @@ class VoxelizePass {
     // Triangles whose projection spans at most kSmallTriangleSpan pixels per axis go to
     // the compute path; false rasterizes every triangle (for comparison).
     bool smallTrianglesInCompute = true;
+    // The order-independent checksum of the resolved grid (stats().checksum; 0 when
+    // off): a hash per voxel and two atomics on one shared counter pair.
+    bool checksum = true;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.

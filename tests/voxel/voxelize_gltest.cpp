@@ -294,6 +294,32 @@ TEST_F(VoxelizeTest, RevoxelizingLeavesNothingOfTheLastScene) {
   EXPECT_GT(std::count_if(e.begin(), e.end(), [](uint16_t h) { return h != 0; }), 0);
 }
 
+// Without the checksum (bench, the viewer) the resolve lists the same voxels with
+// the same attributes; the checksum reads 0.
+TEST_F(VoxelizeTest, GridWithoutChecksumIsTheSame) {
+  SceneBuilder b;
+  b.addBox({-5, -5, -5}, {5, 5, 5}, b.addMaterial(glm::vec3(0.3f, 0.6f, 0.9f)));
+  b.addBox({-2, -2, -2}, {2, 2, 2}, b.addMaterial(glm::vec3(0.9f), glm::vec3(1.0f, 0.5f, 0)));
+  const scene::Scene s = b.finish();
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  gl::StageTimer timer;
+  gl::FrameContext ctx{programs, timer, 64, 64, 0};
+  voxel::VoxelizePass::Settings without{64, false};
+  without.checksum = false;
+  voxel::VoxelizePass with(programs, "llvmpipe", {64, false}), plain(programs, "llvmpipe", without);
+  scene::GpuScene gs(s);
+  with.execute(ctx, gs);
+  plain.execute(ctx, gs);
+  timer.resolve();
+  EXPECT_GT(with.stats().occupied, 1000u);
+  EXPECT_NE(with.stats().checksum, 0u);
+  EXPECT_EQ(plain.stats().checksum, 0u);
+  EXPECT_EQ(plain.stats().occupied, with.stats().occupied);
+  EXPECT_EQ(plain.readAlbedo(), with.readAlbedo());
+  EXPECT_EQ(plain.readNormal(), with.readNormal());
+  EXPECT_EQ(plain.readEmission(), with.readEmission());
+}
+
 // Voxelized once, the list is trimmed to its voxels; voxelizing a larger scene with
 // the same pass grows it again (the raster runs again in a fresh epoch) and gives
 // exactly what a fresh pass gives.
