@@ -54,19 +54,21 @@ VOXGI_CONST uint kVoxelAttribBinding = 17u;  // SSBO: uvec4 attributes per liste
 // projection reaches at most this many pixel columns and rows (at most 8: one bit
 // per pixel of the box in a uvec2).
 VOXGI_CONST uint kSmallTriangleSpan = 6u;
-// It passes the other triangles on to the raster, compacted per draw: their indices
-// at the draw's own offsets of a buffer the size of the scene's indices, counted by
-// the draw's indirect command (DrawElementsIndirectCommand: count, instances,
-// first index, base vertex, base instance), so the raster's vertex and geometry
-// stages never see a small triangle.
+// It passes the other triangles on to the raster, compacted per group of
+// kResolveGroupSize triangles: their indices at the group's own range of a buffer
+// the size of the scene's indices, counted by the group's indirect command
+// (DrawElementsIndirectCommand: count, instances, first index, base vertex, base
+// instance), so the raster's vertex and geometry stages never see a small triangle.
+// Within a group the order is the invocations' (lane by lane on llvmpipe), so the
+// raster gets the triangles in the same order every run.
 VOXGI_CONST uint kLargeIndexBinding = 10u;   // SSBO: indices of the triangles to rasterize
-VOXGI_CONST uint kDrawCommandBinding = 11u;  // SSBO: one indirect command (5 uints) per draw
+VOXGI_CONST uint kDrawCommandBinding = 11u;  // SSBO: indirect commands (5 uints), per group
 VOXGI_CONST uint kDrawCommandWords = 5u;
 VOXGI_CONST uint kVoxelVertexUnit = 1u;           // samplerBuffer: the scene's vertices
 VOXGI_CONST uint kVoxelIndexUnit = 2u;            // usamplerBuffer: the scene's indices
 VOXGI_CONST int kVoxelFirstIndexLocation = 1;     // uniform uint: the draw's first index
 VOXGI_CONST int kVoxelTriangleCountLocation = 2;  // uniform uint: the draw's triangles
-VOXGI_CONST int kVoxelDrawLocation = 3;           // uniform uint: the draw's number
+VOXGI_CONST int kVoxelCommandLocation = 3;        // uniform uint: the draw's first command
 VOXGI_CONST uint kResolveGroupSize = 64u;         // invocations per group: one brick, or 64 voxels
 VOXGI_CONST uint kMaxGroupsX = 32768u;            // larger dispatches go 2D
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16

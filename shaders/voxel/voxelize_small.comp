@@ -27,7 +27,7 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(location = kVoxelFirstIndexLocation) uniform uint firstIndex;
 layout(location = kVoxelTriangleCountLocation) uniform uint triangleCount;
-layout(location = kVoxelDrawLocation) uniform uint drawNumber;
+layout(location = kVoxelCommandLocation) uniform uint firstCommand;
 layout(std430, binding = kLargeIndexBinding) writeonly buffer LargeIndices { uint largeIndices[]; };
 layout(std430, binding = kDrawCommandBinding) buffer DrawCommands { uint drawCommands[]; };
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
@@ -41,8 +41,8 @@ layout(binding = kVoxelIndexUnit) uniform usamplerBuffer indexData;
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
 void main() {
-  uint t = (gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x) * kResolveGroupSize +
-           gl_LocalInvocationIndex;
+  uint group = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  uint t = group * kResolveGroupSize + gl_LocalInvocationIndex;
   if (t >= triangleCount) return;
 
   vec3 g[3], vn[3];
@@ -62,8 +62,9 @@ void main() {
   if (axis < 0) return;
   vec3 s0 = voxelSwizzle(g[0], axis), s1 = voxelSwizzle(g[1], axis), s2 = voxelSwizzle(g[2], axis);
   if (!voxelIsSmallTriangle(s0, s1, s2)) {  // to the raster
-    // The command's first index is the draw's: count from there.
-    uint at = firstIndex + atomicAdd(drawCommands[drawNumber * kDrawCommandWords], 3u);
+    // The group's command counts from the group's first index.
+    uint at = firstIndex + 3u * kResolveGroupSize * group +
+              atomicAdd(drawCommands[(firstCommand + group) * kDrawCommandWords], 3u);
     largeIndices[at] = index[0];
     largeIndices[at + 1u] = index[1];
     largeIndices[at + 2u] = index[2];

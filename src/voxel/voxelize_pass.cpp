@@ -25,6 +25,10 @@ uint32_t initialBrickCapacity(int resolution) {
   return static_cast<uint32_t>(std::min<uint64_t>(b * b * b, uint64_t{1} << 16));
 }
 
+uint32_t groupsFor(uint32_t invocations) {
+  return (invocations + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
+}
+
 // Groups for `count` invocations, 2D past kMaxGroupsX.
 void dispatchFor(uint64_t count) {
   const uint64_t groups = (count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
@@ -235,8 +239,10 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
     glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     if (settings_.smallTrianglesInCompute)
-      glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                             reinterpret_cast<const void*>(i * gpu::kDrawCommandWords * 4));
+      glMultiDrawElementsIndirect(
+          GL_TRIANGLES, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(size_t{firstCommand_[i]} * gpu::kDrawCommandWords * 4),
+          static_cast<GLsizei>(groupsFor(d.indexCount / 3)), 0);
     else
       glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
@@ -265,11 +271,16 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
     largeIndices_ = gl::createBuffer(static_cast<GLsizeiptr>(indexBytes), nullptr);
     largeIndexBytes_ = indexBytes;
   }
-  std::vector<uint32_t> commands(std::max<size_t>(s.draws.size(), 1) * gpu::kDrawCommandWords, 0);
+  // One command per group of triangles, each counting from the group's first index.
+  firstCommand_.assign(s.draws.size(), 0);
+  std::vector<uint32_t> commands;
   for (size_t i = 0; i < s.draws.size(); ++i) {
-    commands[i * gpu::kDrawCommandWords + 1] = 1;  // one instance
-    commands[i * gpu::kDrawCommandWords + 2] = s.draws[i].firstIndex;
+    firstCommand_[i] = static_cast<uint32_t>(commands.size() / gpu::kDrawCommandWords);
+    for (uint32_t g = 0; g < groupsFor(s.draws[i].indexCount / 3); ++g)
+      commands.insert(commands.end(),
+                      {0u, 1u, s.draws[i].firstIndex + 3 * gpu::kResolveGroupSize * g, 0u, 0u});
   }
+  if (commands.empty()) commands.assign(gpu::kDrawCommandWords, 0u);
   const auto commandBytes = static_cast<GLsizeiptr>(commands.size() * 4);
   if (!drawCommands_ || drawCommandBytes_ != commandBytes) {
     drawCommands_ = gl::createBuffer(commandBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -295,7 +306,7 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
     glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
-    glUniform1ui(gpu::kVoxelDrawLocation, static_cast<GLuint>(i));
+    glUniform1ui(gpu::kVoxelCommandLocation, firstCommand_[i]);
     dispatchFor(triangles);
   }
   glBindTextureUnit(gpu::kBaseColorUnit, 0);

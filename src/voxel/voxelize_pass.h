@@ -135,8 +135,9 @@ class VoxelizePass {
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
   gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
   // The compute path's output for the raster: the triangles it passed on, and one
-  // indirect draw command per draw of the scene.
+  // indirect draw command per group of 64 triangles of each draw.
   gl::Buffer largeIndices_, drawCommands_;
+  std::vector<uint32_t> firstCommand_;  // per draw of the scene
   size_t largeIndexBytes_ = 0;
   GLsizeiptr drawCommandBytes_ = 0;
   gl::Framebuffer fbo_;
