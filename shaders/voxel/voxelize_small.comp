@@ -13,8 +13,9 @@
 // with the triangle's own UV gradients. What a covered pixel adds to the grid is
 // the fragment stage's code (voxel_fragment.glsl).
 // Every other triangle of some area is passed on to the raster: its indices are
-// appended to the draw's range of the large-triangle indices and its indirect
-// command counts them (voxel_shared.h). So each triangle is decided once, here.
+// appended to its group's range of the large-triangle indices and the group's
+// indirect command counts them (voxel_shared.h). So each triangle is decided once,
+// here.
 // Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION; tests:
 // VOXGI_COUNT_SMALL counts the triangles taken.
 #include "scene_shared.h"

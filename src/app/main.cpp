@@ -15,9 +15,9 @@ namespace {
 // (llvmpipe) keeps every buffer and texture in malloc'd memory and reads it at
 // random, so with 4 KiB pages much of its time goes to TLB misses: on the reference
 // machine 2 MiB pages make the points view of a 256^3 grid 1.6x faster (README, GL
-// layer). glibc (2.35 and later) reads the tunable only at
-// start-up, so voxgi starts itself again with it set, once; where exec fails it
-// goes on with normal pages. VOXGI_HUGE_PAGES=0 turns this off (under valgrind,
+// layer). glibc (2.35 and later) reads the tunable only at start-up, so voxgi
+// starts itself again with it set, once; where exec fails it goes on with normal
+// pages. VOXGI_HUGE_PAGES=0 turns this off (under valgrind,
 // say, which does not follow an exec by default). The kernel decides in the end:
 // with transparent_hugepage set to "never" nothing changes.
 void startWithHugePages(char** argv) {

@@ -25,13 +25,14 @@ uint32_t initialBrickCapacity(int resolution) {
   return static_cast<uint32_t>(std::min<uint64_t>(b * b * b, uint64_t{1} << 16));
 }
 
-uint32_t groupsFor(uint32_t invocations) {
+// Groups of kResolveGroupSize for `invocations`.
+uint64_t groupsFor(uint64_t invocations) {
   return (invocations + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
 }
 
 // Groups for `count` invocations, 2D past kMaxGroupsX.
 void dispatchFor(uint64_t count) {
-  const uint64_t groups = (count + gpu::kResolveGroupSize - 1) / gpu::kResolveGroupSize;
+  const uint64_t groups = groupsFor(count);
   const uint64_t x = std::min<uint64_t>(groups, gpu::kMaxGroupsX);
   glDispatchCompute(static_cast<GLuint>(x), static_cast<GLuint>((groups + x - 1) / x), 1);
 }
@@ -265,7 +266,7 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   const gl::Texture indexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
   if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RGBA32F, gs.vertexBuffer());
   if (!s.indices.empty()) glTextureBuffer(indexTexture.id(), GL_R32UI, gs.indexBuffer());
-  // Where the triangles it passes on go: per draw, a command counting from zero.
+  // Where the triangles it passes on go: a buffer the size of the scene's indices.
   const size_t indexBytes = std::max<size_t>(s.indices.size(), 1) * 4;
   if (!largeIndices_ || largeIndexBytes_ != indexBytes) {
     largeIndices_ = gl::createBuffer(static_cast<GLsizeiptr>(indexBytes), nullptr);
