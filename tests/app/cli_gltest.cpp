@@ -292,8 +292,7 @@ TEST(Cli, OsMesaBackendRenders) {
 // The GLFW backend (a hidden GLX window) under Xvfb renders the same image as EGL.
 TEST(Cli, GlfwBackendUnderXvfbMatchesEgl) {
   if (runCommand("sh -c 'command -v xvfb-run'").exitCode != 0) {
-    if (std::getenv("VOXGI_REQUIRE_SAMPLES"))
-      FAIL() << "xvfb-run missing (tools/setup installs xvfb)";
+    if (::voxgi::test::toolsRequired()) FAIL() << "xvfb-run missing (tools/setup installs xvfb)";
     GTEST_SKIP() << "xvfb-run not installed";
   }
   const std::string dir = scratchDir();

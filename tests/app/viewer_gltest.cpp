@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 #define VOXGI_REQUIRE_XVFB()                                       \
   do {                                                             \
     if (runCommand("sh -c 'command -v xvfb-run'").exitCode != 0) { \
-      if (std::getenv("VOXGI_REQUIRE_SAMPLES"))                    \
+      if (::voxgi::test::toolsRequired())                          \
         FAIL() << "xvfb-run missing (tools/setup installs xvfb)";  \
       GTEST_SKIP() << "xvfb-run not installed";                    \
     }                                                              \
@@ -316,7 +316,7 @@ TEST(Viewer, AbsurdSizesAreRefused) {
 TEST(Viewer, FollowsWindowResize) {
   VOXGI_REQUIRE_XVFB();
   if (runCommand("sh -c 'command -v xdotool'").exitCode != 0) {
-    if (std::getenv("VOXGI_REQUIRE_SAMPLES")) FAIL() << "xdotool missing (tools/setup installs it)";
+    if (::voxgi::test::toolsRequired()) FAIL() << "xdotool missing (tools/setup installs it)";
     GTEST_SKIP() << "xdotool not installed";
   }
   const std::string dir = scratchDir();

@@ -97,7 +97,6 @@ TEST(Bvh, EmptyAndDegenerateInputs) {
 }
 
 TEST(Bvh, CornellRoomMatchesBruteForce) {
-  VOXGI_REQUIRE_SAMPLES();
   const scene::Scene s = scene::loadGltf(test::cornellRoom());
   std::vector<BvhTriangle> tris;
   for (size_t i = 0; i < s.indices.size(); i += 3)

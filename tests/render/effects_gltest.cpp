@@ -221,7 +221,6 @@ TEST_F(EffectsTest, DarkPlanePlanMatchesAllEffects) {
 }
 
 TEST_F(EffectsTest, SamplesPlanMatchesAllEffects) {
-  VOXGI_REQUIRE_SAMPLES();
   for (const char* path :
        {"box/Box.gltf", "duck/Duck.gltf", "avocado/Avocado.gltf",
         "metal_rough_spheres_no_textures/MetalRoughSpheresNoTextures.gltf",

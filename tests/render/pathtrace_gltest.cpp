@@ -277,7 +277,6 @@ TEST_F(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
   EXPECT_TRUE(allFinite(renderLinear(s, t))) << "grazing";
 
   // At the light: the Cornell room seen from 1 mm below its panel, and from above it.
-  VOXGI_REQUIRE_SAMPLES();
   scene::Scene room = scene::loadGltf(cornellRoom());
   for (float y : {1.989f, 1.995f}) {
     room.camera.position = glm::vec3(0.0f, y, 0.0f);
@@ -303,7 +302,6 @@ TEST_F(PathtraceTest, SeedFixesTheImage) {
 // The Cornell room's mean: independent low-spp estimates agree with a higher-spp
 // one within their spread (the 1024-spp figure in the README uses the same check).
 TEST_F(PathtraceTest, CornellMeanConverges) {
-  VOXGI_REQUIRE_SAMPLES();
   const scene::Scene s = scene::loadGltf(cornellRoom());
   Settings t;
   t.size = 32;

@@ -153,7 +153,6 @@ struct SampleCase {
 class SampleTest : public ::testing::TestWithParam<SampleCase> {};
 
 TEST_P(SampleTest, LoadsWithExactTriangleCount) {
-  VOXGI_REQUIRE_SAMPLES();
   const SampleCase& c = GetParam();
   const Scene s = loadGltf(sample(c.path));
   const size_t dropped = droppedZeroArea(s.warnings);
@@ -269,7 +268,6 @@ TEST(GltfLoaderDarkPlane, SphereLightEmission) {
 }
 
 TEST(GltfLoaderSamples, UnlitBoxGetsDefaultDirectionalLight) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene s = loadGltf(sample("box/Box.gltf"));
   EXPECT_FALSE(s.hasEmission());
   for (const Material& m : s.materials) EXPECT_FALSE(m.isEmissive()) << m.name;
@@ -280,7 +278,6 @@ TEST(GltfLoaderSamples, UnlitBoxGetsDefaultDirectionalLight) {
 }
 
 TEST(GltfLoaderSamples, DefaultLightCanBeTurnedOff) {
-  VOXGI_REQUIRE_SAMPLES();
   LoadOptions options;
   options.addDefaultLight = false;
   const Scene s = loadGltf(sample("box/Box.gltf"), options);
@@ -289,7 +286,6 @@ TEST(GltfLoaderSamples, DefaultLightCanBeTurnedOff) {
 }
 
 TEST(GltfLoaderSamples, PunctualLightsFromExtension) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene s = loadGltf(sample("lights_punctual_lamp/LightsPunctualLamp.gltf"));
   EXPECT_FALSE(s.defaultLight);
   ASSERT_EQ(s.lights.size(), 5u);  // five point lights in KHR_lights_punctual
@@ -311,7 +307,6 @@ TEST(GltfLoaderSamples, PunctualLightsFromExtension) {
 }
 
 TEST(GltfLoaderSamples, EmissiveStrengthMultipliesEmissiveFactor) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene s = loadGltf(sample("emissive_strength_test/EmissiveStrengthTest.gltf"));
   const std::map<std::string, float> strength = {
       {"Emit1", 1.0f}, {"Emit2", 2.0f}, {"Emit4", 4.0f}, {"Emit8", 8.0f}, {"Emit16", 16.0f}};
@@ -330,7 +325,6 @@ TEST(GltfLoaderSamples, EmissiveStrengthMultipliesEmissiveFactor) {
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene s = loadGltf(sample(GetParam()));
   ASSERT_EQ(s.textures.size(), 1u);
   const Texture& t = s.textures[0];
@@ -349,7 +343,6 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(GltfLoaderSamples, TextureLimitRefusesLargerImages) {
-  VOXGI_REQUIRE_SAMPLES();
   LoadOptions options;
   options.maxTextureSize = 8;
   const std::string path = sample("duck/Duck.gltf");
@@ -391,7 +384,6 @@ void expectRelative(float actual, float expected, float tolerance, const char* w
 }
 
 TEST(GltfLoaderAutoScale, EmbeddedCopyMatchesOriginal) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene original = loadGltf(sample("box/Box.gltf"));
   const Scene copy = loadGltf(writeScaledBox(1.0));
   ASSERT_EQ(copy.triangleCount(), original.triangleCount());
@@ -400,7 +392,6 @@ TEST(GltfLoaderAutoScale, EmbeddedCopyMatchesOriginal) {
 }
 
 TEST(GltfLoaderAutoScale, ScalesWithTheScene) {
-  VOXGI_REQUIRE_SAMPLES();
   const Scene box = loadGltf(sample("box/Box.gltf"));
   const Scene big = loadGltf(writeScaledBox(1000.0));
   ASSERT_EQ(big.triangleCount(), box.triangleCount());
@@ -444,7 +435,6 @@ TEST(GltfLoaderDeterminism, CornellRoomTwice) {
 }
 
 TEST(GltfLoaderDeterminism, DuckTwice) {
-  VOXGI_REQUIRE_SAMPLES();
   expectSameScene(loadGltf(sample("duck/Duck.gltf")), loadGltf(sample("duck/Duck.gltf")));
 }
 

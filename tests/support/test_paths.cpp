@@ -16,8 +16,7 @@ std::string sourceDir() {
   return VOXGI_SOURCE_DIR;
 }
 std::string samplesDir() {
-  if (const char* env = std::getenv("VOXGI_SAMPLES_DIR")) return env;
-  return VOXGI_SAMPLES_DIR;
+  return sourceDir() + "/scenes";
 }
 std::string testDataDir() {
   return VOXGI_TEST_DATA_DIR;
@@ -33,11 +32,8 @@ std::string darkPlane() {
   return sourceDir() + "/scenes/dark_plane/dark_plane.gltf";
 }
 
-bool samplesPresent() {
-  return fs::exists(fs::path(samplesDir()) / "box" / "Box.gltf");
-}
-bool samplesRequired() {
-  const char* env = std::getenv("VOXGI_REQUIRE_SAMPLES");
+bool toolsRequired() {
+  const char* env = std::getenv("VOXGI_REQUIRE_TOOLS");
   return env && std::string(env) == "1";
 }
 

@@ -7,7 +7,7 @@
 namespace voxgi::test {
 
 std::string sourceDir();    // the repository root
-std::string samplesDir();   // ../shared/scenes (the glTF samples)
+std::string samplesDir();   // scenes/ (the built-in scenes and the glTF samples)
 std::string testDataDir();  // tests/data
 std::string voxgiBinary();  // build/voxgi
 std::string cornellRoom();  // scenes/cornell_room/cornell_room.gltf
@@ -15,18 +15,9 @@ std::string darkPlane();    // scenes/dark_plane/dark_plane.gltf
 // A fresh empty directory under the system temp dir, removed at exit.
 std::string scratchDir();
 
-// Skips the test when the samples are absent, unless VOXGI_REQUIRE_SAMPLES=1 (CI),
-// where their absence fails it.
-#define VOXGI_REQUIRE_SAMPLES()                                                    \
-  do {                                                                             \
-    if (!::voxgi::test::samplesPresent()) {                                        \
-      if (::voxgi::test::samplesRequired())                                        \
-        FAIL() << "samples missing: " << ::voxgi::test::samplesDir();              \
-      GTEST_SKIP() << "glTF samples not found at " << ::voxgi::test::samplesDir(); \
-    }                                                                              \
-  } while (0)
-bool samplesPresent();
-bool samplesRequired();
+// The tools a test drives (xvfb-run, xdotool): where VOXGI_REQUIRE_TOOLS=1 (tools/test
+// sets it after installing them) their absence fails the test, elsewhere it skips.
+bool toolsRequired();
 
 struct CommandResult {
   int exitCode = -1;
