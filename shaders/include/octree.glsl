@@ -27,6 +27,18 @@ const int kRaySteps = 1024;
 // so they do not hit the voxels of the light they aim at.
 const float kSurfaceOffsetVoxels = 1.5;
 
+// How far along a surface's unit normal n the voxels it touches reach: a voxel
+// touches the plane when its centre is within this support of it (half the cube's
+// extent along n, in voxels: 0.5 for an axis-aligned plane, 0.87 for a diagonal
+// one), and so reaches at most twice it past the plane.
+float voxelSupport(vec3 n) { return 0.5 * (abs(n.x) + abs(n.y) + abs(n.z)); }
+// Where rays leave a surface point along n (voxels): past every voxel the surface
+// touches, which is kSurfaceOffsetVoxels for an axis-aligned plane and more for an
+// oblique one (a sphere's voxels would otherwise shadow its own rays).
+float surfaceRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 2.0 * voxelSupport(n) + 0.1); }
+// The same from a voxel's centre, which may lie up to one support off the surface.
+float leafRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 3.0 * voxelSupport(n) + 0.1); }
+
 // Invocation index of a 1D job spread over a 2D dispatch (more than 65535 groups).
 uint octreeInvocation() {
   return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kOctreeGroupSize +

@@ -9,7 +9,9 @@
 //   leaf (level == depth): 0 = empty, kOctreeLeafOccupied = an occupied voxel.
 // Per-node data lives in parallel arrays indexed by the node:
 //   radiance: rgb9e5 (shared exponent, 4 bytes): outgoing diffuse radiance reflected
-//             by the voxel (light injected, plus bounces);
+//             by the voxel (light injected, plus bounces): the running mean of the
+//             estimates so far, published for tracing;
+//   mean:     rgba32f, leaves only: that running mean at full precision (refinement);
 //   material: rgba8 albedo + opacity (coverage), rgba8 snorm normal (0 where two
 //             sides cancel);
 //   emission: rgb9e5 emitted radiance.
@@ -37,18 +39,22 @@ VOXGI_CONST uint kOctreeRadianceBinding = 6u;
 VOXGI_CONST uint kOctreeMaterialBinding = 7u;
 VOXGI_CONST uint kOctreeEmissionBinding = 8u;
 VOXGI_CONST uint kOctreeCounterBinding = 9u;
-VOXGI_CONST uint kOctreeScratchBinding = 10u;  // radiance of the previous bounce
+VOXGI_CONST uint kOctreeScratchBinding = 10u;  // radiance of the previous bounce; the estimate
+                                               // the average pass blends in
 VOXGI_CONST uint kOctreeLightCdfBinding = 11u;
 VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, while bouncing
 VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
 VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
 VOXGI_CONST uint kOctreeNodeTexUnit = 8u;     // texture unit: the node words as r32ui
+VOXGI_CONST uint kOctreeMeanBinding = 18u;    // vec4 per node: the running mean of the radiance
 
 struct OctreeParams {
   vec4 origin;  // xyz world corner of the root cube, w voxel size
   uvec4 info;   // x depth, y root size in voxels (2^depth), z grid resolution N, w node capacity
   uvec4 pass;   // x level (build/filter), y first node of the level, z nodes in the level, w seed
   uvec4 light;  // x rays per voxel (inject / bounce), y light count, z emitter count, w bounce
+  uvec4 slice;  // inject, bounce, average: the listed voxels first + k x stride (x first, y stride)
+  vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp)
 };
 
 // Written by the build passes; read back once per build.
@@ -69,7 +75,7 @@ struct OctreeRay {
 
 #ifdef __cplusplus
 static_assert(sizeof(OctreeRay) == 48);
-static_assert(sizeof(OctreeParams) == 64);
+static_assert(sizeof(OctreeParams) == 96);
 static_assert(sizeof(OctreeCounters) == 64);
 }  // namespace voxgi::gpu
 #endif

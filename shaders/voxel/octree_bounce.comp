@@ -24,7 +24,7 @@ layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint dir
 void main() {
   uint i = octreeInvocation();
   if (i >= octree.pass.z) return;
-  uint code = voxels[i];
+  uint code = voxels[octree.slice.x + i * octree.slice.y];
   ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
   int depth = octreeDepth();
   uint node = 0u;
@@ -37,7 +37,7 @@ void main() {
   bool oriented = dot(n, n) > 0.25;
   n = oriented ? normalize(n) : vec3(0.0);
   vec3 centre = octreeToWorld(vec3(v) + 0.5);
-  vec3 p = centre + n * (kSurfaceOffsetVoxels * octreeVoxelSize());
+  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
 
   int rays = int(octree.light.x);

@@ -4,6 +4,8 @@
 // albedo and emission are opacity-weighted means; normals an opacity-weighted sum,
 // renormalised (zero where they cancel). The cone tracer composites
 // colour x opacity front to back, so a half-empty node weighs half.
+// OCTREE_FILTER_RADIANCE: radiance only (the refinement of a built octree, whose
+// materials and emission do not change).
 #include "octree.glsl"
 
 layout(local_size_x = kOctreeGroupSize) in;
@@ -24,15 +26,19 @@ void main() {
     vec4 a = unpackUnorm4x8(m.x);
     float w = a.a;
     rad += unpackRgb9e5(radiance[first + c]) * w;
+    opacity += w;
+#ifndef OCTREE_FILTER_RADIANCE
     alb += a.rgb * w;
     em += unpackRgb9e5(emission[first + c]) * w;
     nrm += unpackSnorm4x8(m.y).xyz * w;
-    opacity += w;
+#endif
   }
   float inv = opacity > 0.0 ? 1.0 / opacity : 0.0;
   float len = length(nrm);
   radiance[node] = packRgb9e5(rad * inv);
+#ifndef OCTREE_FILTER_RADIANCE
   material[node] = uvec2(packUnorm4x8(vec4(alb * inv, opacity / 8.0)),
                          packSnorm4x8(vec4(len > 1e-3 ? nrm / len : vec3(0.0), 0.0)));
   emission[node] = packRgb9e5(em * inv);
+#endif
 }

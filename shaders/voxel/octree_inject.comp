@@ -33,7 +33,7 @@ layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint di
 void main() {
   uint i = octreeInvocation();
   if (i >= octree.pass.z) return;
-  uint code = voxels[i];
+  uint code = voxels[octree.slice.x + i * octree.slice.y];
   ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
   int depth = octreeDepth();
   uint node = 0u;
@@ -48,7 +48,7 @@ void main() {
   vec3 centre = octreeToWorld(vec3(v) + 0.5);
   // Rays start off the surface; an unoriented voxel starts at its centre and skips
   // its own cell and neighbours by distance instead.
-  vec3 p = centre + n * (kSurfaceOffsetVoxels * octreeVoxelSize());
+  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
 
   vec3 irradiance = vec3(0.0);

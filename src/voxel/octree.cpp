@@ -12,7 +12,8 @@ namespace {
 
 // std430 limits one SSBO to 128 MiB on llvmpipe: the node buffer's ceiling.
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
-constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4;  // radiance, material, emission
+// radiance, material, emission; refinement: estimate, direct, previous bounce, mean.
+constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4 + 4 + 4 + 4 + 16;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                                 GL_UNIFORM_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT;
 
@@ -47,15 +48,19 @@ Octree::Octree(gl::ProgramCache& programs, const Settings& settings)
       fill_(programs.get({{"voxel/octree_fill.comp"}, {}})),
       filter_(programs.get({{"voxel/octree_filter.comp"}, {}})),
       inject_(programs.get({{"voxel/octree_inject.comp"}, settings.features.defines()})),
-      bounce_(programs.get({{"voxel/octree_bounce.comp"}, {}})) {
-  if (settings.bounces < 0 || settings.bounces > 16)
-    throw Error(strf("--bounces %d: must be in [0, 16]", settings.bounces));
+      bounce_(programs.get({{"voxel/octree_bounce.comp"}, {}})),
+      average_(programs.get({{"voxel/octree_average.comp"}, {}})),
+      filterRadiance_(programs.get({{"voxel/octree_filter.comp"}, {"OCTREE_FILTER_RADIANCE"}})) {
+  if (settings.bounces < 0 || (settings.bounces > 16 && !allBounces()))
+    throw Error(strf("--bounces %d: must be in [0, 16] or all", settings.bounces));
+  if (settings.refineRays < 0)
+    throw Error(strf("--refine-rays %d: must be at least 0", settings.refineRays));
   params_ = gl::createBuffer(sizeof(gpu::OctreeParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   counters_ = gl::createBuffer(sizeof(gpu::OctreeCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 void Octree::setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce) {
-  paramsData_.pass = glm::uvec4(level, first, count, settings_.seed);
+  paramsData_.pass = glm::uvec4(level, first, count, seed_);
   paramsData_.light.w = bounce;
   glNamedBufferSubData(params_.id(), 0, sizeof(paramsData_), &paramsData_);
 }
@@ -88,6 +93,10 @@ void Octree::allocate(uint32_t capacity) {
   radiance_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   material_ = gl::createBuffer(n * 8, nullptr, GL_DYNAMIC_STORAGE_BIT);
   emission_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  estimate_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  direct_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  previous_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  mean_ = gl::createBuffer(n * 16, nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 // Allocates the node structure into `nodes` (capacity in paramsData_.info.w); false
@@ -156,6 +165,7 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   clearBuffer(radiance_.id(), used * 4);
   clearBuffer(material_.id(), used * 8);
   clearBuffer(emission_.id(), used * 4);
+  refinements_ = 0;
 
   // Leaves: mark them and copy the resolved voxel into them.
   bind();
@@ -178,38 +188,97 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
 
 void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   gl::StageScope stage(ctx.timer, "inject");
-  paramsData_.light = glm::uvec4(static_cast<uint32_t>(settings_.injectRays),
-                                 static_cast<uint32_t>(scene.lightCount()),
-                                 static_cast<uint32_t>(scene.emitterCount()), 0u);
+  refinements_ = 0;
+  seed_ = settings_.seed;
+  // The first estimate: a chain of bounces (with all bounces, as many as a finite
+  // default would give; refinement adds the rest).
+  const uint32_t count = setSlice(0, 1);
+  estimate(scene, count, settings_.injectRays, settings_.bounceRays, false);
+  blend(count, 1.0f);
+  raysSoFar_ = settings_.injectRays;
+  weightSoFar_ = raysSoFar_ * raysSoFar_ * raysSoFar_ / 3.0;
+  const uint32_t perFrame = static_cast<uint32_t>(std::max(settings_.refineLeaves, 1));
+  slices_ = static_cast<int>(std::max<uint32_t>(1, (stats_.leaves + perFrame - 1) / perFrame));
+  filter(filter_);
+}
+
+void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
+  if (settings_.refineRays == 0 || stats_.leaves == 0) return;
+  gl::StageScope stage(ctx.timer, "refine");
+  const int slice = refinements_ % slices_;
+  if (slice == 0) {
+    // A new cycle: every leaf gets one more estimate, weighing its rays times the
+    // square of the rays so far (the integral of t^2: the first estimate counts as
+    // its injectRays). With feedback, older estimates saw a voxel light of fewer
+    // bounces: equal weights would keep their bias as 1/cycles^(1 - albedo); these
+    // fade it as 1/cycles^(3 (1 - albedo)), for at most 9/5 of the variance.
+    raysSoFar_ += settings_.refineRays;
+    const double w = settings_.refineRays * raysSoFar_ * raysSoFar_;
+    weightSoFar_ += w;
+    cycleWeight_ = static_cast<float>(w / weightSoFar_);
+  }
+  seed_ = settings_.seed + 0x9e3779b9u * static_cast<uint32_t>(refinements_ + 1);
+  ++refinements_;
+  const uint32_t count = setSlice(static_cast<uint32_t>(slice), static_cast<uint32_t>(slices_));
+  estimate(scene, count, settings_.refineRays, settings_.refineRays, allBounces());
+  blend(count, cycleWeight_);
+  filter(filterRadiance_);
+}
+
+uint32_t Octree::setSlice(uint32_t first, uint32_t stride) {
+  paramsData_.slice = glm::uvec4(first, stride, 0u, 0u);
+  return first < stats_.leaves ? (stats_.leaves - first + stride - 1) / stride : 0u;
+}
+
+void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
+                      bool feedback) {
+  // A finite chain: bounces - 1 voxel bounces (all bounces start with one, like the
+  // default of 2 bounces); feedback: one, from the running mean.
+  const int voxelBounces = feedback ? 1 : allBounces() ? 1 : std::max(0, settings_.bounces - 1);
+  paramsData_.light =
+      glm::uvec4(static_cast<uint32_t>(rays), static_cast<uint32_t>(scene.lightCount()),
+                 static_cast<uint32_t>(scene.emitterCount()), 0u);
   bind();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeRadianceBinding, estimate_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, scene.lights());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, scene.emitters());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeLightCdfBinding, scene.emitterCdf());
-  gl::Buffer direct, previous;
-  const int voxelBounces = std::max(0, settings_.bounces - 1);
-  const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
-  if (voxelBounces > 0) {
-    direct = gl::createBuffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    previous = gl::createBuffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeDirectBinding, direct.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous.id());
-  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeDirectBinding, direct_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, listBuffer_);
-  setPass(static_cast<uint32_t>(stats_.depth), 0, stats_.leaves, voxelBounces > 0 ? 1u : 0u);
-  dispatch(inject_, stats_.leaves);
-  paramsData_.light.x = static_cast<uint32_t>(settings_.bounceRays);
+  setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
+  dispatch(inject_, count);
+  paramsData_.light.x = static_cast<uint32_t>(bounceRays);
+  const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
   for (int b = 1; b <= voxelBounces; ++b) {
-    glCopyNamedBufferSubData(radiance_.id(), previous.id(), 0, 0, bytes);
-    glMemoryBarrier(kBarrier);
-    setPass(static_cast<uint32_t>(stats_.depth), 0, stats_.leaves, static_cast<uint32_t>(b));
-    dispatch(bounce_, stats_.leaves);
+    if (feedback) {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, radiance_.id());
+    } else {
+      glCopyNamedBufferSubData(estimate_.id(), previous_.id(), 0, 0, bytes);
+      glMemoryBarrier(kBarrier);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous_.id());
+    }
+    setPass(static_cast<uint32_t>(stats_.depth), 0, count, static_cast<uint32_t>(b));
+    dispatch(bounce_, count);
   }
-  // Inner nodes, bottom-up.
+}
+
+void Octree::blend(uint32_t count, float weight) {
+  bind();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, estimate_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMeanBinding, mean_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, listBuffer_);
+  paramsData_.blend = glm::vec4(weight, 0.0f, 0.0f, 0.0f);
+  setPass(static_cast<uint32_t>(stats_.depth), 0, count);
+  dispatch(average_, count);
+}
+
+// Inner nodes, bottom-up.
+void Octree::filter(const gl::Program& program) {
   for (int l = stats_.depth - 1; l >= 0; --l) {
     const uint32_t first = levelStart_[static_cast<size_t>(l)];
     const uint32_t count = levelStart_[static_cast<size_t>(l) + 1] - first;
     setPass(static_cast<uint32_t>(l), first, count);
-    dispatch(filter_, count);
+    dispatch(program, count);
   }
 }
 
@@ -240,6 +309,12 @@ std::vector<uint32_t> Octree::readNodes() const {
 std::vector<uint32_t> Octree::readRadiance() const {
   std::vector<uint32_t> out(size_t{stats_.nodes});
   glGetNamedBufferSubData(radiance_.id(), 0, static_cast<GLsizeiptr>(out.size() * 4), out.data());
+  return out;
+}
+
+std::vector<glm::vec4> Octree::readMean() const {
+  std::vector<glm::vec4> out(size_t{stats_.nodes});
+  glGetNamedBufferSubData(mean_.id(), 0, static_cast<GLsizeiptr>(out.size() * 16), out.data());
   return out;
 }
 

@@ -20,11 +20,24 @@
 // leaves the rays hit (ping-pong buffers: the result does not depend on thread
 // order). Last, inner nodes are filtered bottom-up.
 //
+// Refinement (stage "refine", once per frame while the scene is still): a voxel's
+// light is a running mean of estimates, as a pixel's is. Each refinement makes one
+// more estimate with fresh random numbers (refineRays rays per leaf) for a slice of
+// the leaves (every S-th listed voxel, S = leaves / refineLeaves rounded up, so a
+// frame's share of this work is bounded whatever the grid) and blends it in
+// (weights growing with the rays so far, see refine()), so the voxels' noise falls
+// as 1/sqrt(frames) instead of being baked into every frame. With all bounces (the default) the
+// estimate gathers its bounce from the running mean itself: each refinement adds a bounce, and the
+// mean converges to the solution of the rendering equation between the voxels (the fixed point L =
+// Le + albedo x mean incoming L), at one bounce pass per frame. With a finite --bounces N, each
+// estimate is the N-bounce chain afresh.
+//
 // Tested by tests/voxel/octree_gltest.cpp (traversal against a dense DDA, memory,
 // leaves equal the grid, filtering, light).
 #ifndef VOXGI_VOXEL_OCTREE_H
 #define VOXGI_VOXEL_OCTREE_H
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -51,9 +64,13 @@ struct OctreeStats {
 class Octree {
  public:
   struct Settings {
-    int bounces = 2;      // total diffuse bounces; the voxels hold bounces - 1 of them
-    int injectRays = 16;  // shadow rays per leaf towards emissive surfaces
-    int bounceRays = 16;  // rays per leaf per voxel bounce
+    // Every bounce: the voxel light feeds back into itself as it refines.
+    static constexpr int kAllBounces = 1 << 20;
+    int bounces = kAllBounces;  // total diffuse bounces; the voxels hold bounces - 1 of them
+    int injectRays = 16;        // shadow rays per leaf towards emissive surfaces
+    int bounceRays = 16;        // rays per leaf per voxel bounce
+    int refineRays = 1;         // per leaf and refinement, direct and bounce (0: no refinement)
+    int refineLeaves = 16384;   // leaves refined per frame at most: the rest wait their turn
     uint32_t seed = 1;
     scene::ShaderFeatures features;  // effect-plan variant of octree_inject.comp
   };
@@ -62,8 +79,17 @@ class Octree {
 
   // Builds the node structure from the grid's occupied voxels (stage "octree").
   void build(gl::FrameContext& ctx, const VoxelizePass& grid);
-  // Direct light, voxel bounces and filtering (stage "inject").
+  // Direct light, voxel bounces and filtering (stage "inject"): the first estimate.
   void inject(gl::FrameContext& ctx, const scene::GpuScene& scene);
+  // One more estimate blended into the voxels' light (stage "refine"); nothing with
+  // refineRays 0.
+  void refine(gl::FrameContext& ctx, const scene::GpuScene& scene);
+  // Estimates blended into every leaf since inject(), the first included (a slice
+  // refined ahead of the others does not count until all have caught up).
+  int estimates() const { return 1 + refinements_ / std::max(slices_, 1); }
+  // Refinement slices: a leaf is refined every slices() frames.
+  int slices() const { return slices_; }
+  bool allBounces() const { return settings_.bounces >= Settings::kAllBounces; }
 
   const OctreeStats& stats() const { return stats_; }
   const Settings& settings() const { return settings_; }
@@ -83,6 +109,7 @@ class Octree {
   // Tests.
   std::vector<uint32_t> readNodes() const;
   std::vector<uint32_t> readRadiance() const;  // rgb9e5 per node
+  std::vector<glm::vec4> readMean() const;     // the float running mean per node
   std::vector<uint32_t> readMaterial() const;  // two words per node (rgba8, snorm8x4)
 
  private:
@@ -90,6 +117,15 @@ class Octree {
   bool buildInto(gl::FrameContext& ctx, const VoxelizePass& grid, uint32_t listed);
   void setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce = 0);
   void dispatch(const gl::Program& p, uint32_t count);
+  // The listed voxels first, first + stride, ...: how many there are.
+  uint32_t setSlice(uint32_t first, uint32_t stride);
+  // One estimate of the slice's radiance into estimate_: direct light with `rays`,
+  // then the voxel bounces (`feedback`: one, gathered from the running mean).
+  void estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
+                bool feedback);
+  // Blends the slice's estimate into the running mean with `weight` and publishes it.
+  void blend(uint32_t count, float weight);
+  void filter(const gl::Program& program);
 
   Settings settings_;
   gl::ProgramCache& programs_;
@@ -98,8 +134,18 @@ class Octree {
   const gl::Program& filter_;
   const gl::Program& inject_;
   const gl::Program& bounce_;
+  const gl::Program& average_;
+  const gl::Program& filterRadiance_;
   gl::Buffer params_, counters_, nodes_, radiance_, material_, emission_;
-  gl::Texture nodeTexture_;  // nodes_ as a buffer texture (r32ui)
+  // Refinement: this estimate, its direct light, the previous bounce, the mean.
+  gl::Buffer estimate_, direct_, previous_, mean_;
+  int refinements_ = 0;  // refine() calls since inject()
+  int slices_ = 1;
+  double raysSoFar_ = 0.0;    // per leaf, over the estimates blended in
+  double weightSoFar_ = 0.0;  // of those estimates in the running mean
+  float cycleWeight_ = 1.0f;  // this cycle's blend weight, the same for every slice
+  uint32_t seed_ = 0;         // this estimate's
+  gl::Texture nodeTexture_;   // nodes_ as a buffer texture (r32ui)
   uint32_t capacity_ = 0;
   GLuint listBuffer_ = 0;  // the grid's voxel list, read again by inject()
   gpu::OctreeParams paramsData_{};

@@ -1,5 +1,6 @@
 #include "support/scene_builder.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -78,6 +79,24 @@ void SceneBuilder::addBox(glm::vec3 lo, glm::vec3 hi, int material, const glm::m
     corners.insert(corners.end(), {c(f[0]), c(f[1]), c(f[2]), c(f[0]), c(f[2]), c(f[3])});
   }
   addTriangles(corners, material, transform);
+}
+
+void SceneBuilder::addSphere(glm::vec3 centre, float radius, int rings, int material,
+                             const glm::mat4& transform) {
+  auto at = [&](int i, int j) {
+    const float theta = 3.14159265f * static_cast<float>(i) / static_cast<float>(rings);
+    const float phi = 3.14159265f * static_cast<float>(j) / static_cast<float>(rings);
+    return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                       std::sin(theta) * std::sin(phi));
+  };
+  std::vector<glm::vec3> t;
+  for (int i = 0; i < rings; ++i) {
+    for (int j = 0; j < 2 * rings; ++j) {
+      t.insert(t.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      t.insert(t.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  addTriangles(t, material, transform);
 }
 
 scene::Scene SceneBuilder::finish() {

@@ -20,6 +20,10 @@ class SceneBuilder {
   // A closed box [lo, hi] (12 triangles, outward normals) under `transform`.
   void addBox(glm::vec3 lo, glm::vec3 hi, int material,
               const glm::mat4& transform = glm::mat4(1.0f));
+  // A UV sphere: `rings` rings of 2 x `rings` quads, two flat triangles each, wound
+  // to face its centre.
+  void addSphere(glm::vec3 centre, float radius, int rings, int material,
+                 const glm::mat4& transform = glm::mat4(1.0f));
   // Bounds, auto-scale and a framing camera, as the loader does.
   scene::Scene finish();
   scene::Scene& scene() { return scene_; }

@@ -357,24 +357,6 @@ TEST_F(VoxelizeTest, TrimmedListGrowsForALargerScene) {
   EXPECT_EQ(reused.readEmission(), fresh.readEmission());
 }
 
-// A UV sphere: `rings` rings of 2 x `rings` quads, two flat triangles each.
-std::vector<glm::vec3> sphereTriangles(glm::vec3 centre, float radius, int rings) {
-  auto at = [&](int i, int j) {
-    const float theta = 3.14159265f * static_cast<float>(i) / static_cast<float>(rings);
-    const float phi = 3.14159265f * static_cast<float>(j) / static_cast<float>(rings);
-    return centre + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                       std::sin(theta) * std::sin(phi));
-  };
-  std::vector<glm::vec3> t;
-  for (int i = 0; i < rings; ++i) {
-    for (int j = 0; j < 2 * rings; ++j) {
-      t.insert(t.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      t.insert(t.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  }
-  return t;
-}
-
 struct PathResult {
   voxel::VoxelGridStats stats;
   std::vector<uint8_t> occupied;
@@ -404,7 +386,7 @@ PathResult voxelizeWithPath(const scene::Scene& s, int n, bool smallInCompute) {
 TEST_F(VoxelizeTest, SmallTrianglePathMatchesTheRaster) {
   SceneBuilder b;
   const int m = b.addMaterial(glm::vec3(0.4f, 0.5f, 0.6f));
-  b.addTriangles(sphereTriangles(glm::vec3(0.0f), 1.0f, 48), m);  // 9216 small triangles
+  b.addSphere(glm::vec3(0.0f), 1.0f, 48, m);  // 9216 small triangles
   const glm::mat4 tilt = glm::rotate(glm::mat4(1.0f), 0.4f, glm::normalize(glm::vec3(1, 2, 3)));
   b.addTriangles({{-1.2f, -1.2f, 0}, {1.2f, -1.2f, 0}, {1.2f, 1.2f, 0}}, m, tilt);  // one large
   const scene::Scene s = b.finish();
@@ -453,8 +435,7 @@ TEST_F(VoxelizeTest, ClosedSphereOfSmallTrianglesIsWatertight) {
   for (int rings : {24, 64}) {
     SceneBuilder b;
     const glm::mat4 t = glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(3, 1, 2)));
-    b.addTriangles(sphereTriangles(glm::vec3(0.0f), 1.0f, rings), b.addMaterial(glm::vec3(0.5f)),
-                   t);
+    b.addSphere(glm::vec3(0.0f), 1.0f, rings, b.addMaterial(glm::vec3(0.5f)), t);
     const scene::Scene s = b.finish();
     for (int n : {32, 64}) {
       const glm::vec3 c =

@@ -1,0 +1,29 @@
+#version 450 core
+// Voxel light that converges: blends this estimate of the leaves' radiance into the
+// running mean, one invocation per listed voxel of the estimate's slice. The estimate (Scratch) is rgb9e5, the mean (Mean) is float; the
+// mean is published into the radiance the tracers read, in rgb9e5. Each estimate
+// weighs its rays: octree.blend.x = rays of this estimate / rays of all so far, so
+// noise falls as 1 / sqrt(estimates), the way pixel noise does.
+#include "voxel_shared.h"
+#include "octree.glsl"
+
+layout(local_size_x = kOctreeGroupSize) in;
+layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
+layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeScratchBinding) readonly buffer Estimate { uint estimate[]; };
+layout(std430, binding = kOctreeMeanBinding) buffer Mean { vec4 mean[]; };
+
+void main() {
+  uint i = octreeInvocation();
+  if (i >= octree.pass.z) return;
+  uint code = voxels[octree.slice.x + i * octree.slice.y];
+  ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
+  int depth = octreeDepth();
+  uint node = 0u;
+  for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
+  vec3 sampled = unpackRgb9e5(estimate[node]);
+  float w = octree.blend.x;
+  vec3 m = w >= 1.0 ? sampled : mean[node].rgb + (sampled - mean[node].rgb) * w;
+  mean[node] = vec4(m, 0.0);
+  radiance[node] = packRgb9e5(m);
+}
