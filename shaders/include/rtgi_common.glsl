@@ -47,8 +47,9 @@ void seedPixel(ivec2 px, uint stage) {
                      rtgi.frame.x);
 }
 
-// Where rays leave the surface: off it along the normal (see kSurfaceOffsetVoxels).
-vec3 rayOrigin(Surface s) { return s.p + s.n * (kSurfaceOffsetVoxels * octreeVoxelSize()); }
+// Where rays leave the surface: off it along the normal, past the voxels the surface
+// touches (surfaceRayOffset).
+vec3 rayOrigin(Surface s) { return s.p + s.n * (surfaceRayOffset(s.n) * octreeVoxelSize()); }
 
 // Interleaving: with N > 1 a pixel traces new rays on every N-th frame only, the
 // pixels of each 4x4 block taking turns in a 4x4 ordered (Bayer) order, so each

@@ -116,8 +116,13 @@ std::string renderHelp() {
          "  -h, --help        this text\n"
          "\n"
          "rtgi and dvr:\n"
-         "  --bounces N       diffuse bounces of indirect light, 0..16 (default 2): the\n"
-         "                    pixel's ray gives one, the voxels hold the rest\n"
+         "  --bounces N       diffuse bounces of indirect light: all (default) or 0..16.\n"
+         "                    The pixel's ray gives one, the voxels hold the rest; with\n"
+         "                    all, the voxels' light feeds back into itself as it refines\n"
+         "  --no-jitter       every frame samples the pixel's centre (default: a sub-pixel\n"
+         "                    offset per frame, so accumulation antialiases edges)\n"
+         "  --refine-rays N   rays per voxel and frame that refine the voxels' light while\n"
+         "                    the scene is still (default 2; 0 keeps the first estimate)\n"
          "  --interleave N    each pixel traces new rays every N-th frame (1, 2, 4, 8, 16;\n"
          "                    default 1): N times less work per frame, N times more\n"
          "                    frames to converge; the first frame traces every pixel\n"
@@ -190,7 +195,7 @@ std::string viewHelp() {
          "  --effects LIST    override the effect plan (see voxgi render --help), e.g.\n"
          "                    +specular,-shadows; the panel shows the plan\n"
          "  --voxels N, --revoxelize, --small-triangles P, --bounces N, --inject-rays N,\n"
-         "  --bounce-rays N, --interleave N, --budget-select S\n"
+         "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S\n"
          "                    as for voxgi render\n"
          "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
          "                    pixels each frame (default 30; off: every pixel, every\n"
@@ -257,7 +262,13 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
       throw UsageError("--small-triangles: '" + v + "' is neither compute nor raster");
     rs->smallTrianglesInCompute = v == "compute";
   } else if (a == "--bounces") {
-    rs->octree.bounces = parseInt("--bounces", value(), 0, 16);
+    const std::string v = value();
+    rs->octree.bounces =
+        v == "all" ? voxel::Octree::Settings::kAllBounces : parseInt("--bounces", v, 0, 16);
+  } else if (a == "--no-jitter") {
+    rs->jitter = false;
+  } else if (a == "--refine-rays") {
+    rs->octree.refineRays = parseInt("--refine-rays", value(), 0, 1024);
   } else if (a == "--interleave") {
     const int n = parseInt("--interleave", value(), 1, 16);
     if ((n & (n - 1)) != 0) throw UsageError("--interleave: must be 1, 2, 4, 8 or 16");

@@ -272,7 +272,10 @@ int runRender(const RenderOptions& o) {
                        {"bytes", os.bytes},
                        {"dense_bytes", os.denseBytes},
                        {"build_bytes", os.buildBytes},
-                       {"bounces", o.render.octree.bounces}};
+                       {"bounces", tree->allBounces() ? nlohmann::json("all")
+                                                      : nlohmann::json(o.render.octree.bounces)},
+                       {"refine_rays", o.render.octree.refineRays},
+                       {"estimates", tree->estimates()}};
   }
   // Stages run once per scene (in the untimed warm-up frame): that run's time.
   for (const gl::StageTime& st : renderer.sceneStages())

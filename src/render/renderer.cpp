@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include "core/log.h"
@@ -55,6 +56,14 @@ scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& se
   if (settings.octree.bounces == 0 && plan.has("indirect")) plan.skip("indirect", "--bounces 0");
   scene::applyOverrides(&plan, settings.effects);
   return plan;
+}
+
+glm::vec2 subpixelJitter(int k) {
+  // 1/g and 1/g^2 for g the plastic number (the real root of x^3 = x + 1).
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  const double n = static_cast<double>(k);
+  return glm::vec2(static_cast<float>(std::fmod(0.5 + a1 * n, 1.0) - 0.5),
+                   static_cast<float>(std::fmod(0.5 + a2 * n, 1.0) - 0.5));
 }
 
 void checkImageSize(int width, int height) {
@@ -273,7 +282,18 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   lastCamera_ = camera;
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
-  const glm::mat4 vp = camera.projection(aspect) * camera.view();
+  glm::mat4 projection = camera.projection(aspect);
+  if (settings_.mode == Mode::kRtgi && settings_.jitter) {
+    // A pixel traces once every `interleave` frames (all of them on the first): its
+    // k-th sample takes offset k.
+    const int n = rtgi_->settings().interleave;
+    const glm::vec2 j = subpixelJitter((accumulated_ + n - 1) / n);
+    glm::mat4 shift(1.0f);  // clip space: xy += offset x w, an NDC shift
+    shift[3] = glm::vec4(2.0f * j.x / static_cast<float>(settings_.width),
+                         2.0f * j.y / static_cast<float>(settings_.height), 0.0f, 1.0f);
+    projection = shift * projection;
+  }
+  const glm::mat4 vp = projection * camera.view();
   for (int i = 0; i < 4; ++i) frame.viewProj[i] = vp[i];
   frame.cameraPosition = glm::vec4(camera.position, 1.0f);
   frame.counts = glm::vec4(static_cast<float>(gpuScene_.lightCount()),
@@ -292,6 +312,10 @@ void Renderer::renderFrame(const scene::Camera& camera) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
     octreeBuilt_ = true;
+  } else if (usesOctree(settings_.mode)) {
+    // The scene is still: the voxels' light converges frame by frame, whatever the
+    // camera does.
+    octree_->refine(ctx, gpuScene_);
   }
   switch (settings_.mode) {
     case Mode::kRaster:

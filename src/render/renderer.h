@@ -75,6 +75,11 @@ struct RenderSettings {
   bool voxelChecksum = true;
   voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
   RtgiPass::Settings rtgi;
+  // rtgi: each accumulated frame rasterizes its G-buffer with a sub-pixel offset of
+  // a low-discrepancy sequence, so the mean converges to the box-filtered pixel (the
+  // path tracer's) rather than to the value at its centre. The first frame is not
+  // offset.
+  bool jitter = true;
   // rtgi: hold this frame rate (0: off) by tracing a varying share of the pixels,
   // chosen by the work mask (rtgi.select; kMask unless set) on top of an interleave
   // of 16 (unless set).
@@ -92,6 +97,11 @@ struct RenderSettings {
 // indirect with --bounces 0, then the --effects overrides. Throws voxgi::Error on a
 // bad override.
 scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& settings);
+
+// The sub-pixel offset, in pixels in [-0.5, 0.5)^2, of jittered frame k: the R2
+// sequence (Roberts 2018, the plastic constant's additive recurrence), which stays
+// evenly spread over any run of consecutive k; k = 0 is the pixel's centre.
+glm::vec2 subpixelJitter(int k);
 
 // Throws voxgi::Error when width x height cannot be rendered on this context.
 void checkImageSize(int width, int height);

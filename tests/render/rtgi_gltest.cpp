@@ -330,5 +330,96 @@ TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
   }
 }
 
+// No fixed pattern: two seeds' images differ by noise alone, and that difference
+// falls about as 1/sqrt(frames) (4x the frames: about half). Noise baked into the
+// voxels' light would stay the same frame after frame.
+TEST_F(RtgiTest, SeedsDifferByNoiseThatAverages) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+  auto difference = [&](int frames) {
+    rs.rtgi.seed = 1;
+    rs.octree.seed = 1;
+    const auto a = render(room, rs, frames, room.camera);
+    rs.rtgi.seed = 2;
+    rs.octree.seed = 2;
+    const auto b = render(room, rs, frames, room.camera);
+    double d2 = 0.0;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (i % 4 != 3) d2 += (a[i] - b[i]) * (a[i] - b[i]);
+    return std::sqrt(d2 / static_cast<double>(a.size() / 4 * 3)) / meanOf(a);
+  };
+  const double d16 = difference(16), d64 = difference(64);
+  std::printf("two seeds: relative RMS difference %.4f at 16 frames, %.4f at 64 (ratio %.2f)\n",
+              d16, d64, d64 / d16);
+  EXPECT_LT(d64, 0.65 * d16);
+  EXPECT_GT(d64, 0.35 * d16);  // noise that averages, not a difference that vanishes
+}
+
+// Antialiasing: a white emitter whose edge crosses the image at 30 degrees, on
+// black. With a sub-pixel offset per frame, 256 frames give every pixel its
+// box-filtered coverage (the exact area of the pixel on the white side) within 0.02;
+// without, the edge stays a staircase of 0s and 1s.
+TEST_F(RtgiTest, JitteredEdgeConvergesToTheBoxFilteredCoverage) {
+  SceneBuilder b;
+  const int white = b.addMaterial(glm::vec3(0.0f), glm::vec3(1.0f));
+  // A large quad in z = 0, its edge through the origin at 30 degrees from the x axis.
+  const float c = std::cos(0.5235988f), s30 = std::sin(0.5235988f);
+  const glm::vec3 along(c, s30, 0.0f), side(-s30, c, 0.0f);
+  const glm::vec3 p0 = -4.0f * along, p1 = 4.0f * along;
+  b.addTriangles({p0, p1, p1 + 4.0f * side, p0, p1 + 4.0f * side, p0 + 4.0f * side}, white);
+  scene::Scene sc = b.finish();
+  sc.lights.clear();
+  sc.defaultLight = false;
+  scene::Camera cam;
+  cam.position = glm::vec3(0.0f, 0.0f, 3.0f);
+  cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  constexpr int size = 24;
+  render::RenderSettings rs = settings(size, 32, render::Mode::kRtgi);
+  const auto img = render(sc, rs, 256, cam);
+  rs.jitter = false;
+  const auto centred = render(sc, rs, 256, cam);
+  // The edge in pixels: the image plane at z = 0 spans 2 x 3 tan(20 deg) a side.
+  const double half = 3.0 * std::tan(0.3490659), pixel = 2.0 * half / size;
+  // Coverage of pixel (x, y) (top-left origin): the area of its square where
+  // dot(q, side) > 0, by clipping the square against that half-plane.
+  auto coverage = [&](int x, int y) {
+    const double x0 = -half + x * pixel, y1 = half - y * pixel;
+    std::vector<glm::dvec2> poly = {
+        {x0, y1 - pixel}, {x0 + pixel, y1 - pixel}, {x0 + pixel, y1}, {x0, y1}};
+    std::vector<glm::dvec2> out;
+    const glm::dvec2 n(side.x, side.y);
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const glm::dvec2 a = poly[i], bb = poly[(i + 1) % poly.size()];
+      const double da = glm::dot(a, n), db = glm::dot(bb, n);
+      if (da >= 0.0) out.push_back(a);
+      if ((da >= 0.0) != (db >= 0.0)) out.push_back(a + (bb - a) * (da / (da - db)));
+    }
+    double area = 0.0;
+    for (size_t i = 0; i < out.size(); ++i) {
+      const glm::dvec2 a = out[i], bb = out[(i + 1) % out.size()];
+      area += a.x * bb.y - bb.x * a.y;
+    }
+    return std::abs(area) / 2.0 / (pixel * pixel);
+  };
+  double worst = 0.0, worstCentred = 0.0;
+  int edgePixels = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double cov = coverage(x, y);
+      const size_t i = (static_cast<size_t>(y) * size + static_cast<size_t>(x)) * 4;
+      worst = std::max(worst, std::abs(img[i] - cov));
+      worstCentred = std::max(worstCentred, std::abs(centred[i] - cov));
+      edgePixels += cov > 1e-6 && cov < 1.0 - 1e-6;
+    }
+  std::printf(
+      "30-degree edge, %d pixels cut: worst error against the coverage %.4f jittered, "
+      "%.4f at pixel centres\n",
+      edgePixels, worst, worstCentred);
+  EXPECT_GT(edgePixels, size);
+  EXPECT_LT(worst, 0.02);
+  EXPECT_GT(worstCentred, 0.3);
+}
+
 }  // namespace
 }  // namespace voxgi::test
