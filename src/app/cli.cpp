@@ -58,8 +58,9 @@ std::string mainHelp() {
          "  view [SCENE]     open a window: fly camera, mode keys, panel, shader hot reload\n"
          "  bench [SCENE]    per-stage timings (medians) for a list of voxel resolutions\n"
          "  compare TEST REF error metrics of a linear image against a reference\n"
+         "  check SCENE      load a glTF scene as render would, without a GL context\n"
          "\n"
-         "  voxgi --help, voxgi render|view|bench|compare --help, voxgi --version\n";
+         "  voxgi --help, voxgi render|view|bench|compare|check --help, voxgi --version\n";
 }
 
 std::string benchHelp() {
@@ -230,6 +231,17 @@ std::string compareHelp() {
          "Exit status: 0 on success, 1 on bad input, 2 on a usage error.\n";
 }
 
+std::string checkHelp() {
+  return "usage: voxgi check SCENE\n"
+         "\n"
+         "Loads SCENE (.gltf or .glb) with every check render makes, prints one line\n"
+         "(triangles, materials, textures, lights) and any warnings, and exits. No GL\n"
+         "context is created.\n"
+         "\n"
+         "Exit status: 0 when the scene loads, 1 on bad input (one line naming the file\n"
+         "and the problem), 2 on a usage error.\n";
+}
+
 namespace {
 
 // The options `render` and `view` share (mode, size, tonemap, voxels); true if `a`
@@ -360,6 +372,26 @@ Invocation parseView(const std::vector<std::string>& args) {
   return inv;
 }
 
+Invocation parseCheck(const std::vector<std::string>& args) {
+  Invocation inv;
+  inv.command = Command::kCheck;
+  for (size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      inv.command = Command::kHelp;
+      inv.helpTopic = "check";
+      return inv;
+    }
+    if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option '" + a + "' (see voxgi check --help)");
+    if (!inv.check.scene.empty())
+      throw UsageError("more than one scene given ('" + inv.check.scene + "' and '" + a + "')");
+    inv.check.scene = a;
+  }
+  if (inv.check.scene.empty()) throw UsageError("check: needs a SCENE");
+  return inv;
+}
+
 Invocation parseCompare(const std::vector<std::string>& args) {
   Invocation inv;
   inv.command = Command::kCompare;
@@ -438,6 +470,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     return inv;
   }
   if (cmd == "compare") return parseCompare(args);
+  if (cmd == "check") return parseCheck(args);
   if (cmd != "render") {
     if (!cmd.empty() && cmd[0] == '-')
       throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");

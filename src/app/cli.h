@@ -48,7 +48,11 @@ struct CompareOptions {
   bool json = false;
 };
 
-enum class Command { kHelp, kVersion, kRender, kView, kBench, kCompare };
+struct CheckOptions {
+  std::string scene;
+};
+
+enum class Command { kHelp, kVersion, kRender, kView, kBench, kCompare, kCheck };
 
 struct Invocation {
   Command command = Command::kHelp;
@@ -56,7 +60,8 @@ struct Invocation {
   ViewOptions view;
   BenchOptions bench;
   CompareOptions compare;
-  std::string helpTopic;  // "", "render", "view", "bench" or "compare"
+  CheckOptions check;
+  std::string helpTopic;  // "", "render", "view", "bench", "compare" or "check"
 };
 
 Invocation parseCommandLine(const std::vector<std::string>& args);
@@ -66,6 +71,7 @@ std::string renderHelp();
 std::string viewHelp();
 std::string benchHelp();
 std::string compareHelp();
+std::string checkHelp();
 std::string versionText();
 
 // The built-in default scene (scenes/cornell_room/cornell_room.gltf).
@@ -76,6 +82,7 @@ std::string shaderRoot();
 int runRender(const RenderOptions& options);
 int runBench(const BenchOptions& options);
 int runCompare(const CompareOptions& options);
+int runCheck(const CheckOptions& options);
 
 }  // namespace voxgi::app
 

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
                    : inv.helpTopic == "view"    ? app::viewHelp().c_str()
                    : inv.helpTopic == "bench"   ? app::benchHelp().c_str()
                    : inv.helpTopic == "compare" ? app::compareHelp().c_str()
+                   : inv.helpTopic == "check"   ? app::checkHelp().c_str()
                                                 : app::mainHelp().c_str(),
                    stdout);
         return 0;
@@ -67,6 +68,8 @@ int main(int argc, char** argv) {
         return app::runBench(inv.bench);
       case app::Command::kCompare:
         return app::runCompare(inv.compare);
+      case app::Command::kCheck:
+        return app::runCheck(inv.check);
     }
   } catch (const app::UsageError& e) {
     std::fprintf(stderr, "voxgi: error: %s\n", e.what());

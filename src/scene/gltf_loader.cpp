@@ -211,11 +211,7 @@ class Loader {
       logDebug(path_ + ": tinygltf: " + firstLine(warn));
     }
 
-    for (const std::string& r : model_.extensionsRequired)
-      if (!kSupportedRequired.count(r)) fail("requires the unsupported extension " + r);
-
-    validateBuffers();
-    validateNodeGraph();
+    validateDocument();
 
     scene_.path = path_;
     readMaterials();
@@ -251,6 +247,10 @@ class Loader {
   }
   glm::vec3 toVec3(const std::vector<double>& v, const std::string& what) const {
     return glm::vec3(toFloat(v[0], what), toFloat(v[1], what), toFloat(v[2], what));
+  }
+  void note_(const std::string& what) {
+    logInfo(path_ + ": " + what);
+    scene_.notes.push_back(what);
   }
   void warn_(const std::string& what) {
     logWarning(path_ + ": " + what);
@@ -439,11 +439,188 @@ class Loader {
     scene_.pose(0.0);
   }
 
-  void validateBuffers() {
+  // --- validity, as the glTF 2.0 spec states it, of the parts voxgi reads ---------
+  // Those parts: asset, extensionsRequired, scene and scenes, every node (hierarchy,
+  // transform, mesh, camera, light), every mesh's primitives (mode, indices,
+  // material, attribute references), the accessors of POSITION, NORMAL, TEXCOORD_0,
+  // indices and animation samplers, every bufferView and buffer, every material's
+  // fields that the renderer uses, the textures and images those materials
+  // reference, every camera and every KHR_lights_punctual light. Anything else
+  // (textures no material uses, normal maps, skins, morph targets) is not read and
+  // not checked. Each problem is one line naming the field, e.g.
+  // "nodes[3].mesh 7 points nowhere (5 meshes)".
+  void validateDocument() const {
+    checkAsset();
+    checkExtensions();
+    validateBuffers();
+    validateNodeGraph();
+    checkMeshes();
+    checkMaterialFields();
+    checkCameras();
+    checkLights();
+  }
+
+  static std::string countOf(size_t n, const char* one, const char* many) {
+    return strf("%zu %s", n, n == 1 ? one : many);
+  }
+
+  // An index into an array of `size` elements, `field` naming where it was found.
+  void checkIndex(int index, size_t size, const std::string& field, const char* one,
+                  const char* many) const {
+    if (index < 0 || static_cast<size_t>(index) >= size)
+      fail(strf("%s %d points nowhere (%s)", field.c_str(), index,
+                countOf(size, one, many).c_str()));
+  }
+
+  // "2.0" -> 2, 0; false unless the text is MAJOR.MINOR in digits.
+  static bool parseVersion(const std::string& v, int* major, int* minor) {
+    const size_t dot = v.find('.');
+    auto digits = [](const std::string& s) {
+      return !s.empty() && s.size() < 9 &&
+             std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (dot == std::string::npos || !digits(v.substr(0, dot)) || !digits(v.substr(dot + 1)))
+      return false;
+    *major = std::stoi(v.substr(0, dot));
+    *minor = std::stoi(v.substr(dot + 1));
+    return true;
+  }
+
+  void checkAsset() const {
+    int major = 0, minor = 0;
+    const std::string& v = model_.asset.version;
+    if (!parseVersion(v, &major, &minor))
+      fail("asset.version \"" + v + "\": not a MAJOR.MINOR version");
+    if (major != 2) fail("asset.version \"" + v + "\": only glTF 2.x is supported");
+    const std::string& mv = model_.asset.minVersion;
+    if (mv.empty()) return;
+    if (!parseVersion(mv, &major, &minor))
+      fail("asset.minVersion \"" + mv + "\": not a MAJOR.MINOR version");
+    if (major != 2 || minor > 0)
+      fail("asset.minVersion \"" + mv + "\": needs a reader newer than glTF 2.0");
+  }
+
+  void checkExtensions() const {
+    const auto& used = model_.extensionsUsed;
+    for (size_t i = 0; i < model_.extensionsRequired.size(); ++i) {
+      const std::string& r = model_.extensionsRequired[i];
+      if (!kSupportedRequired.count(r)) fail("requires the unsupported extension " + r);
+      if (std::find(used.begin(), used.end(), r) == used.end())
+        fail(strf("extensionsRequired[%zu] %s is not in extensionsUsed", i, r.c_str()));
+    }
+  }
+
+  void checkMeshes() const {
+    for (size_t m = 0; m < model_.meshes.size(); ++m) {
+      const auto& prims = model_.meshes[m].primitives;
+      if (prims.empty()) fail(strf("meshes[%zu].primitives is empty", m));
+      for (size_t p = 0; p < prims.size(); ++p) {
+        const auto& prim = prims[p];
+        const std::string where = strf("meshes[%zu].primitives[%zu]", m, p);
+        for (const auto& [name, index] : prim.attributes)
+          checkIndex(index, model_.accessors.size(), where + ".attributes." + name, "accessor",
+                     "accessors");
+        if (prim.indices != -1)
+          checkIndex(prim.indices, model_.accessors.size(), where + ".indices", "accessor",
+                     "accessors");
+        if (prim.material != -1)
+          checkIndex(prim.material, model_.materials.size(), where + ".material", "material",
+                     "materials");
+      }
+    }
+  }
+
+  // A factor the spec bounds: refused outside [lo, hi] (NaN included).
+  void checkRange(double v, double lo, double hi, const std::string& field) const {
+    if (!(v >= lo && v <= hi)) fail(strf("%s %g: outside [%g, %g]", field.c_str(), v, lo, hi));
+  }
+
+  void checkMaterialFields() const {
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const auto& m = model_.materials[i];
+      const std::string at = strf("materials[%zu]", i);
+      const auto& pbr = m.pbrMetallicRoughness;
+      const std::string p = at + ".pbrMetallicRoughness.";
+      if (pbr.baseColorFactor.size() != 4) fail(p + "baseColorFactor: needs 4 numbers");
+      for (size_t c = 0; c < 4; ++c)
+        checkRange(pbr.baseColorFactor[c], 0.0, 1.0, strf("%sbaseColorFactor[%zu]", p.c_str(), c));
+      checkRange(pbr.metallicFactor, 0.0, 1.0, p + "metallicFactor");
+      checkRange(pbr.roughnessFactor, 0.0, 1.0, p + "roughnessFactor");
+      // Above 1 is accepted: exporters wrote HDR emission so before
+      // KHR_materials_emissive_strength (scenes/cornell_box does).
+      if (m.emissiveFactor.size() != 3) fail(at + ".emissiveFactor: needs 3 numbers");
+      for (size_t c = 0; c < 3; ++c)
+        checkRange(m.emissiveFactor[c], 0.0, kHuge, strf("%s.emissiveFactor[%zu]", at.c_str(), c));
+      auto it = m.extensions.find("KHR_materials_emissive_strength");
+      if (it != m.extensions.end() && it->second.Has("emissiveStrength"))
+        checkRange(it->second.Get("emissiveStrength").GetNumberAsDouble(), 0.0, kHuge,
+                   at + ".extensions.KHR_materials_emissive_strength.emissiveStrength");
+      if (m.alphaMode != "OPAQUE" && m.alphaMode != "MASK" && m.alphaMode != "BLEND")
+        fail(at + ".alphaMode \"" + m.alphaMode + "\": not OPAQUE, MASK or BLEND");
+      checkRange(m.alphaCutoff, 0.0, kHuge, at + ".alphaCutoff");
+      if (pbr.baseColorTexture.index != -1)
+        checkIndex(pbr.baseColorTexture.index, model_.textures.size(), p + "baseColorTexture.index",
+                   "texture", "textures");
+    }
+  }
+
+  void checkCameras() const {
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    for (size_t i = 0; i < model_.cameras.size(); ++i) {
+      const auto& c = model_.cameras[i];
+      const std::string at = strf("cameras[%zu]", i);
+      if (c.type == "perspective") {
+        const auto& p = c.perspective;
+        const std::string f = at + ".perspective.";
+        if (!(p.yfov > 0.0)) fail(strf("%syfov %g: must be positive", f.c_str(), p.yfov));
+        if (!(p.znear > 0.0)) fail(strf("%sznear %g: must be positive", f.c_str(), p.znear));
+        if (p.zfar != 0.0 && !(p.zfar > p.znear))
+          fail(strf("%szfar %g: must be greater than znear %g", f.c_str(), p.zfar, p.znear));
+        checkRange(p.aspectRatio, 0.0, kHuge, f + "aspectRatio");
+      } else if (c.type == "orthographic") {
+        const auto& o = c.orthographic;
+        const std::string f = at + ".orthographic.";
+        if (o.xmag == 0.0 || o.ymag == 0.0 || !std::isfinite(o.xmag) || !std::isfinite(o.ymag))
+          fail(f + "xmag and ymag: must be finite and not zero");
+        checkRange(o.znear, 0.0, kHuge, f + "znear");
+        if (!(o.zfar > o.znear))
+          fail(strf("%szfar %g: must be greater than znear %g", f.c_str(), o.zfar, o.znear));
+      } else {
+        fail(at + ".type \"" + c.type + "\": not perspective or orthographic");
+      }
+    }
+  }
+
+  void checkLights() const {
+    constexpr double kHalfPi = 1.5707963267948966;
+    for (size_t i = 0; i < model_.lights.size(); ++i) {
+      const auto& l = model_.lights[i];
+      const std::string at = strf("KHR_lights_punctual.lights[%zu]", i);
+      if (l.type != "directional" && l.type != "point" && l.type != "spot")
+        fail(at + ".type: unknown type '" + l.type + "'");
+      if (!l.color.empty() && l.color.size() != 3) fail(at + ".color: needs 3 numbers");
+      for (size_t c = 0; c < l.color.size(); ++c)
+        checkRange(l.color[c], 0.0, 1.0, strf("%s.color[%zu]", at.c_str(), c));
+      checkRange(l.intensity, 0.0, std::numeric_limits<double>::max(), at + ".intensity");
+      if (l.range < 0.0 || !std::isfinite(l.range))
+        fail(strf("%s.range %g: must be positive", at.c_str(), l.range));
+      if (l.type != "spot") continue;
+      checkRange(l.spot.outerConeAngle, 0.0, kHalfPi, at + ".spot.outerConeAngle");
+      if (!(l.spot.innerConeAngle >= 0.0 && l.spot.innerConeAngle < l.spot.outerConeAngle))
+        fail(strf("%s.spot.innerConeAngle %g: outside [0, outerConeAngle %g)", at.c_str(),
+                  l.spot.innerConeAngle, l.spot.outerConeAngle));
+    }
+  }
+
+  void validateBuffers() const {
     for (size_t i = 0; i < model_.bufferViews.size(); ++i) {
       const auto& bv = model_.bufferViews[i];
-      if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
-        fail(strf("bufferView %zu: buffer %d does not exist", i, bv.buffer));
+      checkIndex(bv.buffer, model_.buffers.size(), strf("bufferViews[%zu].buffer", i), "buffer",
+                 "buffers");
+      if (bv.byteStride != 0 && (bv.byteStride < 4 || bv.byteStride > 252 || bv.byteStride % 4))
+        fail(strf("bufferViews[%zu].byteStride %zu: not a multiple of 4 from 4 to 252", i,
+                  bv.byteStride));
       const size_t size = model_.buffers[static_cast<size_t>(bv.buffer)].data.size();
       if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset)
         fail(strf("bufferView %zu: bytes [%zu, %zu) exceed buffer %d of %zu bytes", i,
@@ -451,13 +628,29 @@ class Loader {
     }
   }
 
-  void validateNodeGraph() {
+  // The indices a node holds (its children are checked with the graph).
+  void checkNode(size_t i) const {
+    const auto& node = model_.nodes[i];
+    const std::string at = strf("nodes[%zu]", i);
+    if (node.mesh != -1)
+      checkIndex(node.mesh, model_.meshes.size(), at + ".mesh", "mesh", "meshes");
+    if (node.camera != -1)
+      checkIndex(node.camera, model_.cameras.size(), at + ".camera", "camera", "cameras");
+    auto le = node.extensions.find("KHR_lights_punctual");
+    if (le != node.extensions.end() && le->second.Has("light"))
+      checkIndex(le->second.Get("light").GetNumberAsInt(), model_.lights.size(),
+                 at + ".extensions.KHR_lights_punctual.light", "light", "lights");
+  }
+
+  void validateNodeGraph() const {
     const size_t n = model_.nodes.size();
     std::vector<int> parent(n, -1);
     for (size_t i = 0; i < n; ++i) {
-      for (int c : model_.nodes[i].children) {
-        if (c < 0 || static_cast<size_t>(c) >= n)
-          fail(strf("node %zu: child %d does not exist", i, c));
+      checkNode(i);
+      const auto& children = model_.nodes[i].children;
+      for (size_t k = 0; k < children.size(); ++k) {
+        const int c = children[k];
+        checkIndex(c, n, strf("nodes[%zu].children[%zu]", i, k), "node", "nodes");
         if (static_cast<size_t>(c) == i) fail(strf("node %zu: is its own child (cycle)", i));
         if (parent[static_cast<size_t>(c)] >= 0)
           fail(strf("node %d: has two parents (%d and %zu); the node graph must be a forest", c,
@@ -473,10 +666,28 @@ class Loader {
           fail(strf("node %zu: cycle in the node graph", i));
       }
     }
-    for (size_t s = 0; s < model_.scenes.size(); ++s)
-      for (int r : model_.scenes[s].nodes)
-        if (r < 0 || static_cast<size_t>(r) >= n)
-          fail(strf("scene %zu: node %d does not exist", s, r));
+    checkScenes(parent);
+  }
+
+  void checkScenes(const std::vector<int>& parent) const {
+    const size_t count = model_.scenes.size();
+    if (model_.defaultScene != -1 &&
+        (model_.defaultScene < 0 || static_cast<size_t>(model_.defaultScene) >= count))
+      fail(strf("scene %d out of range (%s)", model_.defaultScene,
+                countOf(count, "scene", "scenes").c_str()));
+    for (size_t s = 0; s < count; ++s) {
+      const auto& roots = model_.scenes[s].nodes;
+      for (size_t k = 0; k < roots.size(); ++k) {
+        const std::string at = strf("scenes[%zu].nodes[%zu]", s, k);
+        checkIndex(roots[k], model_.nodes.size(), at, "node", "nodes");
+        const int p = parent[static_cast<size_t>(roots[k])];
+        if (p >= 0)
+          fail(strf("%s %d is not a root node: node %d is its parent", at.c_str(), roots[k], p));
+        if (std::find(roots.begin(), roots.begin() + static_cast<long>(k), roots[k]) !=
+            roots.begin() + static_cast<long>(k))
+          fail(strf("%s %d is listed twice", at.c_str(), roots[k]));
+      }
+    }
   }
 
   // Transforms are composed in double precision: a scene placed 10^4 units from
@@ -524,8 +735,7 @@ class Loader {
 
   View accessor(int index, const char* what, std::initializer_list<int> types,
                 std::initializer_list<int> componentTypes) const {
-    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
-      fail(strf("%s: accessor %d does not exist", what, index));
+    checkIndex(index, model_.accessors.size(), strf("%s: accessor", what), "accessor", "accessors");
     const auto& a = model_.accessors[static_cast<size_t>(index)];
     if (a.sparse.isSparse)
       fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
@@ -535,8 +745,11 @@ class Loader {
     if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) ==
         componentTypes.end())
       fail(strf("accessor %d (%s): wrong component type %d", index, what, a.componentType));
-    if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model_.bufferViews.size())
-      fail(strf("accessor %d (%s): bufferView %d does not exist", index, what, a.bufferView));
+    if (a.bufferView == -1)
+      fail(strf("accessors[%d] (%s): no bufferView (accessors of zeros are not supported)", index,
+                what));
+    checkIndex(a.bufferView, model_.bufferViews.size(), strf("accessors[%d].bufferView", index),
+               "bufferView", "bufferViews");
     if (a.count == 0 || a.count > (size_t{1} << 31))
       fail(strf("accessor %d (%s): count %zu out of range", index, what, a.count));
     const auto& bv = model_.bufferViews[static_cast<size_t>(a.bufferView)];
@@ -552,6 +765,7 @@ class Loader {
     if (a.byteOffset > bv.byteLength || need > bv.byteLength)
       fail(strf("accessor %d (%s): needs %zu bytes, bufferView %d has %zu", index, what, need,
                 a.bufferView, bv.byteLength));
+    checkAlignment(index, what, a, bv, compSize, stride);
     const auto& buf = model_.buffers[static_cast<size_t>(bv.buffer)];
     View v;
     v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
@@ -560,7 +774,98 @@ class Loader {
     v.componentType = a.componentType;
     v.type = a.type;
     v.normalized = a.normalized;
+    checkBounds(index, what, a, v, nComp, compSize);
     return v;
+  }
+
+  // The spec's alignment rules: components on their own size; vertex attribute
+  // elements on 4 bytes; index data tightly packed.
+  void checkAlignment(int index, const char* what, const tinygltf::Accessor& a,
+                      const tinygltf::BufferView& bv, int compSize, size_t stride) const {
+    const auto cs = static_cast<size_t>(compSize);
+    if (a.byteOffset % cs || (bv.byteOffset + a.byteOffset) % cs)
+      fail(
+          strf("accessors[%d].byteOffset %zu (in bufferView %d at %zu): not a multiple of the "
+               "%d-byte component size",
+               index, a.byteOffset, a.bufferView, bv.byteOffset, compSize));
+    if (bv.byteStride % cs)
+      fail(
+          strf("bufferViews[%d].byteStride %zu: not a multiple of accessor %d's %d-byte "
+               "components",
+               a.bufferView, bv.byteStride, index, compSize));
+    const std::string_view role(what);
+    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0") &&
+        (a.byteOffset % 4 || stride % 4))
+      fail(
+          strf("accessors[%d] (%s): elements of %zu bytes at offset %zu are not 4-byte aligned, "
+               "as vertex attributes must be",
+               index, what, stride, a.byteOffset));
+    if (role == "indices" && bv.byteStride != 0)
+      fail(strf("bufferViews[%d].byteStride %zu: index data must not have a byteStride",
+                a.bufferView, bv.byteStride));
+  }
+
+  static double rawComponent(const unsigned char* p, int componentType) {
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return static_cast<double>(static_cast<int8_t>(*p));
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return static_cast<double>(*p);
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      default: {
+        float v;
+        std::memcpy(&v, p, 4);
+        return static_cast<double>(v);
+      }
+    }
+  }
+
+  // min and max: required for POSITION and animation input; where given, they
+  // must be the data's bounds (compared as the component type stores them).
+  void checkBounds(int index, const char* what, const tinygltf::Accessor& a, const View& v,
+                   int nComp, int compSize) const {
+    const std::string_view role(what);
+    const bool required = role == "POSITION" || role == "animation input";
+    if (a.minValues.empty() && a.maxValues.empty() && !required) return;
+    const auto n = static_cast<size_t>(nComp);
+    if (a.minValues.size() != n || a.maxValues.size() != n)
+      fail(strf("accessors[%d] (%s): min and max must both be given, %d numbers each", index, what,
+                nComp));
+    const bool isFloat = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    auto stored = [&](double x) {
+      return isFloat ? static_cast<double>(static_cast<float>(x)) : x;
+    };
+    for (size_t c = 0; c < n; ++c) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (size_t i = 0; i < v.count; ++i) {
+        const double x = rawComponent(v.data + i * v.stride + c * static_cast<size_t>(compSize),
+                                      a.componentType);
+        if (!std::isfinite(x)) continue;  // refused, or repaired, where it is read
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      if (lo > hi) continue;
+      if (stored(a.minValues[c]) != lo)
+        fail(strf("accessors[%d].min[%zu] %.9g: the data's minimum is %.9g", index, c,
+                  a.minValues[c], lo));
+      if (stored(a.maxValues[c]) != hi)
+        fail(strf("accessors[%d].max[%zu] %.9g: the data's maximum is %.9g", index, c,
+                  a.maxValues[c], hi));
+    }
   }
 
   static float readComponent(const unsigned char* p, int componentType, bool normalized) {
@@ -614,7 +919,7 @@ class Loader {
       mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
       mat.emission = glm::max(mat.emission, 0.0f);
       if (pbr.baseColorTexture.index != -1)
-        mat.baseColorTexture = texture(pbr.baseColorTexture.index, i);
+        mat.baseColorTexture = texture(pbr.baseColorTexture.index);
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -624,14 +929,17 @@ class Loader {
     scene_.materials.push_back(d);
   }
 
-  int texture(int index, size_t material) {
-    if (index < 0 || static_cast<size_t>(index) >= model_.textures.size())
-      fail(strf("material %zu: texture %d does not exist", material, index));
+  // A texture a material reads: its source and sampler must exist (a texture no
+  // material uses is not read, so not checked).
+  int texture(int index) {
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
-    const int source = model_.textures[static_cast<size_t>(index)].source;
-    if (source < 0 || static_cast<size_t>(source) >= model_.images.size())
-      fail(strf("texture %d: image %d does not exist", index, source));
+    const auto& tex = model_.textures[static_cast<size_t>(index)];
+    const int source = tex.source;
+    checkIndex(source, model_.images.size(), strf("textures[%d].source", index), "image", "images");
+    if (tex.sampler != -1)
+      checkIndex(tex.sampler, model_.samplers.size(), strf("textures[%d].sampler", index),
+                 "sampler", "samplers");
     const auto& img = model_.images[static_cast<size_t>(source)];
     if (img.image.empty() || img.width <= 0 || img.height <= 0)
       fail(strf("image %d: missing or unreadable image '%s'", source, img.uri.c_str()));
@@ -649,17 +957,17 @@ class Loader {
   void traverse() {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
-      const size_t s = model_.defaultScene >= 0 &&
-                               static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
-                           ? static_cast<size_t>(model_.defaultScene)
-                           : 0;
+      const size_t s = model_.defaultScene >= 0 ? static_cast<size_t>(model_.defaultScene) : 0;
       roots = model_.scenes[s].nodes;
     } else {
+      // Valid glTF: with no scenes, every root node (no node's child) is drawn.
       std::vector<bool> child(model_.nodes.size(), false);
       for (const auto& n : model_.nodes)
         for (int c : n.children) child[static_cast<size_t>(c)] = true;
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!child[i]) roots.push_back(static_cast<int>(i));
+      note_(strf("no scenes: rendering all %s (the nodes that are no node's child)",
+                 countOf(roots.size(), "root node", "root nodes").c_str()));
     }
     std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
       const auto& node = model_.nodes[static_cast<size_t>(index)];
@@ -848,6 +1156,13 @@ class Loader {
             v = s;
           } else
             std::memcpy(&v, q, 4);
+          const uint32_t restart = iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 0xffu
+                                   : iv.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                       ? 0xffffu
+                                       : 0xffffffffu;
+          if (v == restart)
+            fail(strf("%s: index %u at %zu is the primitive restart value, which glTF forbids",
+                      where.c_str(), v, i));
           if (v >= p.count)
             fail(strf("%s: index %u at %zu is out of range (%zu vertices)", where.c_str(), v, i,
                       p.count));

@@ -158,6 +158,7 @@ struct Scene {
   double animationDuration = 0.0;  // seconds; time wraps around
   Bounds motionBounds;             // union of the animated vertices over all poses
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;  // information the loader printed (a file without scenes)
 
   size_t triangleCount() const { return indices.size() / 3; }
   bool animated() const { return !animatedRanges.empty(); }

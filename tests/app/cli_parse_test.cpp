@@ -76,6 +76,18 @@ TEST(CliParse, Compare) {
   EXPECT_THROW(parse({"compare", "a.exr", "b.exr", "--bogus"}), UsageError);
 }
 
+TEST(CliParse, Check) {
+  Invocation inv = parse({"check", "scene.gltf"});
+  EXPECT_EQ(inv.command, Command::kCheck);
+  EXPECT_EQ(inv.check.scene, "scene.gltf");
+  inv = parse({"check", "--help"});
+  EXPECT_EQ(inv.command, Command::kHelp);
+  EXPECT_EQ(inv.helpTopic, "check");
+  EXPECT_THROW(parse({"check"}), UsageError);
+  EXPECT_THROW(parse({"check", "a.gltf", "b.gltf"}), UsageError);
+  EXPECT_THROW(parse({"check", "a.gltf", "--bogus"}), UsageError);
+}
+
 TEST(CliParse, HelpAndVersion) {
   EXPECT_EQ(parse({}).command, Command::kHelp);
   EXPECT_EQ(parse({"--help"}).command, Command::kHelp);

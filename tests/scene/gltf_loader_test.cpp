@@ -541,7 +541,9 @@ TEST(GltfLoaderCorpus, ValidBaseScenesLoad) {
                                                    {"quad_normals.gltf", 2},
                                                    {"triangle.gltf", 1},
                                                    {"textured.gltf", 2},
-                                                   {"quad.glb", 2}};
+                                                   {"quad.glb", 2},
+                                                   {"no_scenes.gltf", 6},
+                                                   {"unread_texture_points_nowhere.gltf", 2}};
   for (const auto& [name, count] : triangles) {
     SCOPED_TRACE(name);
     const Scene s = loadGltf(dir + "/" + name);
@@ -557,6 +559,20 @@ TEST(GltfLoaderCorpus, ValidBaseScenesLoad) {
       EXPECT_EQ(s.textures[0].rgba8[1], 0);
     }
   }
+}
+
+// A file without scenes is valid glTF: every root node is drawn (two here, one with
+// a child: three quads), and one line says so.
+TEST(GltfLoaderCorpus, NoScenesDrawsEveryRootNode) {
+  const Scene s = loadGltf(malformedDir() + "/valid/no_scenes.gltf");
+  EXPECT_EQ(s.triangleCount(), 6u);
+  EXPECT_EQ(s.draws.size(), 3u);
+  ASSERT_EQ(s.notes.size(), 1u) << joined(s.notes);
+  EXPECT_NE(s.notes[0].find("no scenes: rendering all 2 root nodes"), std::string::npos)
+      << s.notes[0];
+  EXPECT_EQ(s.notes[0].find('\n'), std::string::npos);
+  // A file with scenes says nothing of the kind.
+  EXPECT_TRUE(loadGltf(malformedDir() + "/valid/quad.gltf").notes.empty());
 }
 
 // Loads `path` in a forked child (stderr to /dev/null, killed after 30 s) and

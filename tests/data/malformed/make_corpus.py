@@ -248,7 +248,7 @@ def _(g):
     g["bufferViews"][1]["byteLength"] += 64
 
 
-@case("bufferview_bad_buffer.gltf", "buffer 3 does not exist")
+@case("bufferview_bad_buffer.gltf", "bufferViews[0].buffer 3 points nowhere (1 buffer)")
 @edited
 def _(g):
     g["bufferViews"][0]["buffer"] = 3
@@ -285,19 +285,19 @@ def _(g):
     g["accessors"][0]["count"] = 2**62 + 1  # stride * count wraps a 64-bit size
 
 
-@case("accessor_bad_bufferview.gltf", "bufferView 9 does not exist")
+@case("accessor_bad_bufferview.gltf", "accessors[0].bufferView 9 points nowhere (2 bufferViews)")
 @edited
 def _(g):
     g["accessors"][0]["bufferView"] = 9
 
 
-@case("position_bad_accessor.gltf", "accessor 9 does not exist")
+@case("position_bad_accessor.gltf", "attributes.POSITION 9 points nowhere (2 accessors)")
 @edited
 def _(g):
     g["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9
 
 
-@case("indices_bad_accessor.gltf", "indices accessor")
+@case("indices_bad_accessor.gltf", "primitive indices accessor out of bounds")
 @edited
 def _(g):
     g["meshes"][0]["primitives"][0]["indices"] = 9
@@ -424,19 +424,19 @@ def _(g):
     g["nodes"] = [{"children": [2]}, {"children": [2]}, {"mesh": 0}]
 
 
-@case("node_bad_child.gltf", "child 7 does not exist")
+@case("node_bad_child.gltf", "nodes[0].children[0] 7 points nowhere (1 node)")
 @edited
 def _(g):
     g["nodes"][0]["children"] = [7]
 
 
-@case("scene_bad_node.gltf", "node 5 does not exist")
+@case("scene_bad_node.gltf", "scenes[0].nodes[1] 5 points nowhere (1 node)")
 @edited
 def _(g):
     g["scenes"][0]["nodes"] = [0, 5]
 
 
-@case("node_bad_mesh.gltf", "mesh 7 does not exist")
+@case("node_bad_mesh.gltf", "nodes[0].mesh 7 points nowhere (1 mesh)")
 @edited
 def _(g):
     g["nodes"][0]["mesh"] = 7
@@ -448,7 +448,7 @@ def _(g):
     g["nodes"][0]["mesh"] = -2
 
 
-@case("node_bad_camera.gltf", "camera 3 does not exist")
+@case("node_bad_camera.gltf", "nodes[1].camera 3 points nowhere (0 cameras)")
 @edited
 def _(g):
     g["nodes"].append({"camera": 3, "translation": [0.0, 0.0, 2.0]})
@@ -463,7 +463,7 @@ def _(g):
     g["scenes"][0]["nodes"].append(1)
 
 
-@case("node_bad_light.gltf", "light 4 does not exist")
+@case("node_bad_light.gltf", "nodes[0].extensions.KHR_lights_punctual.light 4 points nowhere (1 light)")
 @edited
 def _(g):
     g["extensionsUsed"] = ["KHR_lights_punctual"]
@@ -501,7 +501,7 @@ def _(g):
 
 
 # Materials, textures, images.
-@case("primitive_bad_material.gltf", "material 3 does not exist")
+@case("primitive_bad_material.gltf", "meshes[0].primitives[0].material 3 points nowhere (1 material)")
 @edited
 def _(g):
     g["materials"] = [{}]
@@ -515,14 +515,14 @@ def _(g):
     g["meshes"][0]["primitives"][0]["material"] = 0
 
 
-@case("material_bad_texture_index.gltf", "texture 3 does not exist")
+@case("material_bad_texture_index.gltf", "baseColorTexture.index 3 points nowhere (1 texture)")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})
     g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 3
     return to_json(g)
 
 
-@case("texture_bad_image_index.gltf", "image 5 does not exist")
+@case("texture_bad_image_index.gltf", "textures[0].source 5 points nowhere (1 image)")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})
     g["textures"][0]["source"] = 5
@@ -601,13 +601,253 @@ def _():
     return b"glTF" + struct.pack("<II", 2, 20 + len(text)) + struct.pack("<I", len(text)) + b"JSON" + text
 
 
+
+# Validity rules of the glTF 2.0 spec for the parts voxgi reads (see README,
+# "glTF validity"). Index errors name the field: "nodes[0].mesh 7 points nowhere".
+@case("asset_version_3.gltf", 'asset.version "3.0": only glTF 2.x is supported')
+@edited
+def _(g):
+    g["asset"]["version"] = "3.0"
+
+
+@case("asset_version_not_a_version.gltf", "not a MAJOR.MINOR version")
+@edited
+def _(g):
+    g["asset"]["version"] = "two"
+
+
+@case("asset_min_version_newer.gltf", 'asset.minVersion "2.1"')
+@edited
+def _(g):
+    g["asset"]["version"] = "2.1"
+    g["asset"]["minVersion"] = "2.1"
+
+
+@case("required_extension_not_used.gltf", "extensionsRequired[0] KHR_lights_punctual is not in extensionsUsed")
+@edited
+def _(g):
+    g["extensionsRequired"] = ["KHR_lights_punctual"]
+
+
+@case("scene_out_of_range.gltf", "scene 4 out of range (2 scenes)")
+@edited
+def _(g):
+    g["scenes"].append({"nodes": [0]})
+    g["scene"] = 4
+
+
+@case("scene_without_scenes.gltf", "scene 0 out of range (0 scenes)")
+@edited
+def _(g):
+    del g["scenes"]
+
+
+@case("scene_non_root_node.gltf", "scenes[0].nodes[1] 1 is not a root node")
+@edited
+def _(g):
+    g["nodes"] = [{"children": [1]}, {"mesh": 0}]
+    g["scenes"][0]["nodes"] = [0, 1]
+
+
+@case("scene_node_twice.gltf", "scenes[0].nodes[1] 0 is listed twice")
+@edited
+def _(g):
+    g["scenes"][0]["nodes"] = [0, 0]
+
+
+@case("unused_node_bad_mesh.gltf", "nodes[1].mesh 7 points nowhere (1 mesh)")
+@edited
+def _(g):
+    g["nodes"].append({"mesh": 7})  # in no scene: every node is checked all the same
+
+
+@case("mesh_no_primitives.gltf", "meshes[1].primitives is empty")
+@edited
+def _(g):
+    g["meshes"].append({"primitives": []})
+
+
+@case("normal_bad_accessor.gltf", "meshes[0].primitives[0].attributes.NORMAL 9 points nowhere (2 accessors)")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 9
+
+
+@case("tangent_bad_accessor.gltf", "attributes.TANGENT 9 points nowhere")
+@edited
+def _(g):
+    g["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 9
+
+
+@case("accessor_offset_unaligned.gltf", "not a multiple of the 4-byte component size")
+@edited
+def _(g):
+    g["accessors"][0]["byteOffset"] = 2
+    g["accessors"][0]["count"] = 3
+
+
+@case("texcoord_unaligned.gltf", "not 4-byte aligned")
+def _():
+    g = scene()
+    uvs = bytes([0, 255, 255, 255, 255, 0, 0, 0])  # UNSIGNED_BYTE VEC2: 2-byte elements
+    data = base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1]) + uvs
+    g["buffers"][0] = {"byteLength": len(data), "uri": data_uri(data)}
+    g["bufferViews"].append({"buffer": 0, "byteOffset": len(data) - 8, "byteLength": 8, "target": ARRAY_BUFFER})
+    g["accessors"].append({"bufferView": 2, "componentType": UNSIGNED_BYTE, "normalized": True,
+                           "count": 4, "type": "VEC2"})
+    g["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2
+    return to_json(g)
+
+
+# tinygltf refuses these two before voxgi's own checks, in its own words.
+@case("bytestride_not_multiple_of_4.gltf", "must be the multiple of 4 : 14")
+@edited
+def _(g):
+    g["bufferViews"][0]["byteStride"] = 14
+
+
+@case("bytestride_too_large.gltf", "must be the multiple of 4 : 256")
+@edited
+def _(g):
+    g["bufferViews"][0]["byteStride"] = 256
+
+
+@case("indices_with_bytestride.gltf", "index data must not have a byteStride")
+@edited
+def _(g):
+    g["bufferViews"][1]["byteStride"] = 4
+    g["accessors"][1]["count"] = 3
+
+
+@case("index_primitive_restart.gltf", "primitive restart value")
+def _():
+    return to_json(scene(indices=[0, 1, 2, 0, 2, 65535]))
+
+
+@case("position_no_bounds.gltf", "min and max must both be given")
+@edited
+def _(g):
+    del g["accessors"][0]["min"], g["accessors"][0]["max"]
+
+
+@case("position_max_mismatch.gltf", "accessors[0].max[0] 2: the data's maximum is 1")
+@edited
+def _(g):
+    g["accessors"][0]["max"] = [2.0, 1.0, 0.0]
+
+
+@case("position_min_mismatch.gltf", "accessors[0].min[1] 0.5: the data's minimum is 0")
+@edited
+def _(g):
+    g["accessors"][0]["min"] = [0.0, 0.5, 0.0]
+
+
+def with_material(material):
+    def build():
+        g = scene()
+        g["materials"] = [material]
+        g["meshes"][0]["primitives"][0]["material"] = 0
+        return to_json(g)
+    return build
+
+
+case("material_metallic_above_one.gltf", "pbrMetallicRoughness.metallicFactor 1.5: outside [0, 1]")(
+    with_material({"pbrMetallicRoughness": {"metallicFactor": 1.5}}))
+case("material_negative_roughness.gltf", "roughnessFactor -0.25: outside [0, 1]")(
+    with_material({"pbrMetallicRoughness": {"roughnessFactor": -0.25}}))
+case("material_base_color_above_one.gltf", "baseColorFactor[1] 2: outside [0, 1]")(
+    with_material({"pbrMetallicRoughness": {"baseColorFactor": [1.0, 2.0, 1.0, 1.0]}}))
+case("material_negative_emission.gltf", "materials[0].emissiveFactor[2] -1")(
+    with_material({"emissiveFactor": [1.0, 1.0, -1.0]}))
+case("material_bad_alpha_mode.gltf", 'alphaMode "SOMETIMES": not OPAQUE, MASK or BLEND')(
+    with_material({"alphaMode": "SOMETIMES"}))
+case("material_negative_alpha_cutoff.gltf", "alphaCutoff -0.5")(
+    with_material({"alphaMode": "MASK", "alphaCutoff": -0.5}))
+
+
+@case("material_negative_emissive_strength.gltf", "emissiveStrength -2")
+def _():
+    g = json.loads(with_material({"emissiveFactor": [1.0, 1.0, 1.0], "extensions": {
+        "KHR_materials_emissive_strength": {"emissiveStrength": -2.0}}})())
+    g["extensionsUsed"] = ["KHR_materials_emissive_strength"]
+    return to_json(g)
+
+
+@case("texture_bad_sampler.gltf", "textures[0].sampler 4 points nowhere (1 sampler)")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["textures"][0]["sampler"] = 4
+    return to_json(g)
+
+
+def with_camera(camera):
+    def build():
+        g = scene()
+        g["cameras"] = [camera]
+        g["nodes"].append({"camera": 0, "translation": [0.0, 0.0, 2.0]})
+        g["scenes"][0]["nodes"].append(1)
+        return to_json(g)
+    return build
+
+
+case("camera_zero_znear.gltf", "cameras[0].perspective.znear 0: must be positive")(
+    with_camera({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.0}}))
+case("camera_zfar_below_znear.gltf", "zfar 0.5: must be greater than znear 1")(
+    with_camera({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 1.0, "zfar": 0.5}}))
+case("camera_orthographic_zero_xmag.gltf", "xmag and ymag")(
+    with_camera({"type": "orthographic", "orthographic": {"xmag": 0.0, "ymag": 1.0, "znear": 0.0, "zfar": 10.0}}))
+
+
+def with_light(light):
+    def build():
+        g = scene()
+        g["extensionsUsed"] = ["KHR_lights_punctual"]
+        g["extensions"] = {"KHR_lights_punctual": {"lights": [light]}}
+        g["nodes"].append({"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0.0, 0.0, 2.0]})
+        g["scenes"][0]["nodes"].append(1)
+        return to_json(g)
+    return build
+
+
+case("light_negative_intensity.gltf", "lights[0].intensity -1")(
+    with_light({"type": "point", "intensity": -1.0}))
+case("light_color_above_one.gltf", "lights[0].color[0] 4")(
+    with_light({"type": "point", "color": [4.0, 1.0, 1.0]}))
+case("light_negative_range.gltf", "lights[0].range -3: must be positive")(
+    with_light({"type": "point", "range": -3.0}))
+case("light_spot_inner_above_outer.gltf", "spot.innerConeAngle 0.6: outside [0, outerConeAngle 0.5)")(
+    with_light({"type": "spot", "spot": {"innerConeAngle": 0.6, "outerConeAngle": 0.5}}))
+case("light_spot_outer_above_half_pi.gltf", "spot.outerConeAngle 2")(
+    with_light({"type": "spot", "spot": {"innerConeAngle": 0.1, "outerConeAngle": 2.0}}))
+
+
 VALID = {
     "quad.gltf": lambda: to_json(scene()),
     "quad_normals.gltf": lambda: to_json(scene(normals=True)),
     "triangle.gltf": lambda: to_json(scene(positions=TRIANGLE_POSITIONS, indices=TRIANGLE_INDICES)),
     "textured.gltf": lambda: to_json(textured({"uri": data_uri(TINY_PNG, "image/png")})),
     "quad.glb": lambda: glb(*glb_scene()),
+    "no_scenes.gltf": lambda: no_scenes(),
+    "unread_texture_points_nowhere.gltf": lambda: unread_texture_points_nowhere(),
 }
+
+
+def no_scenes():
+    """Valid glTF without scenes: the two root nodes (and the child of one) are drawn."""
+    g = scene()
+    del g["scene"], g["scenes"]
+    g["nodes"] = [{"mesh": 0, "children": [2]}, {"mesh": 0, "translation": [2.0, 0.0, 0.0]},
+                  {"mesh": 0, "translation": [0.0, 2.0, 0.0]}]
+    return to_json(g)
+
+
+def unread_texture_points_nowhere():
+    """A texture whose source points nowhere, used by no material: invalid glTF in a
+    part voxgi does not read (scenes/cornell_box has one), so it loads."""
+    g = scene()
+    g["samplers"] = [{}]
+    g["textures"] = [{"source": 0, "sampler": 0}]
+    return to_json(g)
 
 
 def write(path, data):
