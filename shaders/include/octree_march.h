@@ -1,7 +1,9 @@
 // Ray marching through the sparse voxel octree (octree_shared.h), written once in
-// the common subset of GLSL and C++: shaders include it after declaring the node
-// buffer `octreeNodes[]` (octree.glsl); C++ (the twin the tests check against a
-// plain dense-grid DDA, src/voxel/octree_march.h) passes the nodes as a pointer.
+// the common subset of GLSL and C++: shaders include it through octree.glsl, which
+// first defines VOXGI_NODE(i) to read the node words (from the buffer texture
+// `octreeNodeTex`, or from the buffer `octreeNodes[]` in shaders that write nodes);
+// C++ passes the nodes as a pointer. The C++ compile is the twin that
+// tests/voxel/octree_gltest.cpp includes and checks against a plain dense-grid DDA.
 //
 // Method: a restart-free walk with a stack of the current voxel's ancestors (a
 // "short stack" of depth + 1 entries, cf. Laine & Karras, "Efficient Sparse Voxel

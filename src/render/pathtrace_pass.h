@@ -19,7 +19,11 @@
 // reflectance = base colour (no Fresnel), anything else the glTF metallic-roughness
 // BRDF (Lambert + GGX with visible-normal sampling, Heitz 2018). An emissive surface
 // emits from its front face (both faces when double-sided) and reflects by its
-// material like any other. Base-colour textures and alpha masks are not read.
+// material like any other. Base-colour textures multiply the base colour: corner
+// UVs per triangle and every texture's sRGB texels live in buffer textures, sampled
+// bilinearly over decoded (linear) texels with repeat wrapping, no mipmaps. Without
+// textures (Settings::textures off, or no textured material) the kernel is compiled
+// without them (VOXGI_NO_TEXTURES). Alpha masks are not read.
 // Camera: the scene camera at the image aspect, box pixel filter (uniform jitter).
 //
 // Tested by tests/render/pathtrace_gltest.cpp: white furnace, a plane under a point

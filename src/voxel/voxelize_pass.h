@@ -16,8 +16,11 @@
 // column. Triangles whose projection spans at most 6 x 6 pixels take a compute path
 // instead (Rauwendaal & Bailey, JCGT 2013) that tests the rasterizer's own samples
 // and adds what a fragment would: see voxelize_small.comp. It passes the other
-// triangles on, compacted per draw, and the raster draws only those (indirect
-// draws), so no small triangle costs the raster's vertex and geometry stages.
+// triangles on, compacted per group of 64 triangles: each group of a draw has its
+// own range of a second index buffer and one indirect draw command that counts the
+// triangles appended there. The raster draws only those (glMultiDrawElementsIndirect
+// over each draw's commands), in the same order every run, so no small triangle
+// costs the raster's vertex and geometry stages.
 // Values are summed in fixed point (16 fractional bits, weighted by covered samples)
 // with atomicAdd: the grid is bit-identical whatever the triangle order; sums
 // saturate, never wrap (see voxel_shared.h for the bound). The sums are sparse. A
