@@ -39,6 +39,18 @@ float surfaceRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 2.0 * voxelSup
 // The same from a voxel's centre, which may lie up to one support off the surface.
 float leafRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 3.0 * voxelSupport(n) + 0.1); }
 
+// A ray that meets an oriented leaf from behind (its normal, where the sides do not
+// cancel, points along the ray) sees the inside of a closed surface, which no light
+// reaches: the voxel occludes but shows no light. Without this, a ray that starts
+// just inside a neighbour's voxel shell, at a contact, gathers the lit outside of
+// that neighbour's far side through its inside (a bright ring under a sphere).
+// `normalWord` is the leaf's packed snorm normal (the material buffer's .y).
+bool seenFromBehind(uint normalWord, vec3 dir) {
+  vec3 n = unpackSnorm4x8(normalWord).xyz;
+  float len2 = dot(n, n);
+  return len2 > 0.25 && dot(n, dir) > 0.25 * sqrt(len2);
+}
+
 // Invocation index of a 1D job spread over a 2D dispatch (more than 65535 groups).
 uint octreeInvocation() {
   return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kOctreeGroupSize +

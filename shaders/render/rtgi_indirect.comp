@@ -1,6 +1,6 @@
 #version 450 core
 // rtgi stage "indirect": one cosine-distributed ray per pixel and frame through the
-// octree; the leaf it hits gives the diffuse radiance it reflects (its injected
+// octree; the leaf it hits (unless seen from behind: seenFromBehind) gives the diffuse radiance it reflects (its injected
 // direct light plus the voxel bounces, bounces - 1 of them), so the pixel sees
 // `bounces` bounces in all. Emission of the voxels hit is left out: light from
 // emitters reaches the pixel through the shadows stage (no double counting).
@@ -16,6 +16,7 @@
 layout(local_size_x = kRtgiTraceGroup) in;
 
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kIndirectImage, rgba16f) uniform writeonly image2D indirectOut;
 
 void main() {
@@ -27,7 +28,8 @@ void main() {
     seedPixel(px, 2u);
     vec3 dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
     MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(p.s), dir, 3.0e38), 0.0, kRaySteps);
-    if (h.hit) result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
+    if (h.hit && !seenFromBehind(material[h.node].y, dir))
+      result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
   }
   imageStore(indirectOut, px, vec4(result, 1.0));
 }

@@ -17,6 +17,7 @@
 layout(local_size_x = kRtgiTraceGroup) in;
 
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
+layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
 
 void main() {
@@ -44,7 +45,9 @@ void main() {
       vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, h), 0.0, 1.0), 5.0);
       vec3 o = rayOrigin(s);
       MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
-      vec3 l = hit.hit ? unpackRgb9e5(radiance[hit.node]) : vec3(0.0);
+      vec3 l = hit.hit && !seenFromBehind(material[hit.node].y, dir)
+                   ? unpackRgb9e5(radiance[hit.node])
+                   : vec3(0.0);
       if (mirror) {
         // Lights seen in a mirror: the exact emitters, unless a voxel closer than
         // the emitter's own voxels (kSurfaceOffsetVoxels in front) hides them.
