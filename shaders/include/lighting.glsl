@@ -81,8 +81,14 @@ struct Surface {
   vec3 v;  // towards the viewer
   vec3 diffuse;  // albedo (1 - metallic) x base colour
   vec3 f0;
-  float alpha;  // GGX alpha = roughness^2
+  float alpha;     // GGX alpha = roughness^2
+  float specular;  // 1: the glTF BRDF; 0: pure Lambert (isLambertian)
 };
+
+// The reference scenes' convention (scenes/reference_scenes.md), which the path
+// tracer follows: metallic 0 with roughness 1 is pure Lambert (albedo = base colour,
+// no Fresnel, no specular lobe), not the glTF BRDF at its roughest.
+bool isLambertian(float metallic, float roughness) { return metallic <= 0.0 && roughness >= 1.0; }
 
 float ggxD(float nh, float alpha) {
   float a2 = alpha * alpha;
@@ -108,7 +114,7 @@ vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
   float nh = max(dot(s.n, h), 0.0);
   float vh = max(dot(s.v, h), 0.0);
   float alpha = clamp(max(s.alpha, alphaMin), 2e-3, 1.0);
-  vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - vh, 5.0);
+  vec3 f = s.specular * (s.f0 + (1.0 - s.f0) * pow(1.0 - vh, 5.0));
   vec3 spec = f * ggxD(nh, alpha) * smithVisibility(nl, nv, alpha);
   vec3 diff = (1.0 - f) * s.diffuse / kPi;
   return (diff + spec) * irradiance;

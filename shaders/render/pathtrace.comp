@@ -194,7 +194,7 @@ Bsdf makeBsdf(GpuMaterial m, float nv) {
   float metallic = m.params.x;
   float roughness = m.params.y;
   b.base = m.baseColor.rgb;
-  b.kind = (metallic <= 0.0 && roughness >= 1.0) ? kLambert
+  b.kind = isLambertian(metallic, roughness) ? kLambert
            : (metallic >= 1.0 && roughness <= 0.0) ? kMirror
                                                    : kGgx;
   b.diffuse = b.base * (1.0 - metallic);

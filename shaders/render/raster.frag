@@ -40,6 +40,7 @@ void main() {
   s.diffuse = base.rgb * (1.0 - metallic);
   s.f0 = mix(vec3(0.04), base.rgb, metallic);
   s.alpha = roughness * roughness;
+  s.specular = isLambertian(metallic, roughness) ? 0.0 : 1.0;
 
 #ifdef VOXGI_NO_EMISSION
   vec3 radiance = vec3(0.0);

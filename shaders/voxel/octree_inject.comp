@@ -69,6 +69,7 @@ void main() {
     s.diffuse = vec3(1.0);
     s.f0 = vec3(0.0);
     s.alpha = 1.0;
+    s.specular = 0.0;
     vec3 e = punctualLight(light, s) * kPi;
     if (all(equal(e, vec3(0.0)))) continue;
     irradiance += e * LIGHT_VISIBLE(p, l, dist, start);
