@@ -14,6 +14,8 @@ namespace {
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
 // radiance, material, emission; refinement: estimate, direct, previous bounce, mean.
 constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4 + 4 + 4 + 4 + 16;
+// With all bounces, the first estimate's chain of bounces (pixel's included).
+constexpr int kFirstChainBounces = 6;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                                 GL_UNIFORM_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT;
 
@@ -232,9 +234,12 @@ uint32_t Octree::setSlice(uint32_t first, uint32_t stride) {
 
 void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
                       bool feedback) {
-  // A finite chain: bounces - 1 voxel bounces (all bounces start with one, like the
-  // default of 2 bounces); feedback: one, from the running mean.
-  const int voxelBounces = feedback ? 1 : allBounces() ? 1 : std::max(0, settings_.bounces - 1);
+  // A finite chain: bounces - 1 voxel bounces; feedback: one, from the running mean.
+  // All bounces start from a chain of kFirstChainBounces, the ones after the first
+  // with a quarter of the rays (they carry albedo^k of the light): refinement then
+  // has little bias left to remove, and mostly noise.
+  const int voxelBounces =
+      feedback ? 1 : allBounces() ? kFirstChainBounces - 1 : std::max(0, settings_.bounces - 1);
   paramsData_.light =
       glm::uvec4(static_cast<uint32_t>(rays), static_cast<uint32_t>(scene.lightCount()),
                  static_cast<uint32_t>(scene.emitterCount()), 0u);
@@ -257,6 +262,8 @@ void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
       glMemoryBarrier(kBarrier);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous_.id());
     }
+    if (b == 2 && allBounces() && !feedback)
+      paramsData_.light.x = static_cast<uint32_t>(std::max(1, bounceRays / 4));
     setPass(static_cast<uint32_t>(stats_.depth), 0, count, static_cast<uint32_t>(b));
     dispatch(bounce_, count);
   }
