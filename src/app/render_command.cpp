@@ -270,6 +270,7 @@ int runRender(const RenderOptions& o) {
                        {"leaves", os.leaves},
                        {"depth", os.depth},
                        {"bytes", os.bytes},
+                       {"refine_bytes", os.refineBytes},
                        {"dense_bytes", os.denseBytes},
                        {"build_bytes", os.buildBytes},
                        {"bounces", tree->allBounces() ? nlohmann::json("all")
@@ -309,6 +310,9 @@ int runRender(const RenderOptions& o) {
                   os.depth, os.nodes, static_cast<double>(os.bytes) / (1 << 20),
                   100.0 * static_cast<double>(os.bytes) / static_cast<double>(os.denseBytes),
                   static_cast<double>(os.denseBytes) / (1 << 20));
+      std::printf("  voxel light: %s bounces, %d estimates per voxel, %.1f MiB to refine it\n",
+                  tree->allBounces() ? "all" : std::to_string(tree->settings().bounces).c_str(),
+                  tree->estimates(), static_cast<double>(os.refineBytes) / (1 << 20));
     }
     std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
                 o.frames);

@@ -12,8 +12,9 @@ namespace {
 
 // std430 limits one SSBO to 128 MiB on llvmpipe: the node buffer's ceiling.
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
-// radiance, material, emission; refinement: estimate, direct, previous bounce, mean.
-constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4 + 4 + 4 + 4 + 16;
+constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4;  // radiance, material, emission
+// The light's refinement: this estimate, its direct light, the previous bounce, the mean.
+constexpr uint64_t kRefineBytesPerNode = 4 + 4 + 4 + 16;
 // With all bounces, the first estimate's chain of bounces (pixel's included).
 constexpr int kFirstChainBounces = 6;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
@@ -183,9 +184,10 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
     stats_.levelNodes.push_back(levelStart_[static_cast<size_t>(l) + 1] -
                                 levelStart_[static_cast<size_t>(l)]);
   stats_.bytes = uint64_t{capacity_} * (4 + kDataBytesPerNode);
+  stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode;
   const uint64_t nn = static_cast<uint64_t>(n);
   stats_.denseBytes = nn * nn * nn * (4 + 4 + 8);  // albedo rgba8, normal rgba8, emission rgba16f
-  stats_.buildBytes = std::max(stats_.buildBytes, stats_.bytes);
+  stats_.buildBytes = std::max(stats_.buildBytes, stats_.bytes + stats_.refineBytes);
 }
 
 void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
@@ -227,9 +229,9 @@ void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   filter(filterRadiance_);
 }
 
-uint32_t Octree::setSlice(uint32_t first, uint32_t stride) {
-  paramsData_.slice = glm::uvec4(first, stride, 0u, 0u);
-  return first < stats_.leaves ? (stats_.leaves - first + stride - 1) / stride : 0u;
+uint32_t Octree::setSlice(uint32_t slice, uint32_t slices) {
+  paramsData_.slice = glm::uvec4(slice, slices, 0u, 0u);
+  return stats_.leaves;  // every listed voxel is visited; those of other slices return
 }
 
 void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
@@ -238,8 +240,9 @@ void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   // All bounces start from a chain of kFirstChainBounces, the ones after the first
   // with a quarter of the rays (they carry albedo^k of the light): refinement then
   // has little bias left to remove, and mostly noise.
-  const int voxelBounces =
-      feedback ? 1 : allBounces() ? kFirstChainBounces - 1 : std::max(0, settings_.bounces - 1);
+  const int voxelBounces = feedback       ? 1
+                           : allBounces() ? kFirstChainBounces - 1
+                                          : std::max(0, settings_.bounces - 1);
   paramsData_.light =
       glm::uvec4(static_cast<uint32_t>(rays), static_cast<uint32_t>(scene.lightCount()),
                  static_cast<uint32_t>(scene.emitterCount()), 0u);

@@ -23,8 +23,8 @@
 // Refinement (stage "refine", once per frame while the scene is still): a voxel's
 // light is a running mean of estimates, as a pixel's is. Each refinement makes one
 // more estimate with fresh random numbers (refineRays rays per leaf) for a slice of
-// the leaves (every S-th listed voxel, S = leaves / refineLeaves rounded up, so a
-// frame's share of this work is bounded whatever the grid) and blends it in
+// the leaves (one in S by a hash of the voxel, S = leaves / refineLeaves rounded up,
+// so a frame's share of this work is bounded whatever the grid) and blends it in
 // (weights growing with the rays so far, see refine()), so the voxels' noise falls
 // as 1/sqrt(frames) instead of being baked into every frame. With all bounces (the default) the
 // estimate gathers its bounce from the running mean itself: each refinement adds a bounce, and the
@@ -56,6 +56,7 @@ struct OctreeStats {
   uint32_t nodes = 0;                // allocated, root included
   uint32_t leaves = 0;               // occupied leaves (= occupied voxels)
   uint64_t bytes = 0;                // resident: nodes and per-node data at the buffers' capacity
+  uint64_t refineBytes = 0;          // resident beside them: the light's refinement buffers
   uint64_t denseBytes = 0;           // the resolved dense grid the octree replaces for tracing
   uint64_t buildBytes = 0;           // peak while building (worst-case node buffer)
   std::vector<uint32_t> levelNodes;  // nodes per level, root first
@@ -117,8 +118,9 @@ class Octree {
   bool buildInto(gl::FrameContext& ctx, const VoxelizePass& grid, uint32_t listed);
   void setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce = 0);
   void dispatch(const gl::Program& p, uint32_t count);
-  // The listed voxels first, first + stride, ...: how many there are.
-  uint32_t setSlice(uint32_t first, uint32_t stride);
+  // The voxels of slice `slice` of `slices` (by a hash of the voxel, inSlice in
+  // octree.glsl); returns the invocations the passes dispatch.
+  uint32_t setSlice(uint32_t slice, uint32_t slices);
   // One estimate of the slice's radiance into estimate_: direct light with `rays`,
   // then the voxel bounces (`feedback`: one, gathered from the running mean).
   void estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,

@@ -21,10 +21,17 @@ TEST(CliParse, Defaults) {
   // other modes render one frame unless told.
   EXPECT_EQ(inv.render.render.mode, render::Mode::kRtgi);
   EXPECT_EQ(inv.render.frames, render::kRtgiDefaultFrames);
-  EXPECT_EQ(inv.render.render.octree.bounces, 2);
+  // Every bounce by default: the voxels' light feeds back into itself as it refines.
+  EXPECT_EQ(inv.render.render.octree.bounces, voxel::Octree::Settings::kAllBounces);
+  EXPECT_EQ(inv.render.render.octree.refineRays, 1);
+  EXPECT_TRUE(inv.render.render.jitter);
   EXPECT_EQ(parse({"render", "--mode", "raster"}).render.frames, 1);
   EXPECT_EQ(parse({"render", "--frames", "3"}).render.frames, 3);
   EXPECT_EQ(parse({"render", "--bounces", "0"}).render.render.octree.bounces, 0);
+  EXPECT_EQ(parse({"render", "--bounces", "all"}).render.render.octree.bounces,
+            voxel::Octree::Settings::kAllBounces);
+  EXPECT_EQ(parse({"render", "--refine-rays", "0"}).render.render.octree.refineRays, 0);
+  EXPECT_FALSE(parse({"render", "--no-jitter"}).render.render.jitter);
   EXPECT_TRUE(inv.render.outputs.empty());
 }
 
@@ -114,6 +121,8 @@ TEST(CliParse, Rejects) {
            {"render", "--spp", "0"},
            {"render", "--bounces", "17"},
            {"render", "--bounces", "-1"},
+           {"render", "--bounces", "every"},
+           {"render", "--refine-rays", "-1"},
            {"render", "--spp", "many"},
            {"render", "--seed", "-1"},
            {"render", "--max-depth", "0"},

@@ -116,14 +116,14 @@ class EffectsTest : public GlProgramsTest {
 TEST_F(EffectsTest, DiffuseSceneHasNoSpecularStage) {
   const scene::Scene s = diffuseScene();
   const Frames plan = render(s, settings(""), 3);
-  EXPECT_EQ(plan.stages,
-            (std::vector<std::string>{"gbuffer", "shadows", "indirect", "accumulate", "tonemap"}));
+  EXPECT_EQ(plan.stages, (std::vector<std::string>{"refine", "gbuffer", "shadows", "indirect",
+                                                   "accumulate", "tonemap"}));
   EXPECT_EQ(plan.sceneStages, (std::vector<std::string>{"voxelize", "octree", "inject"}));
   // Forced on, the specular stage runs and costs, and finds nothing to reflect: the
   // image is the same, bit for bit (its term is zero wherever it is added).
   const Frames forced = render(s, settings("+specular"), 3);
-  EXPECT_EQ(forced.stages, (std::vector<std::string>{"gbuffer", "shadows", "indirect", "specular",
-                                                     "accumulate", "tonemap"}));
+  EXPECT_EQ(forced.stages, (std::vector<std::string>{"refine", "gbuffer", "shadows", "indirect",
+                                                     "specular", "accumulate", "tonemap"}));
   EXPECT_EQ(plan.linear, forced.linear);
   // So do the other effects this scene lacks: their code is compiled back in and
   // finds no emission, texture or mask.
