@@ -27,6 +27,19 @@ float parseFloat(const std::string& flag, const std::string& v) {
   return x;
 }
 
+glm::vec3 parseVec3(const std::string& flag, const std::string& v) {
+  glm::vec3 out(0.0f);
+  size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const size_t comma = v.find(',', start);
+    if ((k < 2) != (comma != std::string::npos))
+      throw UsageError(flag + ": '" + v + "' is not X,Y,Z");
+    out[k] = parseFloat(flag, v.substr(start, comma == std::string::npos ? comma : comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
 void parseSize(const std::string& v, int* w, int* h) {
   const size_t x = v.find('x');
   if (x == std::string::npos)
@@ -102,6 +115,10 @@ std::string renderHelp() {
          "                    compute pass (compute, the default) or rasterize every\n"
          "                    triangle (raster); the grids agree to a few voxels\n"
          "  --time T          animated scenes: pose of the first frame, seconds (default 0)\n"
+         "  --look-from X,Y,Z, --look-at X,Y,Z\n"
+         "                    another viewpoint than the file's camera, in the file's\n"
+         "                    coordinates (same field of view; every mode, so a reference\n"
+         "                    can be rendered there too)\n"
          "  --fps F           animated scenes: frame f shows T + f/F (default 30)\n"
          "  --backend B       egl (default; surfaceless Mesa or an NVIDIA device), osmesa,\n"
          "                    or glfw (a hidden window; needs a display)\n"
@@ -520,6 +537,10 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       o.render.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
     } else if (a == "--rr-depth") {
       o.render.pathtrace.rrDepth = parseInt("--rr-depth", value(), 1, 1024);
+    } else if (a == "--look-from") {
+      o.lookFrom = parseVec3("--look-from", value());
+    } else if (a == "--look-at") {
+      o.lookAt = parseVec3("--look-at", value());
     } else if (a == "--no-progress") {
       o.progress = false;
     } else if (a == "--verbose" || a == "-v") {
@@ -535,6 +556,10 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
     }
   }
   if (o.frames == 0) o.frames = render::defaultFrames(o.render.mode);
+  if (o.lookFrom.has_value() != o.lookAt.has_value())
+    throw UsageError("--look-from and --look-at go together");
+  if (o.lookFrom && *o.lookFrom == *o.lookAt)
+    throw UsageError("--look-from and --look-at: the same point");
   return inv;
 }
 

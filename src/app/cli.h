@@ -3,6 +3,7 @@
 #ifndef VOXGI_APP_CLI_H
 #define VOXGI_APP_CLI_H
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,8 @@ struct RenderOptions {
   bool verbose = false;
   bool quiet = false;
   bool progress = true;  // pathtrace: a progress bar on stderr when it is a terminal
+  // Another viewpoint than the file's camera, in the file's coordinates (both set).
+  std::optional<glm::vec3> lookFrom, lookAt;
 };
 
 struct BenchOptions {

@@ -109,6 +109,15 @@ int runRender(const RenderOptions& o) {
   const auto loadStart = Clock::now();
   scene::Scene scene = scene::loadGltf(scenePath);
   scene.pose(o.time);
+  if (o.lookFrom) {
+    scene::Camera& c = scene.camera;
+    const glm::vec3 origin(scene.origin);
+    c.position = *o.lookFrom - origin;
+    c.forward = glm::normalize(*o.lookAt - *o.lookFrom);
+    c.up =
+        std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+    scene.fitClipPlanes();
+  }
   const double loadMs = msSince(loadStart);
 
   gl::ProgramCache programs(shaderRoot());

@@ -32,6 +32,11 @@ TEST(CliParse, Defaults) {
             voxel::Octree::Settings::kAllBounces);
   EXPECT_EQ(parse({"render", "--refine-rays", "0"}).render.render.octree.refineRays, 0);
   EXPECT_FALSE(parse({"render", "--no-jitter"}).render.render.jitter);
+  const Invocation view =
+      parse({"render", "--look-from", "0.75,1.5,1.1", "--look-at", "-0.4,0.35,-0.5"});
+  ASSERT_TRUE(view.render.lookFrom && view.render.lookAt);
+  EXPECT_EQ(*view.render.lookFrom, glm::vec3(0.75f, 1.5f, 1.1f));
+  EXPECT_EQ(*view.render.lookAt, glm::vec3(-0.4f, 0.35f, -0.5f));
   EXPECT_TRUE(inv.render.outputs.empty());
 }
 
@@ -123,6 +128,10 @@ TEST(CliParse, Rejects) {
            {"render", "--bounces", "-1"},
            {"render", "--bounces", "every"},
            {"render", "--refine-rays", "-1"},
+           {"render", "--look-from", "1,2,3"},
+           {"render", "--look-from", "1,2", "--look-at", "0,0,0"},
+           {"render", "--look-from", "1,2,3,4", "--look-at", "0,0,0"},
+           {"render", "--look-from", "0,0,0", "--look-at", "0,0,0"},
            {"render", "--spp", "many"},
            {"render", "--seed", "-1"},
            {"render", "--max-depth", "0"},

@@ -1,0 +1,151 @@
+"""rtgi against the path tracer, as time goes by: time to the image and its error.
+
+For each view (cornell_room from its camera and from a second viewpoint, dark_plane),
+renders rtgi at 1, 4, 16, 64 and 256 accumulated frames with the current defaults,
+one row with the previous design's settings as the anchor of the same run
+(--bounces 2 --refine-rays 0 --no-jitter: two bounces frozen at start-up, pixel
+centres), and the path tracer at 1, 4, 16 and 64 spp. Each image is measured against
+the view's path-traced reference (FLIP on sRGB 8-bit, RMSE and mean luminance ratio
+from `voxgi compare`). Time to the image is the render's total_ms: every frame
+accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
+
+Writes out/bench-convergence/table.md and convergence.png (FLIP against time per
+view, rtgi and the path tracer), and prints the table. References come from
+out/reference/ (the highest spp there); a missing one is rendered at --ref-spp.
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import flip as fliptool  # noqa: E402
+
+SIZE = "256x256"
+SEED = 7  # test renders; references use tools/make-reference's seed
+REF_SEED = 1000003
+# (name, scene, extra flags of the viewpoint)
+VIEWS = [
+    ("cornell_room", "cornell_room", []),
+    ("cornell_room_side", "cornell_room",
+     ["--look-from", "0.75,1.5,1.1", "--look-at", "-0.4,0.35,-0.5"]),
+    ("dark_plane", "dark_plane", []),
+]
+FRAMES = [1, 4, 16, 64, 256]
+SPP = [1, 4, 16, 64]
+ANCHOR = ["--bounces", "2", "--refine-rays", "0", "--no-jitter"]
+
+
+def voxgi():
+    return os.path.join(ROOT, "build", "voxgi")
+
+
+def scene_path(scene):
+    return os.path.join(ROOT, "scenes", scene, f"{scene}.gltf")
+
+
+def reference(view, scene, extra, spp):
+    refdir = os.path.join(ROOT, "out", "reference")
+    os.makedirs(refdir, exist_ok=True)
+    best = None
+    for name in os.listdir(refdir):
+        m = re.fullmatch(rf"{view}_{SIZE}_(\d+)spp\.exr", name)
+        if m and (best is None or int(m.group(1)) > best[0]):
+            best = (int(m.group(1)), name)
+    if best is None:
+        base = os.path.join(refdir, f"{view}_{SIZE}_{spp}spp")
+        print(f"bench-convergence: rendering the {view} reference ({spp} spp)", flush=True)
+        subprocess.run([voxgi(), "render", scene_path(scene), "--mode", "pathtrace", "--size",
+                        SIZE, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
+                        "--out", base + ".png", "--stats", base + ".json", "--no-progress",
+                        "-q"] + extra, check=True)
+        best = (spp, os.path.basename(base) + ".exr")
+    exr = os.path.join(refdir, best[1])
+    return exr, exr[:-4] + ".png", best[0]
+
+
+def run(view, scene, extra, args, outdir, tag):
+    base = os.path.join(outdir, "runs", f"{view}_{tag}")
+    os.makedirs(os.path.dirname(base), exist_ok=True)
+    subprocess.run([voxgi(), "render", scene_path(scene), "--size", SIZE, "--seed", str(SEED),
+                    "--out", base + ".exr", "--out", base + ".png", "--stats", base + ".json",
+                    "--no-progress", "-q"] + extra + args, check=True)
+    with open(base + ".json") as f:
+        return base, json.load(f)
+
+
+def measure(base, ref_exr, ref_png):
+    out = subprocess.run([voxgi(), "compare", base + ".exr", ref_exr, "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    m = json.loads(out)
+    return {"flip": fliptool.flip(base + ".png", ref_png), "rmse": m["rmse"],
+            "lum": m["mean_luminance_ratio"]}
+
+
+def plot(rows, outdir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    views = [v[0] for v in VIEWS]
+    fig, axes = plt.subplots(1, len(views), figsize=(5 * len(views), 4), squeeze=False)
+    for ax, view in zip(axes[0], views):
+        for kind, style in (("rtgi", "o-"), ("pathtrace", "s--"), ("rtgi, previous", "x")):
+            pts = [(r["ms"], r["flip"]) for r in rows if r["view"] == view and r["kind"] == kind]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], style, label=kind)
+        ax.set(xscale="log", xlabel="time to the image (ms)", ylabel="FLIP", title=view)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    path = os.path.join(outdir, "convergence.png")
+    fig.savefig(path, dpi=80)
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(__doc__.splitlines()[1:]))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench-convergence"))
+    ap.add_argument("--ref-spp", type=int, default=1024,
+                    help="spp of a reference rendered because none exists (default 1024)")
+    ap.add_argument("--view", action="append", choices=[v[0] for v in VIEWS],
+                    help="only this view (repeatable)")
+    a = ap.parse_args()
+    if not os.path.exists(voxgi()):
+        raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    lines = ["| view | renderer | setting | time to the image (ms) | FLIP | RMSE | mean luminance "
+             "ratio |", "|---|---|---|---:|---:|---:|---:|"]
+    for view, scene, extra in VIEWS:
+        if a.view and view not in a.view:
+            continue
+        ref_exr, ref_png, ref_spp = reference(view, scene, extra, a.ref_spp)
+        jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in FRAMES]
+        jobs.append(("rtgi, previous", "64 frames, " + " ".join(ANCHOR),
+                     ["--frames", "64"] + ANCHOR))
+        jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in SPP]
+        for kind, setting, args in jobs:
+            tag = re.sub(r"[^a-z0-9]+", "_", f"{kind}_{setting}")
+            base, stats = run(view, scene, extra, args, a.out, tag)
+            m = measure(base, ref_exr, ref_png)
+            row = {"view": view, "kind": kind, "setting": setting, "ms": stats["total_ms"], **m}
+            rows.append(row)
+            line = (f"| {view} | {kind} | {setting} | {row['ms']:.0f} | {m['flip']:.4f} | "
+                    f"{m['rmse']:.4f} | {m['lum']:.3f} |")
+            lines.append(line)
+            print(line, flush=True)
+        lines.append(f"| {view} | reference | {ref_spp} spp, seed {REF_SEED} | | | | |")
+    table = "\n".join(lines) + "\n"
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write(table)
+    print(table)
+    print("bench-convergence: wrote", os.path.join(a.out, "table.md"), "and", plot(rows, a.out))
+
+
+if __name__ == "__main__":
+    main()
