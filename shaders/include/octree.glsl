@@ -51,18 +51,6 @@ bool seenFromBehind(uint normalWord, vec3 dir) {
   return len2 > 0.25 && dot(n, dir) > 0.25 * sqrt(len2);
 }
 
-// Refinement slices (Octree::refine): a voxel belongs to slice hash(voxel) mod
-// stride, whatever its place in the voxel list (whose order follows thread timing),
-// so which voxels a frame refines, and so the image, is the same every run.
-bool inSlice(uint code) {
-  if (octree.slice.y <= 1u) return true;
-  uint h = code * 0x9e3779b1u;  // an integer mix, so slices are spread over space
-  h ^= h >> 16;
-  h *= 0x85ebca6bu;
-  h ^= h >> 13;
-  return h % octree.slice.y == octree.slice.x;
-}
-
 // Invocation index of a 1D job spread over a 2D dispatch (more than 65535 groups).
 uint octreeInvocation() {
   return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kOctreeGroupSize +

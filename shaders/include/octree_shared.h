@@ -53,7 +53,7 @@ struct OctreeParams {
   uvec4 info;   // x depth, y root size in voxels (2^depth), z grid resolution N, w node capacity
   uvec4 pass;   // x level (build/filter), y first node of the level, z nodes in the level, w seed
   uvec4 light;  // x rays per voxel (inject / bounce), y light count, z emitter count, w bounce
-  uvec4 slice;  // inject, bounce, average: the voxels of slice x of y (inSlice in octree.glsl)
+  uvec4 slice;  // inject, bounce, average: the voxel list from x on (a refinement slice's)
   vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp)
 };
 

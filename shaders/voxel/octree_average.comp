@@ -16,8 +16,7 @@ layout(std430, binding = kOctreeMeanBinding) buffer Mean { vec4 mean[]; };
 void main() {
   uint i = octreeInvocation();
   if (i >= octree.pass.z) return;
-  uint code = voxels[i];
-  if (!inSlice(code)) return;
+  uint code = voxels[octree.slice.x + i];
   ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
   int depth = octreeDepth();
   uint node = 0u;

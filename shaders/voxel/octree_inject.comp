@@ -33,8 +33,7 @@ layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint di
 void main() {
   uint i = octreeInvocation();
   if (i >= octree.pass.z) return;
-  uint code = voxels[i];
-  if (!inSlice(code)) return;
+  uint code = voxels[octree.slice.x + i];
   ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
   int depth = octreeDepth();
   uint node = 0u;

@@ -196,14 +196,43 @@ void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   seed_ = settings_.seed;
   // The first estimate: a chain of bounces (with all bounces, as many as a finite
   // default would give; refinement adds the rest).
-  const uint32_t count = setSlice(0, 1);
+  const uint32_t count = setSlice(-1);
   estimate(scene, count, settings_.injectRays, settings_.bounceRays, false);
   blend(count, 1.0f);
   raysSoFar_ = settings_.injectRays;
   weightSoFar_ = raysSoFar_ * raysSoFar_ * raysSoFar_ / 3.0;
+  makeSlices();
+  filter(filter_);
+}
+
+// The refinement slices: voxel v goes to slice hash(v) mod S, whatever its place in
+// the voxel list (whose order follows thread timing), and each slice's voxels are
+// sorted and packed, so a refinement's invocations are all busy and which voxels a
+// frame refines, so the image, is the same every run.
+void Octree::makeSlices() {
   const uint32_t perFrame = static_cast<uint32_t>(std::max(settings_.refineLeaves, 1));
   slices_ = static_cast<int>(std::max<uint32_t>(1, (stats_.leaves + perFrame - 1) / perFrame));
-  filter(filter_);
+  std::vector<uint32_t> codes(stats_.leaves);
+  if (!codes.empty())
+    glGetNamedBufferSubData(listBuffer_, 0, static_cast<GLsizeiptr>(codes.size() * 4),
+                            codes.data());
+  auto sliceOf = [this](uint32_t code) {
+    uint32_t h = code * 0x9e3779b1u;  // an integer mix, so slices spread over space
+    h ^= h >> 16;
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    return h % static_cast<uint32_t>(slices_);
+  };
+  std::sort(codes.begin(), codes.end(), [&](uint32_t a, uint32_t b) {
+    const uint32_t sa = sliceOf(a), sb = sliceOf(b);
+    return sa != sb ? sa < sb : a < b;
+  });
+  sliceStart_.assign(static_cast<size_t>(slices_) + 1, 0);
+  for (uint32_t code : codes) ++sliceStart_[sliceOf(code) + 1];
+  for (size_t k = 1; k < sliceStart_.size(); ++k) sliceStart_[k] += sliceStart_[k - 1];
+  sliceList_ = gl::createBuffer(static_cast<GLsizeiptr>(std::max<size_t>(codes.size(), 1) * 4),
+                                codes.empty() ? nullptr : codes.data());
+  stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode + uint64_t{stats_.leaves} * 4;
 }
 
 void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
@@ -223,15 +252,22 @@ void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   }
   seed_ = settings_.seed + 0x9e3779b9u * static_cast<uint32_t>(refinements_ + 1);
   ++refinements_;
-  const uint32_t count = setSlice(static_cast<uint32_t>(slice), static_cast<uint32_t>(slices_));
+  const uint32_t count = setSlice(slice);
   estimate(scene, count, settings_.refineRays, settings_.refineRays, allBounces());
   blend(count, cycleWeight_);
   filter(filterRadiance_);
 }
 
-uint32_t Octree::setSlice(uint32_t slice, uint32_t slices) {
-  paramsData_.slice = glm::uvec4(slice, slices, 0u, 0u);
-  return stats_.leaves;  // every listed voxel is visited; those of other slices return
+uint32_t Octree::setSlice(int slice) {
+  if (slice < 0) {
+    passList_ = listBuffer_;
+    paramsData_.slice = glm::uvec4(0u);
+    return stats_.leaves;
+  }
+  passList_ = sliceList_.id();
+  const uint32_t first = sliceStart_[static_cast<size_t>(slice)];
+  paramsData_.slice = glm::uvec4(first, 0u, 0u, 0u);
+  return sliceStart_[static_cast<size_t>(slice) + 1] - first;
 }
 
 void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
@@ -252,7 +288,7 @@ void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, scene.emitters());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeLightCdfBinding, scene.emitterCdf());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeDirectBinding, direct_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, listBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, passList_);
   setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
   dispatch(inject_, count);
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
@@ -276,7 +312,7 @@ void Octree::blend(uint32_t count, float weight) {
   bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, estimate_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMeanBinding, mean_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, listBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, passList_);
   paramsData_.blend = glm::vec4(weight, 0.0f, 0.0f, 0.0f);
   setPass(static_cast<uint32_t>(stats_.depth), 0, count);
   dispatch(average_, count);

@@ -68,10 +68,12 @@ class Octree {
     // Every bounce: the voxel light feeds back into itself as it refines.
     static constexpr int kAllBounces = 1 << 20;
     int bounces = kAllBounces;  // total diffuse bounces; the voxels hold bounces - 1 of them
-    int injectRays = 16;        // shadow rays per leaf towards emissive surfaces
-    int bounceRays = 16;        // rays per leaf per voxel bounce
-    int refineRays = 1;         // per leaf and refinement, direct and bounce (0: no refinement)
-    int refineLeaves = 16384;   // leaves refined per frame at most: the rest wait their turn
+    // The first estimate's rays: few, since refinement averages their noise away
+    // (docs/octree.md: 4 rays instead of 16 start 3-4x sooner for a FLIP within 0.002).
+    int injectRays = 4;       // shadow rays per leaf towards emissive surfaces
+    int bounceRays = 4;       // rays per leaf per voxel bounce
+    int refineRays = 1;       // per leaf and refinement, direct and bounce (0: no refinement)
+    int refineLeaves = 4096;  // leaves refined per frame at most: the rest wait their turn
     uint32_t seed = 1;
     scene::ShaderFeatures features;  // effect-plan variant of octree_inject.comp
   };
@@ -118,9 +120,10 @@ class Octree {
   bool buildInto(gl::FrameContext& ctx, const VoxelizePass& grid, uint32_t listed);
   void setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce = 0);
   void dispatch(const gl::Program& p, uint32_t count);
-  // The voxels of slice `slice` of `slices` (by a hash of the voxel, inSlice in
-  // octree.glsl); returns the invocations the passes dispatch.
-  uint32_t setSlice(uint32_t slice, uint32_t slices);
+  // The voxels the next passes read: refinement slice `slice`, or (-1) every listed
+  // voxel; returns how many.
+  uint32_t setSlice(int slice);
+  void makeSlices();
   // One estimate of the slice's radiance into estimate_: direct light with `rays`,
   // then the voxel bounces (`feedback`: one, gathered from the running mean).
   void estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
@@ -141,7 +144,10 @@ class Octree {
   gl::Buffer params_, counters_, nodes_, radiance_, material_, emission_;
   // Refinement: this estimate, its direct light, the previous bounce, the mean.
   gl::Buffer estimate_, direct_, previous_, mean_;
-  int refinements_ = 0;  // refine() calls since inject()
+  gl::Buffer sliceList_;              // the voxel codes slice by slice
+  std::vector<uint32_t> sliceStart_;  // first code of each slice; the last = leaves
+  GLuint passList_ = 0;               // the list the next passes read
+  int refinements_ = 0;               // refine() calls since inject()
   int slices_ = 1;
   double raysSoFar_ = 0.0;    // per leaf, over the estimates blended in
   double weightSoFar_ = 0.0;  // of those estimates in the running mean
