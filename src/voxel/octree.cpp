@@ -194,8 +194,8 @@ void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   gl::StageScope stage(ctx.timer, "inject");
   refinements_ = 0;
   seed_ = settings_.seed;
-  // The first estimate: a chain of bounces (with all bounces, as many as a finite
-  // default would give; refinement adds the rest).
+  // The first estimate: the finite chain of bounces, or with all bounces a chain of
+  // kFirstChainBounces that refinement carries on.
   const uint32_t count = setSlice(-1);
   estimate(scene, count, settings_.injectRays, settings_.bounceRays, false);
   blend(count, 1.0f);
@@ -235,8 +235,14 @@ void Octree::makeSlices() {
   stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode + uint64_t{stats_.leaves} * 4;
 }
 
+bool Octree::refines() const {
+  // A finite chain of voxel bounces needs every leaf's previous bounce of the same
+  // estimate, which a slice does not have: such chains keep their first estimate.
+  return settings_.refineRays > 0 && (allBounces() || settings_.bounces <= 1);
+}
+
 void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
-  if (settings_.refineRays == 0 || stats_.leaves == 0) return;
+  if (!refines() || stats_.leaves == 0) return;
   gl::StageScope stage(ctx.timer, "refine");
   const int slice = refinements_ % slices_;
   if (slice == 0) {

@@ -26,11 +26,15 @@
 // the leaves (one in S by a hash of the voxel, S = leaves / refineLeaves rounded up,
 // so a frame's share of this work is bounded whatever the grid) and blends it in
 // (weights growing with the rays so far, see refine()), so the voxels' noise falls
-// as 1/sqrt(frames) instead of being baked into every frame. With all bounces (the default) the
-// estimate gathers its bounce from the running mean itself: each refinement adds a bounce, and the
-// mean converges to the solution of the rendering equation between the voxels (the fixed point L =
-// Le + albedo x mean incoming L), at one bounce pass per frame. With a finite --bounces N, each
-// estimate is the N-bounce chain afresh.
+// as 1/sqrt(frames) instead of being baked into every frame. With all bounces (the
+// default) the estimate gathers its bounce from the running mean itself: each
+// refinement adds a bounce, and the mean converges to the solution of the rendering
+// equation between the voxels (the fixed point L = Le + albedo x mean incoming L),
+// at one bounce pass per frame. The first estimate is a chain of 6 bounces, so
+// refinement starts near that answer. A finite --bounces N >= 2 keeps its first
+// estimate, the N-bounce chain: a chain's bounce needs the previous bounce of every
+// leaf from the same estimate, which a slice does not have (--bounces 1, direct
+// light only, refines).
 //
 // Tested by tests/voxel/octree_gltest.cpp (traversal against a dense DDA, memory,
 // leaves equal the grid, filtering, light).
@@ -85,7 +89,9 @@ class Octree {
   // Direct light, voxel bounces and filtering (stage "inject"): the first estimate.
   void inject(gl::FrameContext& ctx, const scene::GpuScene& scene);
   // One more estimate blended into the voxels' light (stage "refine"); nothing with
-  // refineRays 0.
+  // refineRays 0, or with a finite chain of voxel bounces (bounces >= 2), which
+  // keeps its first estimate.
+  bool refines() const;
   void refine(gl::FrameContext& ctx, const scene::GpuScene& scene);
   // Estimates blended into every leaf since inject(), the first included (a slice
   // refined ahead of the others does not count until all have caught up).
