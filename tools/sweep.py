@@ -36,8 +36,9 @@ FULL = {
                   "size_spp": 1},
     "raster": {"sizes": ["100x100", "256x256", "640x360", "1280x720", "1920x1080"]},
     "rtgi": {"axes": [("--frames", [1, 4, 16, 64, 256]), ("--voxels", [64, 128, 256]),
-                      ("--bounces", [0, 1, 2, 3]), ("--interleave", [4, 16]),
-                      ("--inject-rays", [4, 64])]},
+                      ("--bounces", [0, 1, 2, 3, "all"]), ("--interleave", [4, 16]),
+                      ("--inject-rays", [16, 64]), ("--refine-rays", [0, 2]),
+                      ("--no-jitter", [""])]},
     "points": {"axes": [("--voxels", [64, 128, 256, 512])]},
     "dvr": {"axes": [("--voxels", [64, 128, 256, 512])]},
 }
@@ -125,7 +126,8 @@ def grid(mode, spec, flags):
         frames = [] if mode == "rtgi" else ["--frames", "5"]
         for flag, vals in axes:
             for v in vals:
-                extra = [flag, str(v)] + ([] if flag == "--frames" else frames)
+                # A switch (value ""): the flag alone.
+                extra = [flag] + ([str(v)] if v != "" else []) + ([] if flag == "--frames" else frames)
                 points.append((REF_SIZE, extra, f"{flag.strip('-')}{v}", ""))
     return points
 

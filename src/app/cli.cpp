@@ -294,8 +294,11 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->smallTrianglesInCompute = v == "compute";
   } else if (a == "--bounces") {
     const std::string v = value();
-    rs->octree.bounces =
-        v == "all" ? voxel::Octree::Settings::kAllBounces : parseInt("--bounces", v, 0, 16);
+    int n = 0;
+    const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
+    if (v != "all" && (r.ec != std::errc() || r.ptr != v.data() + v.size() || n < 0 || n > 16))
+      throw UsageError("--bounces: '" + v + "' is neither all nor an integer in [0, 16]");
+    rs->octree.bounces = v == "all" ? voxel::Octree::Settings::kAllBounces : n;
   } else if (a == "--no-jitter") {
     rs->jitter = false;
   } else if (a == "--refine-rays") {
