@@ -1,9 +1,10 @@
 #version 450 core
 // Voxel light that converges: blends this estimate of the leaves' radiance into the
-// running mean, one invocation per listed voxel of the estimate's slice. The estimate (Scratch) is rgb9e5, the mean (Mean) is float; the
-// mean is published into the radiance the tracers read, in rgb9e5. Each estimate
-// weighs its rays: octree.blend.x = rays of this estimate / rays of all so far, so
-// noise falls as 1 / sqrt(estimates), the way pixel noise does.
+// running mean, one invocation per listed voxel of the estimate's slice. The estimate
+// (Scratch) is rgb9e5, the mean (Mean) is float; the mean is published into the
+// radiance the tracers read, in rgb9e5. octree.blend.x is this estimate's weight
+// over the weights of all so far (Octree::refine: they grow with the rays so far),
+// 1 for the first, so noise falls about as 1 / sqrt(estimates), as a pixel's does.
 #include "voxel_shared.h"
 #include "octree.glsl"
 
