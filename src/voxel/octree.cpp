@@ -168,7 +168,7 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   clearBuffer(radiance_.id(), used * 4);
   clearBuffer(material_.id(), used * 8);
   clearBuffer(emission_.id(), used * 4);
-  refinements_ = 0;
+  sliceStart_.clear();  // no light yet: nothing to refine until inject()
 
   // Leaves: mark them and copy the resolved voxel into them.
   bind();
@@ -242,7 +242,7 @@ bool Octree::refines() const {
 }
 
 void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
-  if (!refines() || stats_.leaves == 0) return;
+  if (!refines() || sliceStart_.empty() || stats_.leaves == 0) return;
   gl::StageScope stage(ctx.timer, "refine");
   const int slice = refinements_ % slices_;
   if (slice == 0) {
