@@ -6,7 +6,7 @@
 #ifndef VOXGI_LIGHTING_GLSL
 #define VOXGI_LIGHTING_GLSL
 
-const float kPi = 3.14159265358979;
+#include "brdf_shared.h"
 
 // One edge's term of Lambert's formula for the irradiance of a polygon of unit
 // radiance: theta (gamma . n), for the edge from pa to pb (relative to the receiver).
@@ -84,25 +84,6 @@ struct Surface {
   float alpha;     // GGX alpha = roughness^2
   float specular;  // 1: the glTF BRDF; 0: pure Lambert (isLambertian)
 };
-
-// The reference scenes' convention (scenes/reference_scenes.md), which the path
-// tracer follows: metallic 0 with roughness 1 is pure Lambert (albedo = base colour,
-// no Fresnel, no specular lobe), not the glTF BRDF at its roughest.
-bool isLambertian(float metallic, float roughness) { return metallic <= 0.0 && roughness >= 1.0; }
-
-float ggxD(float nh, float alpha) {
-  float a2 = alpha * alpha;
-  float d = nh * nh * (a2 - 1.0) + 1.0;
-  return a2 / (kPi * d * d);
-}
-
-float smithVisibility(float nl, float nv, float alpha) {
-  float a2 = alpha * alpha;
-  float gv = nl * sqrt(nv * nv * (1.0 - a2) + a2);
-  float gl = nv * sqrt(nl * nl * (1.0 - a2) + a2);
-  float s = gv + gl;
-  return s > 0.0 ? 0.5 / s : 0.0;
-}
 
 // Reflected radiance for irradiance `irradiance` arriving from direction l.
 // `alphaMin` widens the lobe for lights of finite size (Karis 2013).

@@ -26,6 +26,7 @@
 #define VOXGI_OCTREE_MARCH_H
 
 #include "octree_shared.h"
+#include "shared_fn.h"
 
 #ifdef __cplusplus
 #include <glm/gtc/bitfield.hpp>
@@ -45,18 +46,10 @@ using glm::max;
 using glm::min;
 using glm::mix;
 using glm::notEqual;
-#define VOXGI_FN inline
-#define VOXGI_INOUT(T) T&
-#define VOXGI_OUT(T) T&
-#define VOXGI_PRECISE
 #define VOXGI_NODES_PARAM const uint *octreeNodes,
 #define VOXGI_NODES_ARG octreeNodes,
 #define VOXGI_NODE(i) octreeNodes[i]
 #else
-#define VOXGI_FN
-#define VOXGI_INOUT(T) inout T
-#define VOXGI_OUT(T) out T
-#define VOXGI_PRECISE precise
 #define VOXGI_NODES_PARAM
 #define VOXGI_NODES_ARG
 #endif

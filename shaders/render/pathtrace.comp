@@ -8,7 +8,6 @@
 // gathered there by NEE a path of depth 2.
 #include "scene_shared.h"
 #include "pathtrace_shared.h"
-#include "lighting.glsl"
 #include "sampling.glsl"
 
 // Loop iterations this path may still run (see kPtLoopBudget).
@@ -32,6 +31,17 @@ layout(binding = kPtTexelTexUnit) uniform usamplerBuffer textureTexels;
 layout(binding = kPtSumImage, rgba32f) uniform image2D sumImage;
 layout(binding = kPtCompensationImage, rgba32f) uniform image2D compensationImage;
 layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
+
+// Materials, light sampling and texture reads, shared with the CPU device.
+#define VOXGI_TABLES_PARAM
+#define VOXGI_TABLES_ARG
+#define VOXGI_EMISSIVE(i) emissive[i]
+#ifndef VOXGI_NO_TEXTURES
+#define VOXGI_TEXEL(i) texelFetch(textureTexels, int(i)).x
+#else
+#define VOXGI_TEXEL(i) 0u
+#endif
+#include "pathtrace_shading.h"
 
 const float kInf = 1.0 / 0.0;
 
@@ -140,189 +150,43 @@ bool occluded(vec3 o, vec3 d, float tMax) {
 }
 
 #ifndef VOXGI_NO_TEXTURES
-// --- base-colour textures -------------------------------------------------------------
 // Texture coordinates at barycentrics bc of triangle tri.
 vec2 triangleUv(uint tri, vec2 bc) {
   vec4 a = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2));
   vec2 c = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2 + 1).xy);
   return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
 }
-
-vec4 srgbTexel(uvec4 t, ivec2 p) {
-  vec4 c = unpackUnorm4x8(texelFetch(textureTexels, int(t.x) + p.y * int(t.y) + p.x).x);
-  vec3 lo = c.rgb / 12.92, hi = pow((c.rgb + 0.055) / 1.055, vec3(2.4));
-  return vec4(mix(hi, lo, lessThanEqual(c.rgb, vec3(0.04045))), c.a);
-}
-
-// Texture t at uv, bilinear over linear (decoded) texels, repeating as the raster
-// sampler does. No mipmaps: paths jittered over the pixel average the footprint.
-vec4 sampleTexture(uvec4 t, vec2 uv) {
-  ivec2 size = ivec2(t.yz);
-  uv = mix(uv, vec2(0.0), bvec2(uvec2(isnan(uv)) | uvec2(isinf(uv))));
-  vec2 x = fract(uv) * vec2(size) - 0.5;  // in [-0.5, size - 0.5)
-  vec2 f = x - floor(x);
-  ivec2 i0 = ivec2(floor(x));  // -1 .. size - 1
-  ivec2 a = i0 + size * ivec2(lessThan(i0, ivec2(0)));
-  ivec2 b = a + 1 - size * ivec2(greaterThanEqual(a + 1, size));
-  return mix(mix(srgbTexel(t, a), srgbTexel(t, ivec2(b.x, a.y)), f.x),
-             mix(srgbTexel(t, ivec2(a.x, b.y)), srgbTexel(t, b), f.x), f.y);
-}
 #endif
 
-// --- materials ----------------------------------------------------------------------
-// Three kinds, as in scenes/reference_scenes.md: metallic 0 + roughness 1 is pure
-// Lambert (albedo = base colour); metallic 1 + roughness 0 is a perfect mirror of
-// reflectance = base colour, no Fresnel; anything else is the glTF metallic-roughness
-// BRDF of lighting.glsl (Lambert + GGX, height-correlated Smith, Schlick's Fresnel).
-const int kLambert = 0;
-const int kMirror = 1;
-const int kGgx = 2;
-
-struct Bsdf {
-  int kind;
-  vec3 base;
-  vec3 diffuse;
-  vec3 f0;
-  float alpha;
-  float specularChance;  // probability of sampling the GGX lobe (kGgx only)
-};
-
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
-Bsdf makeBsdf(GpuMaterial m, float nv) {
-  Bsdf b;
-  float metallic = m.params.x;
-  float roughness = m.params.y;
-  b.base = m.baseColor.rgb;
-  b.kind = isLambertian(metallic, roughness) ? kLambert
-           : (metallic >= 1.0 && roughness <= 0.0) ? kMirror
-                                                   : kGgx;
-  b.diffuse = b.base * (1.0 - metallic);
-  b.f0 = mix(vec3(0.04), b.base, metallic);
-  b.alpha = clamp(roughness * roughness, 1e-3, 1.0);
-  vec3 fv = b.f0 + (1.0 - b.f0) * pow(1.0 - nv, 5.0);
-  float ws = luminance(fv);
-  float wd = luminance(b.diffuse) * (1.0 - ws);
-  b.specularChance = ws + wd > 0.0 ? clamp(ws / (ws + wd), 0.1, 1.0) : 1.0;
-  if (wd <= 0.0) b.specularChance = 1.0;
-  return b;
-}
-
-float smithG1(float nv, float alpha) {
-  float a2 = alpha * alpha;
-  return 2.0 * nv / (nv + sqrt(a2 + (1.0 - a2) * nv * nv));
-}
-
-// BSDF x cos(wi) and the pdf (solid angle) of sampling wi, for non-delta kinds.
-vec3 evalBsdf(Bsdf b, vec3 n, vec3 wo, vec3 wi, out float pdf) {
-  float nl = dot(n, wi);
-  float nv = dot(n, wo);
-  pdf = 0.0;
-  if (nl <= 0.0 || nv <= 0.0) return vec3(0.0);
-  if (b.kind == kLambert) {
-    pdf = nl / kPi;
-    return b.base * (nl / kPi);
-  }
-  vec3 h = normalize(wi + wo);
-  float nh = max(dot(n, h), 0.0);
-  float vh = max(dot(wo, h), 0.0);
-  float d = ggxD(nh, b.alpha);
-  vec3 f = b.f0 + (1.0 - b.f0) * pow(1.0 - vh, 5.0);
-  vec3 spec = f * d * smithVisibility(nl, nv, b.alpha);
-  vec3 diff = (1.0 - f) * b.diffuse / kPi;
-  // Visible-normal sampling: pdf(wi) = G1(wo) D(h) / (4 n.wo).
-  float pdfSpec = smithG1(nv, b.alpha) * d / (4.0 * nv);
-  pdf = b.specularChance * pdfSpec + (1.0 - b.specularChance) * nl / kPi;
-  return (spec + diff) * nl;
-}
-
-
-// Samples wi for a non-delta kind; false when the sample is below the surface.
-bool sampleBsdf(Bsdf b, vec3 n, vec3 wo, out vec3 wi) {
-  vec2 u = vec2(rand01(), rand01());
-  if (b.kind == kLambert || rand01() >= b.specularChance) {
-    wi = cosineSample(n, u);
-  } else {
-    vec3 t, bt;
-    basis(n, t, bt);
-    vec3 ve = vec3(dot(wo, t), dot(wo, bt), dot(wo, n));
-    vec3 m = sampleVndf(ve, b.alpha, u);
-    vec3 h = normalize(t * m.x + bt * m.y + n * m.z);
-    wi = reflect(-wo, h);
-  }
-  return dot(n, wi) > 0.0;
-}
-
 // --- lights -------------------------------------------------------------------------
-float powerHeuristic(float a, float b) {
-  float a2 = a * a;
-  return a2 / (a2 + b * b);
-}
-
-// One emissive triangle chosen by power (alias table), one point on it uniformly.
+// One emissive triangle by power, one point on it, its shadow ray (MIS with the BSDF).
 vec3 sampleEmissive(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
-  uint count = params.tile.w;
-  float u = rand01() * float(count);
-  uint i = min(uint(u), count - 1u);
-  GpuPtEmissive e = emissive[i];
-  if (u - float(i) >= e.v0.w) e = emissive[floatBitsToUint(e.e1.w)];
-  float s = sqrt(rand01());
-  float r = rand01();
-  vec3 q = e.v0.xyz + e.e1.xyz * (s * (1.0 - r)) + e.e2.xyz * (s * r);
-  vec3 c = cross(e.e1.xyz, e.e2.xyz);
-  float area2 = length(c);
-  vec3 nl = c / area2;
-  vec3 toL = q - p;
-  float dist2 = dot(toL, toL);
-  float dist = sqrt(dist2);
-  vec3 wi = toL / dist;
-  float cosL = -dot(nl, wi);
-  if (e.radiance.w > 0.5) cosL = abs(cosL);
-  if (cosL <= 0.0 || !(dist > 0.0)) return vec3(0.0);
+  float u0 = rand01();
+  float u1 = rand01();
+  float u2 = rand01();
+  EmitterSample ls = sampleEmitter(p, params.tile.w, u0, u1, u2);
+  if (!(ls.pdfLight > 0.0)) return vec3(0.0);
   float pdfBsdf;
-  vec3 f = evalBsdf(b, n, wo, wi, pdfBsdf);
-  if (f == vec3(0.0) || dot(ng, wi) <= 0.0) return vec3(0.0);
-  float pdfLight = e.e2.w / (0.5 * area2) * dist2 / cosL;
-  if (occluded(p + ng * eps, wi, dist * (1.0 - 1e-4) - eps)) return vec3(0.0);
-  return f * e.radiance.rgb * (powerHeuristic(pdfLight, pdfBsdf) / pdfLight);
+  vec3 f = evalBsdf(b, n, wo, ls.wi, pdfBsdf);
+  if (f == vec3(0.0) || dot(ng, ls.wi) <= 0.0) return vec3(0.0);
+  if (occluded(p + ng * eps, ls.wi, ls.dist * (1.0 - 1e-4) - eps)) return vec3(0.0);
+  return f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
 }
 
-// Every punctual light (delta lights: NEE only), with its shadow ray.
-vec3 samplePunctual(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
+// Every punctual light, with its shadow ray.
+vec3 samplePunctuals(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
   vec3 sum = vec3(0.0);
   int count = int(params.depth.z);
   for (int i = 0; i < count; ++i) {
     if (loopBudget == 0u) break;
     --loopBudget;
-    GpuLight light = lights[i];
-    uint type = uint(light.positionType.w);
-    vec3 wi;
-    float atten = 1.0;
-    float dist = 1e30;
-    if (type == kLightDirectional) {
-      wi = -normalize(light.directionRange.xyz);
-    } else {
-      vec3 d = light.positionType.xyz - p;
-      float dist2 = max(dot(d, d), 1e-30);
-      dist = sqrt(dist2);
-      wi = d / dist;
-      atten = 1.0 / dist2;
-      float range = light.directionRange.w;
-      if (range > 0.0) {  // the glTF spec's recommended smooth window, as in raster
-        float x = dist / range;
-        atten *= clamp(1.0 - x * x * x * x, 0.0, 1.0);
-      }
-      if (type == kLightSpot) {
-        float cd = dot(normalize(light.directionRange.xyz), -wi);
-        atten *= smoothstep(light.cone.y, light.cone.x, cd);
-      }
-    }
-    if (atten <= 0.0 || dot(ng, wi) <= 0.0) continue;
+    PunctualSample ls = samplePunctual(lights[i], p);
+    if (ls.radiance == vec3(0.0) || dot(ng, ls.wi) <= 0.0) continue;
     float pdf;
-    vec3 f = evalBsdf(b, n, wo, wi, pdf);
+    vec3 f = evalBsdf(b, n, wo, ls.wi, pdf);
     if (f == vec3(0.0)) continue;
-    if (occluded(p + ng * eps, wi, dist * (1.0 - 1e-4) - eps)) continue;
-    sum += f * light.radiance.rgb * atten;
+    if (occluded(p + ng * eps, ls.wi, ls.dist * (1.0 - 1e-4) - eps)) continue;
+    sum += f * ls.radiance;
   }
   return sum;
 }
@@ -356,11 +220,8 @@ vec3 radiance(vec3 o, vec3 d) {
     bool front = dot(ng, d) < 0.0;
     if (m.emission.rgb != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0;
-      if (!lastDelta && lightsByNee && S.n1.w > 0.0) {
-        float cosL = abs(dot(ng, d));
-        float pdfLight = S.n1.w * t * t / max(cosL, 1e-20);
-        w = powerHeuristic(lastPdf, pdfLight);
-      }
+      if (!lastDelta && lightsByNee && S.n1.w > 0.0)
+        w = emissionMisWeight(lastPdf, S.n1.w, t, abs(dot(ng, d)));
       result += throughput * m.emission.rgb * w;
     }
     if (depth == maxDepth) break;
@@ -373,19 +234,19 @@ vec3 radiance(vec3 o, vec3 d) {
     }
     vec3 wo = -d;
     if (dot(ns, wo) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;  // shading normal past the silhouette
-    Bsdf b = makeBsdf(m, dot(ns, wo));
-    if (b.kind != kGgx && b.base == vec3(0.0)) break;  // black: reflects nothing (the lights of the reference scenes)
+    Bsdf b = makeBsdf(m.baseColor.rgb, m.params.x, m.params.y, dot(ns, wo));
+    if (b.kind != kBsdfGgx && b.base == vec3(0.0)) break;  // black: reflects nothing (the lights of the reference scenes)
 
-    if (b.kind == kMirror) {
+    if (b.kind == kBsdfMirror) {
       d = reflect(d, ns);
       if (dot(d, ng) <= 0.0) break;
       throughput *= b.base;
       lastDelta = true;
     } else {
       if (lightsByNee) result += throughput * sampleEmissive(p, ns, wo, b, ng, eps);
-      result += throughput * samplePunctual(p, ns, wo, b, ng, eps);
+      result += throughput * samplePunctuals(p, ns, wo, b, ng, eps);
       vec3 wi;
-      if (!sampleBsdf(b, ns, wo, wi) || dot(wi, ng) <= 0.0) break;
+      if (!sampleBsdf(b, ns, wo, rngState, wi) || dot(wi, ng) <= 0.0) break;
       vec3 f = evalBsdf(b, ns, wo, wi, lastPdf);
       if (!(lastPdf > 0.0)) break;
       throughput *= f / lastPdf;
