@@ -167,6 +167,10 @@ std::string renderHelp() {
          "  --max-depth D     longest path, Mitsuba's convention: 1 = emitters seen directly,\n"
          "                    2 = direct light (default 8: up to 7 bounces)\n"
          "  --rr-depth D      Russian roulette from this depth on (default 5)\n"
+         "  --pt-device D     auto (default), cpu or gl: cpu traces with Embree on every core,\n"
+         "                    gl in a compute shader; auto takes cpu when GL is a software\n"
+         "                    renderer (llvmpipe, softpipe) and gl on a GPU\n"
+         "  --pt-threads N    cpu device: worker threads (default: one per core)\n"
          "  --no-progress     no progress bar (shown on stderr only when it is a terminal)\n"
          "\n"
          "Exit status: 0 on success, 1 on bad input or a failed render, 2 on a usage error.\n";
@@ -542,6 +546,13 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       o.render.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
     } else if (a == "--rr-depth") {
       o.render.pathtrace.rrDepth = parseInt("--rr-depth", value(), 1, 1024);
+    } else if (a == "--pt-device") {
+      const std::string d = value();
+      if (d != "auto" && d != "cpu" && d != "gl")
+        throw UsageError("--pt-device: expected auto, cpu or gl, got '" + d + "'");
+      o.render.pathtrace.device = render::parsePathtraceDevice(d);
+    } else if (a == "--pt-threads") {
+      o.render.pathtrace.threads = parseInt("--pt-threads", value(), 1, 1024);
     } else if (a == "--look-from") {
       o.lookFrom = parseVec3("--look-from", value());
     } else if (a == "--look-at") {

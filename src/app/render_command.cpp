@@ -218,7 +218,8 @@ int runRender(const RenderOptions& o) {
     stats["seed"] = o.render.pathtrace.seed;
     stats["max_depth"] = o.render.pathtrace.maxDepth;
     stats["rr_depth"] = o.render.pathtrace.rrDepth;
-    stats["bvh_nodes"] = renderer.pathtrace()->bvh().nodes().size();
+    stats["pt_device"] = render::pathtraceDeviceName(renderer.pathtrace()->device());
+    stats["bvh_nodes"] = renderer.pathtrace()->bvhNodes();
     stats["emissive_triangles"] = renderer.pathtrace()->emissiveTriangles();
     const uint64_t truncated = renderer.pathtrace()->truncatedPaths();
     stats["truncated_paths"] = truncated;

@@ -2,6 +2,7 @@
 // scene's exact triangles in a compute shader, so it runs on any GL 4.5 device
 // (llvmpipe included).
 //
+// The GL device of the Pathtracer interface (render/pathtracer.h).
 // Reads: the scene (triangles, materials, punctual lights, emissive triangles) and a
 // BVH built on the CPU at construction (render/bvh.h; the "bvh" start-up stage).
 // Writes: linear radiance, the mean of all samples so far, into the caller's RGBA32F
@@ -32,53 +33,37 @@
 #define VOXGI_RENDER_PATHTRACE_PASS_H
 
 #include <cstdint>
-#include <functional>
 
 #include "gl/handles.h"
 #include "render/bvh.h"
 #include "render/frame_context.h"
 #include "render/gpu_scene.h"
+#include "render/pathtrace_scene.h"
+#include "render/pathtracer.h"
 
 namespace voxgi::render {
 
-class PathtracePass {
+class PathtracePass final : public Pathtracer {
  public:
-  struct Settings {
-    int maxDepth = 8;  // Mitsuba's convention: 8 allows 7 bounces (reference_scenes.md)
-    int rrDepth = 5;   // Russian roulette from this depth on (reference_scenes.md)
-    uint32_t seed = 0;
-    // false: emissive surfaces are found by BSDF sampling alone (no light sampling,
-    // no MIS); tests compare the two estimators, which must agree.
-    bool nextEventEstimation = true;
-    // Pixels per dispatch (one path each; see kPtLoopBudget for why one): small
-    // enough that a dispatch stays well under a second on llvmpipe, so progress
-    // stays live; larger images are cut into bands of whole rows.
-    int64_t pixelsPerDispatch = 1 << 18;
-    // Base-colour textures (the effect plan's `textures`); off, or with no textured
-    // material, the kernel is compiled without them (VOXGI_NO_TEXTURES).
-    bool textures = true;
-  };
-  // Called after each batch of dispatches with the samples per pixel done so far.
-  using Progress = std::function<void(int done, int total)>;
+  using Settings = PathtraceSettings;
 
   PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings);
 
-  // Clears the accumulation (the next execute() starts from sample 0).
-  void reset();
-  // The camera of the next samples (default: the scene's); a change needs reset().
-  void setCamera(const scene::Camera& camera) { camera_ = camera; }
-  // Adds `spp` samples per pixel and writes the mean of all samples so far into
-  // `hdrTexture` (RGBA32F, ctx.width x ctx.height).
-  void execute(FrameContext& ctx, int spp, GLuint hdrTexture, const Progress& progress = {});
+  void reset() override;
+  void setCamera(const scene::Camera& camera) override { camera_ = camera; }
+  void execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+               const Progress& progress = {}) override;
   // Compiles the kernel and runs one work group, so the driver's JIT is start-up.
-  void warmUp(FrameContext& ctx, GLuint hdrTexture);
+  void warmUp(FrameContext& ctx, GLuint hdrTexture) override;
 
-  int samplesSoFar() const { return samples_; }
-  // Paths stopped by the loop budget since reset() (waits for the GPU); should be 0.
-  uint64_t truncatedPaths() const;
+  int samplesSoFar() const override { return samples_; }
+  // Waits for the GPU.
+  uint64_t truncatedPaths() const override;
+  int emissiveTriangles() const override { return emissiveCount_; }
+  double bvhBuildMs() const override { return bvhMs_; }
+  size_t bvhNodes() const override { return bvh_.nodes().size(); }
+  PathtraceDevice device() const override { return PathtraceDevice::kGl; }
   const Bvh& bvh() const { return bvh_; }
-  double bvhBuildMs() const { return bvhMs_; }
-  int emissiveTriangles() const { return emissiveCount_; }
   Settings& settings() { return settings_; }
 
  private:

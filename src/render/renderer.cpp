@@ -7,6 +7,8 @@
 
 #include "core/log.h"
 #include "gl/debug.h"
+#include "render/pathtrace_cpu.h"
+#include "render/pathtrace_pass.h"
 
 namespace voxgi::render {
 
@@ -160,9 +162,14 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
-    PathtracePass::Settings ps = settings_.pathtrace;
+    PathtraceSettings ps = settings_.pathtrace;
     ps.textures = features.textures;
-    pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps);
+    const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    ps.device = resolvePathtraceDevice(ps.device, glRenderer ? glRenderer : "");
+    if (ps.device == PathtraceDevice::kCpu)
+      pathtrace_ = std::make_unique<CpuPathtracer>(scene_, ps);
+    else
+      pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps);
     startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
   }
 }
@@ -334,6 +341,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
     case Mode::kPathtrace:
       // Progressive: this frame's samples join those since accumulation restarted.
       if (!settings_.progressive || accumulated_ == 0) pathtrace_->reset();
+      pathtrace_->setCamera(camera);
       pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }

@@ -36,7 +36,7 @@
 #include "render/frame_budget.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
-#include "render/pathtrace_pass.h"
+#include "render/pathtracer.h"
 #include "render/points_pass.h"
 #include "render/raster_pass.h"
 #include "render/rtgi_pass.h"
@@ -84,7 +84,7 @@ struct RenderSettings {
   // chosen by the work mask (rtgi.select; kMask unless set) on top of an interleave
   // of 16 (unless set).
   double targetFps = 0.0;
-  PathtracePass::Settings pathtrace;
+  PathtraceSettings pathtrace;
   int spp = 64;  // pathtrace: samples per pixel of one frame
   // pathtrace: frames add their samples to the image until accumulation restarts
   // (the viewer); otherwise each frame is a whole image of `spp` samples.
@@ -121,10 +121,10 @@ class Renderer {
   // What the driver compiles at first use, without a whole frame's work.
   void warmUp();
   // Pathtrace: called while a frame runs with samples per pixel done and total.
-  void setProgress(PathtracePass::Progress progress) { progress_ = std::move(progress); }
+  void setProgress(Pathtracer::Progress progress) { progress_ = std::move(progress); }
   // Work done once at construction, by stage name and wall-clock ms ("bvh").
   const std::vector<gl::StageTime>& startupStages() const { return startup_; }
-  const PathtracePass* pathtrace() const { return pathtrace_.get(); }
+  const Pathtracer* pathtrace() const { return pathtrace_.get(); }
 
   // Re-creates the targets at width x height (checked as in the constructor).
   void resize(int width, int height);
@@ -186,8 +186,8 @@ class Renderer {
   std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;
   bool voxelized_ = false;
-  std::unique_ptr<PathtracePass> pathtrace_;
-  PathtracePass::Progress progress_;
+  std::unique_ptr<Pathtracer> pathtrace_;
+  Pathtracer::Progress progress_;
   std::vector<gl::StageTime> startup_;
   gl::StageTimer timer_;
   gl::Buffer frameUniforms_;

@@ -7,6 +7,8 @@
 //  - no NaN or Inf at grazing angles, at a light, or next to a point light;
 //  - a seed fixes the image; the Cornell room's mean converges;
 //  - the std430/std140 layouts of pathtrace_shared.h agree with C++.
+// Every test but the layout check runs on both devices (gl: the compute shader;
+// cpu: Embree), as PathtraceTest/Gl.* and PathtraceTest/Cpu.*.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -88,6 +90,22 @@ struct Settings {
   bool nee = true;
 };
 
+}  // namespace
+}  // namespace voxgi::test
+
+namespace voxgi::render {
+// Test names and failure messages name the device.
+void PrintTo(PathtraceDevice d, std::ostream* os) {
+  *os << pathtraceDeviceName(d);
+}
+}  // namespace voxgi::render
+
+namespace voxgi::test {
+namespace {
+
+// The device the current test runs on (set by the fixture from its parameter).
+render::PathtraceDevice gDevice = render::PathtraceDevice::kGl;
+
 std::vector<float> renderLinear(const scene::Scene& s, const Settings& t) {
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::RenderSettings rs;
@@ -98,8 +116,10 @@ std::vector<float> renderLinear(const scene::Scene& s, const Settings& t) {
   rs.pathtrace.rrDepth = t.rrDepth;
   rs.pathtrace.seed = t.seed;
   rs.pathtrace.nextEventEstimation = t.nee;
+  rs.pathtrace.device = gDevice;
   render::Renderer r(programs, s, rs);
   r.renderFrame();
+  EXPECT_EQ(r.pathtrace()->device(), gDevice);
   EXPECT_EQ(r.pathtrace()->truncatedPaths(), 0u) << "paths cut short by the loop budget";
   return r.readLinear();
 }
@@ -117,9 +137,17 @@ bool allFinite(const std::vector<float>& px) {
   return true;
 }
 
-class PathtraceTest : public GlTest {};
+class PathtraceTest : public GlTest, public ::testing::WithParamInterface<render::PathtraceDevice> {
+ protected:
+  void SetUp() override {
+    GlTest::SetUp();
+    gDevice = GetParam();
+  }
+};
 
-TEST_F(PathtraceTest, WhiteFurnaceConvergesToClosedForm) {
+class PathtraceGlTest : public GlTest {};
+
+TEST_P(PathtraceTest, WhiteFurnaceConvergesToClosedForm) {
   const float a = 0.5f, le = 1.0f;
   const scene::Scene s = furnace(a, le);
   Settings t;
@@ -135,7 +163,7 @@ TEST_F(PathtraceTest, WhiteFurnaceConvergesToClosedForm) {
   EXPECT_NEAR(got, expected, 0.01 * expected);
 }
 
-TEST_F(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
+TEST_P(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
   const float a = 0.6f, le = 1.0f;
   const scene::Scene s = furnace(a, le);
   Settings t;
@@ -158,7 +186,7 @@ TEST_F(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
 
 // A mirror enclosure (metallic 1, roughness 0: reflectance = base colour, no
 // Fresnel) obeys the same series; every path is deterministic after the first ray.
-TEST_F(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
+TEST_P(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
   const float rho = 0.5f;
   scene::Scene s = furnace(rho, 1.0f);
   s.materials[0].metallic = 1.0f;
@@ -175,7 +203,7 @@ TEST_F(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
 // Light sampling with MIS and BSDF sampling alone are two estimators of the same
 // integral: they agree only if every pdf (GGX visible normals, the lobe mix, the
 // emitters' area pdf) is right. A furnace of glTF metallic-roughness material.
-TEST_F(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
+TEST_P(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
   scene::Scene s = furnace(0.8f, 1.0f);
   for (auto [metallic, roughness] :
        {std::pair{0.0f, 0.3f}, std::pair{0.5f, 0.5f}, std::pair{1.0f, 0.2f}}) {
@@ -217,7 +245,7 @@ scene::Scene planeUnderPointLight(float albedo, float intensity, float h,
   return s;
 }
 
-TEST_F(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
+TEST_P(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
   const float albedo = 0.8f, intensity = 2.0f, h = 1.0f;
   scene::Camera cam;
   cam.position = glm::vec3(0.0f, 3.0f, 0.0f);
@@ -261,7 +289,7 @@ TEST_F(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
   EXPECT_NEAR(sumGot / sumExpected, 1.0, 0.002);
 }
 
-TEST_F(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
+TEST_P(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
   // Grazing: the camera 1 mm above the plane, looking along it; a second point light
   // lies in the plane itself.
   scene::Camera cam;
@@ -286,7 +314,7 @@ TEST_F(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
   }
 }
 
-TEST_F(PathtraceTest, SeedFixesTheImage) {
+TEST_P(PathtraceTest, SeedFixesTheImage) {
   const scene::Scene s = furnace(0.7f, 1.0f);
   Settings t;
   t.size = 16;
@@ -301,7 +329,7 @@ TEST_F(PathtraceTest, SeedFixesTheImage) {
 
 // The Cornell room's mean: independent low-spp estimates agree with a higher-spp
 // one within their spread (the 1024-spp figure in the README uses the same check).
-TEST_F(PathtraceTest, CornellMeanConverges) {
+TEST_P(PathtraceTest, CornellMeanConverges) {
   const scene::Scene s = scene::loadGltf(cornellRoom());
   Settings t;
   t.size = 32;
@@ -329,7 +357,7 @@ TEST_F(PathtraceTest, CornellMeanConverges) {
 // The GPU traversal against the CPU one: a soup of emissive triangles seen directly
 // (max depth 1) covers each pixel exactly as much as CPU rays through the same
 // footprint find; a dropped leaf or a wrong box test leaves holes.
-TEST_F(PathtraceTest, GpuCoverageMatchesCpuTraversal) {
+TEST_P(PathtraceTest, GpuCoverageMatchesCpuTraversal) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> pos(-1.0f, 1.0f), off(-0.12f, 0.12f);
   std::vector<scene::Vertex> v;
@@ -393,7 +421,7 @@ TEST_F(PathtraceTest, GpuCoverageMatchesCpuTraversal) {
 // and green on the right, lit along the view by a directional light of irradiance
 // pi, so that radiance equals the albedo. Bilinear texels repeat as in the raster
 // sampler; with the effect plan's `-textures` the same quad is its white base colour.
-TEST_F(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
+TEST_P(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
   std::vector<scene::Vertex> v;
   for (glm::vec2 p : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)})
     v.push_back({glm::vec3(p, 0.0f), glm::vec3(0, 0, 1), glm::vec2((p.x + 1) / 2, (1 - p.y) / 2)});
@@ -426,6 +454,7 @@ TEST_F(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
     rs.mode = render::Mode::kPathtrace;
     rs.spp = 4;
     rs.effects = effects;
+    rs.pathtrace.device = gDevice;
     render::Renderer r(programs, s, rs);
     r.renderFrame();
     return r.readLinear();
@@ -462,7 +491,7 @@ TEST_F(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
   EXPECT_NEAR(whiteLeft.g, 1.0, 0.02);
 }
 
-TEST_F(PathtraceTest, SharedLayoutsMatchCpp) {
+TEST_F(PathtraceGlTest, SharedLayoutsMatchCpp) {
   gl::ProgramCache cache(sourceDir() + "/shaders");
   const GLuint p = cache.get({{"render/pathtrace.comp"}, {}}).id();
   auto query = [&](GLenum iface, const char* name, GLenum prop) {
@@ -495,6 +524,13 @@ TEST_F(PathtraceTest, SharedLayoutsMatchCpp) {
   EXPECT_EQ(query(GL_UNIFORM, "params.reserved", GL_OFFSET),
             static_cast<GLint>(offsetof(gpu::GpuPtParams, reserved)));
 }
+
+INSTANTIATE_TEST_SUITE_P(Devices, PathtraceTest,
+                         ::testing::Values(render::PathtraceDevice::kGl,
+                                           render::PathtraceDevice::kCpu),
+                         [](const ::testing::TestParamInfo<render::PathtraceDevice>& p) {
+                           return p.param == render::PathtraceDevice::kGl ? "Gl" : "Cpu";
+                         });
 
 }  // namespace
 }  // namespace voxgi::test

@@ -1,0 +1,341 @@
+#include "render/pathtrace_cpu.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/log.h"
+#include "pathtrace_shading.h"
+#include "scene/gpu_scene.h"
+
+namespace voxgi::render {
+
+// The Embree device and scene, and the TBB arena that bounds the worker threads.
+struct CpuPathtracer::Embree {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::unique_ptr<tbb::task_arena> arena;
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+void embreeError(void* /*user*/, RTCError code, const char* message) {
+  logWarning(
+      strf("pathtrace cpu: Embree error %d: %s", static_cast<int>(code), message ? message : ""));
+}
+
+void checkDevice(RTCDevice device, const char* what) {
+  const RTCError e = rtcGetDeviceError(device);
+  if (e != RTC_ERROR_NONE)
+    throw Error(strf("pathtrace cpu: Embree failed to %s (error %d)", what, static_cast<int>(e)));
+}
+
+}  // namespace
+
+CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      pt_(buildPtScene(scene)),
+      textured_(ptReadsTextures(scene, settings.textures)),
+      materials_(scene::GpuScene::packMaterials(scene)),
+      lights_(scene::GpuScene::packLights(scene)),
+      embree_(std::make_unique<Embree>()),
+      camera_(scene.camera) {
+  if (textured_) buildPtTextures(scene, &textureTable_, &texels_);
+  const int threads =
+      settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
+  embree_->arena = std::make_unique<tbb::task_arena>(threads);
+
+  const auto start = std::chrono::steady_clock::now();
+  embree_->device = rtcNewDevice(nullptr);
+  if (!embree_->device)
+    throw Error(strf("pathtrace cpu: Embree could not create a device (error %d)",
+                     static_cast<int>(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(embree_->device, embreeError, nullptr);
+  embree_->scene = rtcNewScene(embree_->device);
+  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
+  const size_t count = pt_.triangles.size();
+  if (count > 0) {
+    RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
+    checkDevice(embree_->device, "allocate the triangle buffers");
+    for (size_t t = 0; t < count; ++t) {
+      const BvhTriangle& tri = pt_.triangles[t];
+      const glm::vec3 corners[3] = {tri.v0, tri.v1, tri.v2};
+      for (int c = 0; c < 3; ++c) {
+        const size_t k = 3 * t + static_cast<size_t>(c);
+        vertices[3 * k] = corners[c].x;
+        vertices[3 * k + 1] = corners[c].y;
+        vertices[3 * k + 2] = corners[c].z;
+        indices[k] = static_cast<uint32_t>(k);
+      }
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(embree_->scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  embree_->arena->execute([&] { rtcCommitScene(embree_->scene); });
+  checkDevice(embree_->device, "build the BVH");
+  bvhMs_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  logDebug(
+      strf("pathtrace cpu: Embree BVH of %zu triangles in %.1f ms; %zu emissive triangles, "
+           "%d threads",
+           count, bvhMs_, pt_.emitters.size(), threads));
+}
+
+CpuPathtracer::~CpuPathtracer() = default;
+
+int CpuPathtracer::threads() const {
+  return embree_->arena->max_concurrency();
+}
+
+bool CpuPathtracer::intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCRayHit rh;
+  rh.ray.org_x = o.x;
+  rh.ray.org_y = o.y;
+  rh.ray.org_z = o.z;
+  rh.ray.dir_x = d.x;
+  rh.ray.dir_y = d.y;
+  rh.ray.dir_z = d.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = std::numeric_limits<float>::infinity();
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(embree_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->triangle = rh.hit.primID;
+  hit->t = rh.ray.tfar;
+  hit->bc = glm::vec2(rh.hit.u, rh.hit.v);
+  return true;
+}
+
+bool CpuPathtracer::occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const {
+  if (!(tMax > 0.0f)) return false;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCRay ray;
+  ray.org_x = o.x;
+  ray.org_y = o.y;
+  ray.org_z = o.z;
+  ray.dir_x = d.x;
+  ray.dir_y = d.y;
+  ray.dir_z = d.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tMax;
+  ray.time = 0.0f;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  rtcOccluded1(embree_->scene, &context, &ray);
+  return ray.tfar < 0.0f;  // -inf on a hit
+}
+
+// One path, step for step as radiance() in shaders/render/pathtrace.comp.
+glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const {
+  using namespace gpu;
+  const PtTables tables{pt_.emitters.data(), texels_.data()};
+  vec3 result(0.0f);
+  vec3 throughput(1.0f);
+  const float eps = pt_.epsilon;
+  const int maxDepth = settings_.maxDepth;
+  const int rrDepth = settings_.rrDepth;
+  const auto emitterCount = static_cast<uint>(pt_.emitters.size());
+  const bool lightsByNee = settings_.nextEventEstimation && emitterCount > 0;
+  float lastPdf = 0.0f;   // solid-angle pdf of the BSDF sample that led here
+  bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
+  for (int depth = 1; depth <= maxDepth; ++depth) {
+    Hit hit;
+    if (!intersect(o, d, &hit)) break;  // black background
+    const uint32_t tri = hit.triangle;
+    const BvhTriangle& T = pt_.triangles[tri];
+    const GpuMaterial& m = materials_[static_cast<size_t>(pt_.material[tri])];
+    const vec2 bc = hit.bc;
+    vec4 baseColor = m.baseColor;
+    const uint32_t first = pt_.firstIndex[tri];
+    const scene::Vertex& a = scene_.vertices[scene_.indices[first]];
+    const scene::Vertex& b1 = scene_.vertices[scene_.indices[first + 1]];
+    const scene::Vertex& b2 = scene_.vertices[scene_.indices[first + 2]];
+    if (textured_ && (m.flags & kMaterialHasTexture) != 0u) {
+      const vec2 uv = (1.0f - bc.x - bc.y) * a.uv + bc.x * b1.uv + bc.y * b2.uv;
+      baseColor *= sampleTexture(tables, textureTable_[m.texture], uv);
+    }
+    const vec3 e1 = T.v1 - T.v0;
+    const vec3 e2 = T.v2 - T.v0;
+    const vec3 p = T.v0 + bc.x * e1 + bc.y * e2;
+    vec3 ng = normalize(cross(e1, e2));
+    const bool front = dot(ng, d) < 0.0f;
+    const vec3 emission(m.emission);
+    if (emission != vec3(0.0f) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
+      float w = 1.0f;
+      const float areaPdf = pt_.emitterAreaPdf[tri];
+      if (!lastDelta && lightsByNee && areaPdf > 0.0f)
+        w = emissionMisWeight(lastPdf, areaPdf, hit.t, abs(dot(ng, d)));
+      result += throughput * emission * w;
+    }
+    if (depth == maxDepth) break;
+
+    // Shade on the side the ray arrived from.
+    vec3 ns = normalize((1.0f - bc.x - bc.y) * a.normal + bc.x * b1.normal + bc.y * b2.normal);
+    if (!front) {
+      ng = -ng;
+      ns = -ns;
+    }
+    const vec3 wo = -d;
+    if (dot(ns, wo) <= 0.0f || !(dot(ns, ns) > 0.5f)) ns = ng;  // past the silhouette
+    const Bsdf bsdf = makeBsdf(vec3(baseColor), m.params.x, m.params.y, dot(ns, wo));
+    if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) break;  // reflects nothing
+
+    const vec3 origin = p + ng * eps;
+    if (bsdf.kind == kBsdfMirror) {
+      d = reflect(d, ns);
+      if (dot(d, ng) <= 0.0f) break;
+      throughput *= bsdf.base;
+      lastDelta = true;
+    } else {
+      if (lightsByNee) {
+        const float u0 = pcgNext01(rng);
+        const float u1 = pcgNext01(rng);
+        const float u2 = pcgNext01(rng);
+        const EmitterSample ls = sampleEmitter(tables, p, emitterCount, u0, u1, u2);
+        if (ls.pdfLight > 0.0f) {
+          float pdfBsdf = 0.0f;
+          const vec3 f = evalBsdf(bsdf, ns, wo, ls.wi, pdfBsdf);
+          if (f != vec3(0.0f) && dot(ng, ls.wi) > 0.0f &&
+              !occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps))
+            result +=
+                throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
+        }
+      }
+      for (const GpuLight& light : lights_) {
+        const PunctualSample ls = samplePunctual(light, p);
+        if (ls.radiance == vec3(0.0f) || dot(ng, ls.wi) <= 0.0f) continue;
+        float pdf = 0.0f;
+        const vec3 f = evalBsdf(bsdf, ns, wo, ls.wi, pdf);
+        if (f == vec3(0.0f)) continue;
+        if (occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps)) continue;
+        result += throughput * f * ls.radiance;
+      }
+      vec3 wi;
+      if (!sampleBsdf(bsdf, ns, wo, rng, wi) || dot(wi, ng) <= 0.0f) break;
+      const vec3 f = evalBsdf(bsdf, ns, wo, wi, lastPdf);
+      if (!(lastPdf > 0.0f)) break;
+      throughput *= f / lastPdf;
+      d = wi;
+      lastDelta = false;
+    }
+    o = origin;
+    // Russian roulette from rrDepth on, as Mitsuba does it.
+    if (depth >= rrDepth) {
+      const float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95f);
+      if (!(pcgNext01(rng) < q)) break;
+      throughput /= q;
+    }
+  }
+  return result;
+}
+
+void CpuPathtracer::allocate(int width, int height) {
+  if (width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+  sum_.assign(n, glm::dvec3(0.0));
+  mean_.assign(4 * n, 0.0f);
+  reset();
+}
+
+void CpuPathtracer::reset() {
+  samples_ = 0;
+  std::fill(sum_.begin(), sum_.end(), glm::dvec3(0.0));
+}
+
+// One path per pixel, sample index firstSample, added to the running sums.
+void CpuPathtracer::tracePass(int firstSample) {
+  const scene::Camera& cam = camera_;
+  const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+  const float tanHalf = std::tan(0.5f * cam.yfov);
+  const glm::vec3 forward = glm::normalize(cam.forward);
+  const glm::vec3 right0 = glm::normalize(glm::cross(forward, cam.up));
+  const glm::vec3 up = glm::cross(right0, forward) * tanHalf;
+  const glm::vec3 right = right0 * (tanHalf * aspect);
+  const uint32_t seedHash = gpu::pcgHash(settings_.seed);
+  const auto sample = static_cast<uint32_t>(firstSample);
+  constexpr int kTile = 16;
+  embree_->arena->execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range2d<int>(0, height_, kTile, 0, width_, kTile),
+        [&](const tbb::blocked_range2d<int>& r) {
+          for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+            for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+              const auto pixelIndex = static_cast<uint32_t>(y * width_ + x);
+              uint32_t rng = gpu::pcgHash(gpu::pcgHash(seedHash + pixelIndex) + sample);
+              // Box filter: a uniform point in the pixel's footprint; y grows upwards.
+              const float jx = gpu::pcgNext01(rng);
+              const float jy = gpu::pcgNext01(rng);
+              const glm::vec2 ndc =
+                  (glm::vec2(static_cast<float>(x), static_cast<float>(y)) + glm::vec2(jx, jy)) /
+                      glm::vec2(static_cast<float>(width_), static_cast<float>(height_)) * 2.0f -
+                  1.0f;
+              const glm::vec3 dir = glm::normalize(forward + ndc.x * right + ndc.y * up);
+              sum_[pixelIndex] += glm::dvec3(radiance(cam.position, dir, rng));
+            }
+        },
+        tbb::simple_partitioner());
+  });
+}
+
+void CpuPathtracer::accumulate(int width, int height, int spp, const Progress& progress) {
+  allocate(width, height);
+  const int target = samples_ + spp;
+  const int first = samples_;
+  while (samples_ < target) {
+    tracePass(samples_);
+    ++samples_;
+    if (progress) progress(samples_ - first, spp);
+  }
+  const double inv = samples_ > 0 ? 1.0 / samples_ : 0.0;
+  for (size_t i = 0; i < sum_.size(); ++i) {
+    const glm::dvec3 m = sum_[i] * inv;
+    mean_[4 * i] = static_cast<float>(m.r);
+    mean_[4 * i + 1] = static_cast<float>(m.g);
+    mean_[4 * i + 2] = static_cast<float>(m.b);
+    mean_[4 * i + 3] = 1.0f;
+  }
+}
+
+void CpuPathtracer::execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+                            const Progress& progress) {
+  gl::StageScope stage(ctx.timer, "pathtrace");
+  accumulate(ctx.width, ctx.height, spp, progress);
+  glTextureSubImage2D(hdrTexture, 0, 0, 0, ctx.width, ctx.height, GL_RGBA, GL_FLOAT, mean_.data());
+}
+
+void CpuPathtracer::warmUp(FrameContext& ctx, GLuint /*hdrTexture*/) {
+  allocate(ctx.width, ctx.height);  // the BVH is built; nothing to compile
+}
+
+}  // namespace voxgi::render

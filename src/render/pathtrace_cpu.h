@@ -1,0 +1,88 @@
+// The path tracer's CPU device (`--pt-device cpu`): the same transport as the GL
+// kernel (render/pathtrace_pass.h describes it), with rays cast by Embree 3
+// (Wald et al. 2014, "Embree: A Kernel Framework for Efficient CPU Ray Tracing")
+// and pixels spread over TBB worker threads. Shading, light sampling, MIS and the
+// random stream are the shared sources that the kernel includes (see
+// render/pathtracer.h), so the two devices agree in distribution, and on most
+// paths sample for sample.
+//
+// Acceleration structure: one Embree triangle geometry over the scene's triangles
+// in draw order (primitive id = PtScene triangle), built at high quality (SAH
+// with spatial splits) and in robust mode, so rays through shared edges and
+// vertices of a closed mesh never slip through.
+// Accumulation: a double-precision running sum per pixel; each execute() adds
+// `spp` passes of one path per pixel, then uploads the mean into the caller's
+// RGBA32F texture.
+#ifndef VOXGI_RENDER_PATHTRACE_CPU_H
+#define VOXGI_RENDER_PATHTRACE_CPU_H
+
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/pathtrace_scene.h"
+#include "render/pathtracer.h"
+#include "scene_shared.h"
+
+namespace voxgi::render {
+
+class CpuPathtracer final : public Pathtracer {
+ public:
+  CpuPathtracer(const scene::Scene& scene, const PathtraceSettings& settings);
+  ~CpuPathtracer() override;
+  CpuPathtracer(const CpuPathtracer&) = delete;
+  CpuPathtracer& operator=(const CpuPathtracer&) = delete;
+
+  void reset() override;
+  void setCamera(const scene::Camera& camera) override { camera_ = camera; }
+  void execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+               const Progress& progress = {}) override;
+  void warmUp(FrameContext& ctx, GLuint hdrTexture) override;
+
+  int samplesSoFar() const override { return samples_; }
+  uint64_t truncatedPaths() const override { return 0; }
+  int emissiveTriangles() const override { return static_cast<int>(pt_.emitters.size()); }
+  double bvhBuildMs() const override { return bvhMs_; }
+  size_t bvhNodes() const override { return 0; }  // Embree does not report it
+  PathtraceDevice device() const override { return PathtraceDevice::kCpu; }
+  int threads() const;
+
+  // The mean of all samples so far, RGBA, rows bottom first (as the GL texture).
+  const std::vector<float>& mean() const { return mean_; }
+  // Adds `spp` samples per pixel at width x height without any GL (tests, tools).
+  void accumulate(int width, int height, int spp, const Progress& progress = {});
+
+ private:
+  struct Embree;
+  struct Hit {
+    uint32_t triangle;
+    float t;
+    glm::vec2 bc;  // barycentrics of v1 and v2
+  };
+  void allocate(int width, int height);
+  bool intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const;
+  bool occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const;
+  glm::vec3 radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const;
+  void tracePass(int firstSample);
+
+  const scene::Scene& scene_;
+  PathtraceSettings settings_;
+  PtScene pt_;
+  bool textured_ = false;
+  std::vector<gpu::GpuMaterial> materials_;
+  std::vector<gpu::GpuLight> lights_;
+  std::vector<glm::uvec4> textureTable_;
+  std::vector<uint32_t> texels_;
+  std::unique_ptr<Embree> embree_;
+  double bvhMs_ = 0.0;
+  std::vector<glm::dvec3> sum_;
+  std::vector<float> mean_;
+  int width_ = 0, height_ = 0;
+  int samples_ = 0;
+  scene::Camera camera_;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_PATHTRACE_CPU_H

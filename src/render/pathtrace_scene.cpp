@@ -1,0 +1,119 @@
+#include "render/pathtrace_scene.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "core/log.h"
+
+#include "brdf_shared.h"
+
+namespace voxgi::render {
+
+void buildAliasTable(const std::vector<double>& weights, std::vector<float>* prob,
+                     std::vector<uint32_t>* alias) {
+  const size_t n = weights.size();
+  prob->assign(n, 1.0f);
+  alias->resize(n);
+  double total = 0.0;
+  for (double w : weights) total += w;
+  std::vector<double> scaled(n);
+  std::vector<uint32_t> small, large;
+  for (size_t i = 0; i < n; ++i) {
+    (*alias)[i] = static_cast<uint32_t>(i);
+    scaled[i] = weights[i] / total * static_cast<double>(n);
+    (scaled[i] < 1.0 ? small : large).push_back(static_cast<uint32_t>(i));
+  }
+  while (!small.empty() && !large.empty()) {
+    const uint32_t s = small.back(), l = large.back();
+    small.pop_back();
+    (*prob)[s] = static_cast<float>(scaled[s]);
+    (*alias)[s] = l;
+    scaled[l] = (scaled[l] + scaled[s]) - 1.0;
+    if (scaled[l] < 1.0) {
+      large.pop_back();
+      small.push_back(l);
+    }
+  }
+  // What is left holds (up to rounding) exactly 1.
+}
+
+PtScene buildPtScene(const scene::Scene& s) {
+  PtScene pt;
+  pt.triangles.reserve(s.triangleCount());
+  pt.material.reserve(s.triangleCount());
+  pt.firstIndex.reserve(s.triangleCount());
+  for (const scene::Draw& d : s.draws) {
+    for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3) {
+      pt.triangles.push_back({s.vertices[s.indices[i]].position,
+                              s.vertices[s.indices[i + 1]].position,
+                              s.vertices[s.indices[i + 2]].position});
+      pt.material.push_back(d.material);
+      pt.firstIndex.push_back(i);
+    }
+  }
+  pt.emitterAreaPdf.assign(pt.triangles.size(), 0.0f);
+  std::vector<double> power;
+  std::vector<size_t> owner;  // triangle of each emitter
+  for (size_t t = 0; t < pt.triangles.size(); ++t) {
+    const scene::Material& m = s.materials[static_cast<size_t>(pt.material[t])];
+    if (!m.isEmissive()) continue;
+    const BvhTriangle& tri = pt.triangles[t];
+    const glm::vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
+    const float area = 0.5f * glm::length(glm::cross(e1, e2));
+    const double p =
+        static_cast<double>(area) * gpu::luminance(m.emission) * (m.doubleSided ? 2.0 : 1.0);
+    if (!(p > 0.0)) continue;
+    gpu::GpuPtEmissive e{};
+    e.v0 = glm::vec4(tri.v0, 0.0f);
+    e.e1 = glm::vec4(e1, 0.0f);
+    e.e2 = glm::vec4(e2, 0.0f);
+    e.radiance = glm::vec4(m.emission, m.doubleSided ? 1.0f : 0.0f);
+    pt.emitters.push_back(e);
+    power.push_back(p);
+    owner.push_back(t);
+  }
+  if (!pt.emitters.empty()) {
+    std::vector<float> prob;
+    std::vector<uint32_t> alias;
+    buildAliasTable(power, &prob, &alias);
+    double total = 0.0;
+    for (double p : power) total += p;
+    for (size_t i = 0; i < pt.emitters.size(); ++i) {
+      gpu::GpuPtEmissive& e = pt.emitters[i];
+      const float pmf = static_cast<float>(power[i] / total);
+      e.v0.w = prob[i];
+      e.e1.w = std::bit_cast<float>(alias[i]);
+      e.e2.w = pmf;
+      const float area = 0.5f * glm::length(glm::cross(glm::vec3(e.e1), glm::vec3(e.e2)));
+      pt.emitterAreaPdf[owner[i]] = pmf / area;
+    }
+  }
+  pt.epsilon = 1e-5f * std::max(s.bounds.diagonal(), 1e-20f);
+  return pt;
+}
+
+bool ptReadsTextures(const scene::Scene& s, bool allowed) {
+  if (!allowed) return false;
+  for (const scene::Draw& d : s.draws) {
+    const int t = s.materials[static_cast<size_t>(d.material)].baseColorTexture;
+    if (t >= 0 && static_cast<size_t>(t) < s.textures.size()) return true;
+  }
+  return false;
+}
+
+void buildPtTextures(const scene::Scene& s, std::vector<glm::uvec4>* table,
+                     std::vector<uint32_t>* texels) {
+  table->clear();
+  texels->clear();
+  for (const scene::Texture& t : s.textures) {
+    table->push_back(glm::uvec4(static_cast<uint32_t>(texels->size()), t.width, t.height, 0u));
+    const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
+    VOXGI_CHECK_EQ(t.rgba8.size(), n * 4);
+    const size_t first = texels->size();
+    texels->resize(first + n);
+    std::memcpy(texels->data() + first, t.rgba8.data(), n * 4);
+  }
+}
+
+}  // namespace voxgi::render
