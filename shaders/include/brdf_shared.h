@@ -78,6 +78,8 @@ VOXGI_FN Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float nv
   b.diffuse = b.base * (1.0f - metallic);
   b.f0 = mix(vec3(0.04f), b.base, metallic);
   b.alpha = clamp(roughness * roughness, 1e-3f, 1.0f);
+  b.specularChance = 1.0f;
+  if (b.kind != kBsdfGgx) return b;  // the lobe choice is the GGX kind's alone
   vec3 fv = b.f0 + (1.0f - b.f0) * pow(1.0f - nv, 5.0f);
   float ws = luminance(fv);
   float wd = luminance(b.diffuse) * (1.0f - ws);

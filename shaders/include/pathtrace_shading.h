@@ -19,7 +19,6 @@
 
 #ifdef __cplusplus
 namespace voxgi::gpu {
-using glm::floatBitsToUint;
 using glm::isinf;
 using glm::isnan;
 using glm::smoothstep;

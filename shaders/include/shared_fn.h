@@ -22,6 +22,7 @@ using glm::clamp;
 using glm::cos;
 using glm::cross;
 using glm::dot;
+using glm::floatBitsToUint;
 using glm::floor;
 using glm::fract;
 using glm::inversesqrt;
@@ -34,6 +35,7 @@ using glm::pow;
 using glm::reflect;
 using glm::sin;
 using glm::sqrt;
+using glm::uintBitsToFloat;
 using glm::unpackUnorm4x8;
 }  // namespace voxgi::gpu
 #define VOXGI_FN inline

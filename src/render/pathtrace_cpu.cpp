@@ -53,6 +53,25 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
       embree_(std::make_unique<Embree>()),
       camera_(scene.camera) {
   if (textured_) buildPtTextures(scene, &textureTable_, &texels_);
+  triangles_.resize(pt_.triangles.size());
+  for (size_t t = 0; t < triangles_.size(); ++t) {
+    const BvhTriangle& tri = pt_.triangles[t];
+    const uint32_t first = pt_.firstIndex[t];
+    const scene::Vertex& a = scene.vertices[scene.indices[first]];
+    const scene::Vertex& b = scene.vertices[scene.indices[first + 1]];
+    const scene::Vertex& c = scene.vertices[scene.indices[first + 2]];
+    triangles_[t] = {tri.v0,
+                     pt_.material[t],
+                     tri.v1 - tri.v0,
+                     pt_.emitterAreaPdf[t],
+                     tri.v2 - tri.v0,
+                     a.normal,
+                     b.normal,
+                     c.normal,
+                     a.uv,
+                     b.uv,
+                     c.uv};
+  }
   const int threads =
       settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
   embree_->arena = std::make_unique<tbb::task_arena>(threads);
@@ -170,28 +189,21 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
   for (int depth = 1; depth <= maxDepth; ++depth) {
     Hit hit;
     if (!intersect(o, d, &hit)) break;  // black background
-    const uint32_t tri = hit.triangle;
-    const BvhTriangle& T = pt_.triangles[tri];
-    const GpuMaterial& m = materials_[static_cast<size_t>(pt_.material[tri])];
+    const Triangle& T = triangles_[hit.triangle];
+    const GpuMaterial& m = materials_[static_cast<size_t>(T.material)];
     const vec2 bc = hit.bc;
     vec4 baseColor = m.baseColor;
-    const uint32_t first = pt_.firstIndex[tri];
-    const scene::Vertex& a = scene_.vertices[scene_.indices[first]];
-    const scene::Vertex& b1 = scene_.vertices[scene_.indices[first + 1]];
-    const scene::Vertex& b2 = scene_.vertices[scene_.indices[first + 2]];
     if (textured_ && (m.flags & kMaterialHasTexture) != 0u) {
-      const vec2 uv = (1.0f - bc.x - bc.y) * a.uv + bc.x * b1.uv + bc.y * b2.uv;
+      const vec2 uv = (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2;
       baseColor *= sampleTexture(tables, textureTable_[m.texture], uv);
     }
-    const vec3 e1 = T.v1 - T.v0;
-    const vec3 e2 = T.v2 - T.v0;
-    const vec3 p = T.v0 + bc.x * e1 + bc.y * e2;
-    vec3 ng = normalize(cross(e1, e2));
+    const vec3 p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
+    vec3 ng = normalize(cross(T.e1, T.e2));
     const bool front = dot(ng, d) < 0.0f;
     const vec3 emission(m.emission);
     if (emission != vec3(0.0f) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0f;
-      const float areaPdf = pt_.emitterAreaPdf[tri];
+      const float areaPdf = T.emitterAreaPdf;
       if (!lastDelta && lightsByNee && areaPdf > 0.0f)
         w = emissionMisWeight(lastPdf, areaPdf, hit.t, abs(dot(ng, d)));
       result += throughput * emission * w;
@@ -199,7 +211,7 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
     if (depth == maxDepth) break;
 
     // Shade on the side the ray arrived from.
-    vec3 ns = normalize((1.0f - bc.x - bc.y) * a.normal + bc.x * b1.normal + bc.y * b2.normal);
+    vec3 ns = normalize((1.0f - bc.x - bc.y) * T.n0 + bc.x * T.n1 + bc.y * T.n2);
     if (!front) {
       ng = -ng;
       ns = -ns;

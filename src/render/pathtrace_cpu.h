@@ -55,6 +55,17 @@ class CpuPathtracer final : public Pathtracer {
 
  private:
   struct Embree;
+  // What a hit reads of its triangle, in one record (two cache lines) rather than
+  // scattered over the scene's arrays.
+  struct alignas(16) Triangle {
+    glm::vec3 v0;
+    int32_t material;
+    glm::vec3 e1;  // v1 - v0
+    float emitterAreaPdf;
+    glm::vec3 e2;  // v2 - v0
+    glm::vec3 n0, n1, n2;
+    glm::vec2 uv0, uv1, uv2;
+  };
   struct Hit {
     uint32_t triangle;
     float t;
@@ -69,6 +80,7 @@ class CpuPathtracer final : public Pathtracer {
   const scene::Scene& scene_;
   PathtraceSettings settings_;
   PtScene pt_;
+  std::vector<Triangle> triangles_;
   bool textured_ = false;
   std::vector<gpu::GpuMaterial> materials_;
   std::vector<gpu::GpuLight> lights_;
