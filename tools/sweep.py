@@ -17,6 +17,11 @@ tcp://HOST:PORT on a cluster whose workers have this checkout (built voxgi, .ven
 out/reference/) at --worker-root. A failed task is reported with its row and
 retried once; the rows that finished are kept (sweep.csv), the failed ones listed in
 failed.csv, and the exit status is 1. docs/study.md says how to start a cluster.
+
+`tools/sweep tables [--check] [FILE...]` rewrites the tables between
+`<!-- begin sweep-table ... -->` and `<!-- end sweep-table ... -->` markers in
+README.md, docs/study.md and docs/measurements.md (or FILEs) from the CSV each
+marker names; --check only reports the blocks that differ (exit 1).
 """
 import argparse
 import csv
@@ -315,6 +320,68 @@ def tables(rows, refs, outdir):
     return text
 
 
+# The documents' generated tables: each block names what it shows and the CSV it
+# is made from (relative to the checkout), and `tools/sweep tables` rewrites it.
+BLOCK = re.compile(r"<!-- begin sweep-table (\S+) from (\S+) -->\n.*?"
+                   r"<!-- end sweep-table \1 -->", re.S)
+DOCS = ["README.md", "docs/study.md", "docs/measurements.md"]
+
+
+def block_text(name, rows):
+    kind, _, scene = name.partition(":")
+    if kind == "pathtrace-spp" and scene in SCENES:
+        lines = spp_table(rows, scene)
+    elif kind == "rtgi-knobs" and scene in SCENES:
+        lines = rtgi_table(rows, scene)
+    elif kind == "modes" and not scene:
+        lines = mode_table(rows)
+    else:
+        raise SystemExit(f"sweep tables: error: unknown table {name!r} (pathtrace-spp:SCENE, "
+                         f"rtgi-knobs:SCENE, modes; SCENE one of {', '.join(SCENES)})")
+    if not lines:
+        raise SystemExit(f"sweep tables: error: {name}: no rows for it in the CSV")
+    return "\n".join(lines)
+
+
+def tables_main(argv):
+    ap = argparse.ArgumentParser(prog="tools/sweep tables",
+                                 description="Rewrites the tables between sweep-table markers "
+                                 "from the CSV each marker names.")
+    ap.add_argument("files", nargs="*", help=f"documents (default: {' '.join(DOCS)})")
+    ap.add_argument("--check", action="store_true",
+                    help="change nothing; list the blocks that differ from their CSV, exit 1 "
+                         "if any do")
+    a = ap.parse_args(argv)
+    files = a.files or [os.path.join(ROOT, d) for d in DOCS]
+    csvs, stale, count = {}, [], 0
+    for path in files:
+        with open(path) as f:
+            text = f.read()
+
+        def regenerate(m):
+            nonlocal count
+            name, src = m.group(1), m.group(2)
+            if src not in csvs:
+                with open(os.path.join(ROOT, src)) as f:
+                    csvs[src] = list(csv.DictReader(f))
+            new = (f"<!-- begin sweep-table {name} from {src} -->\n\n"
+                   f"{block_text(name, csvs[src])}\n\n<!-- end sweep-table {name} -->")
+            count += 1
+            if new != m.group(0):
+                shown = os.path.relpath(path, ROOT) if path.startswith(ROOT + os.sep) else path
+                stale.append(f"{shown}: {name} (from {src})")
+            return new
+        new_text = BLOCK.sub(regenerate, text)
+        if not a.check and new_text != text:
+            with open(path, "w") as f:
+                f.write(new_text)
+    for s in stale:
+        print(f"sweep tables: {'differs from its CSV' if a.check else 'rewrote'}: {s}")
+    print(f"sweep tables: {count} tables, {len(stale)} "
+          f"{'differ' if a.check else 'rewritten'}")
+    return 1 if a.check and stale else 0
+
+
 def tasks_of_grid(a, modes, flags, spec, binary, root, out):
     """The sweep's own grid: (task, refs) for every scene, mode and point."""
     def here(path):
@@ -426,6 +493,8 @@ def run_grid(tasks, a):
 
 
 def main():
+    if sys.argv[1:2] == ["tables"]:
+        sys.exit(tables_main(sys.argv[2:]))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
