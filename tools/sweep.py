@@ -195,6 +195,10 @@ def pareto(points):
     return front
 
 
+def at_ref_size(r):
+    return f"{r['width']}x{r['height']}" == REF_SIZE
+
+
 def image_ms(r):
     """Time to make the image: rtgi accumulates all its frames into it."""
     return float(r["total_ms"]) if r["mode"] == "rtgi" else float(r["frame_ms"])
@@ -209,7 +213,8 @@ def plot(rows, outdir):
         fig, ax = plt.subplots(figsize=(6, 4.2), dpi=100)
         for mode in sorted({r["mode"] for r in rows}):
             pts = [(image_ms(r), float(r["rmse"])) for r in rows
-                   if r["scene"] == scene and r["mode"] == mode and r["rmse"] != ""]
+                   if r["scene"] == scene and r["mode"] == mode and r["rmse"] != ""
+                   and at_ref_size(r)]
             if not pts:
                 continue
             line = ax.scatter(*zip(*pts), label=mode, s=18)
@@ -217,7 +222,8 @@ def plot(rows, outdir):
             ax.plot(*zip(*front), color=line.get_facecolor()[0], lw=1)
             if mode == "pathtrace":
                 for r in rows:
-                    if r["scene"] == scene and r["mode"] == mode and r["rmse"] != "":
+                    if r["scene"] == scene and r["mode"] == mode and r["rmse"] != "" \
+                            and at_ref_size(r):
                         ax.annotate(str(r["spp"]), (float(r["frame_ms"]), float(r["rmse"])),
                                     fontsize=6, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")
@@ -261,7 +267,7 @@ def plot(rows, outdir):
 def spp_table(rows, scene):
     """The path tracer at REF_SIZE on one scene: spp -> time, RMSE, FLIP."""
     pt = sorted((r for r in rows if r["scene"] == scene and r["mode"] == "pathtrace"
-                 and r["rmse"] != ""), key=lambda r: int(r["spp"]))
+                 and r["rmse"] != "" and at_ref_size(r)), key=lambda r: int(r["spp"]))
     lines = ["| spp | time (ms) | RMSE | FLIP |", "|---:|---:|---:|---:|"]
     for r in pt:
         lines.append(f"| {r['spp']} | {float(r['frame_ms']):.0f} | {float(r['rmse']):.4f} | "
@@ -587,11 +593,14 @@ def main():
         print(f"sweep: interrupted after {len(rows) - len(kept)} of {len(tasks)} tasks; the "
               "rows that finished are in sweep.csv", file=sys.stderr)
         sys.exit(130)
-    if rows:
+    wrote = "sweep.csv"
+    if any(at_ref_size(r) for r in rows):
         plot(rows, a.out)
         print(tables(rows, refs, a.out))
-    print(f"sweep: {len(rows)} renders in {time.time() - start:.0f} s; wrote {a.out}/sweep.csv, "
-          "tables.md, error_vs_time_*.png, time_vs_spp.png")
+        wrote += ", tables.md, error_vs_time_*.png, time_vs_spp.png"
+    else:
+        print(f"sweep: no rows at {REF_SIZE}: no tables or plots")
+    print(f"sweep: {len(rows)} renders in {time.time() - start:.0f} s; wrote {a.out}/{wrote}")
     if failures:
         print(f"sweep: {len(failures)} of {len(tasks)} tasks failed twice, listed in "
               f"{failed_csv}; the {len(rows)} rows that finished are in sweep.csv",
