@@ -450,8 +450,9 @@ def run_grid(tasks, a):
     cluster = None
     if a.scheduler:
         client = Client(a.scheduler, timeout="30s")
-        print(f"sweep: {len(tasks)} tasks on {a.scheduler} "
-              f"({len(client.scheduler_info()['workers'])} workers)", flush=True)
+        workers = len(client.scheduler_info()["workers"])
+        print(f"sweep: {len(tasks)} tasks on {a.scheduler} ({workers} workers"
+              f"{'; the tasks wait for one to join' if not workers else ''})", flush=True)
     else:
         # One thread a worker: each task is a voxgi process with its own GL context,
         # and llvmpipe already spreads one frame over every core.
