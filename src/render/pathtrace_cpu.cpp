@@ -60,17 +60,19 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
     const scene::Vertex& a = scene.vertices[scene.indices[first]];
     const scene::Vertex& b = scene.vertices[scene.indices[first + 1]];
     const scene::Vertex& c = scene.vertices[scene.indices[first + 2]];
-    triangles_[t] = {tri.v0,
-                     pt_.material[t],
-                     tri.v1 - tri.v0,
-                     pt_.emitterAreaPdf[t],
-                     tri.v2 - tri.v0,
-                     a.normal,
-                     b.normal,
-                     c.normal,
-                     a.uv,
-                     b.uv,
-                     c.uv};
+    Triangle& r = triangles_[t];
+    r.v0 = tri.v0;
+    r.material = pt_.material[t];
+    r.e1 = tri.v1 - tri.v0;
+    r.emitterAreaPdf = pt_.emitterAreaPdf[t];
+    r.e2 = tri.v2 - tri.v0;
+    r.ng = glm::normalize(glm::cross(r.e1, r.e2));
+    r.n0 = a.normal;
+    r.n1 = b.normal;
+    r.n2 = c.normal;
+    r.uv0 = a.uv;
+    r.uv1 = b.uv;
+    r.uv2 = c.uv;
   }
   const int threads =
       settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
@@ -198,7 +200,7 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
       baseColor *= sampleTexture(tables, textureTable_[m.texture], uv);
     }
     const vec3 p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
-    vec3 ng = normalize(cross(T.e1, T.e2));
+    vec3 ng = T.ng;
     const bool front = dot(ng, d) < 0.0f;
     const vec3 emission(m.emission);
     if (emission != vec3(0.0f) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {

@@ -55,7 +55,7 @@ class CpuPathtracer final : public Pathtracer {
 
  private:
   struct Embree;
-  // What a hit reads of its triangle, in one record (two cache lines) rather than
+  // What a hit reads of its triangle, in one record (128 bytes) rather than
   // scattered over the scene's arrays.
   struct alignas(16) Triangle {
     glm::vec3 v0;
@@ -63,6 +63,7 @@ class CpuPathtracer final : public Pathtracer {
     glm::vec3 e1;  // v1 - v0
     float emitterAreaPdf;
     glm::vec3 e2;  // v2 - v0
+    glm::vec3 ng;  // normalize(cross(e1, e2)), as the kernel computes it per hit
     glm::vec3 n0, n1, n2;
     glm::vec2 uv0, uv1, uv2;
   };
