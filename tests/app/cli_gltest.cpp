@@ -10,6 +10,7 @@
 
 #include "image/image.h"
 #include "image/metrics.h"
+#include "render/pathtracer.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -237,6 +238,10 @@ TEST(Cli, PathtraceWritesImagesAndThroughput) {
   EXPECT_EQ(stats["spp"], 4);
   EXPECT_GT(stats["samples_per_second"].get<double>(), 0.0);
   EXPECT_EQ(stats["truncated_paths"], 0);
+  // --pt-device auto: cpu on a software GL, gl on a GPU.
+  EXPECT_EQ(stats["pt_device"],
+            render::pathtraceDeviceName(render::resolvePathtraceDevice(
+                render::PathtraceDevice::kAuto, stats["renderer"].get<std::string>())));
   EXPECT_TRUE(stats["stages"].contains("pathtrace"));
   EXPECT_TRUE(stats["stages"].contains("tonemap"));
   EXPECT_FALSE(stats["stages"].contains("bvh"));  // start-up, not per frame

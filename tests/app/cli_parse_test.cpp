@@ -72,6 +72,24 @@ TEST(CliParse, PathtraceOptions) {
   EXPECT_EQ(d.render.render.pathtrace.maxDepth, 8);
   EXPECT_EQ(d.render.render.pathtrace.rrDepth, 5);
   EXPECT_EQ(d.render.render.spp, 64);
+  // The device: auto by default; cpu and gl on request; threads for cpu.
+  EXPECT_EQ(d.render.render.pathtrace.device, render::PathtraceDevice::kAuto);
+  EXPECT_EQ(
+      parse({"render", "--pt-device", "cpu", "--pt-threads", "3"}).render.render.pathtrace.device,
+      render::PathtraceDevice::kCpu);
+  EXPECT_EQ(parse({"render", "--pt-threads", "3"}).render.render.pathtrace.threads, 3);
+  EXPECT_EQ(parse({"render", "--pt-device", "gl"}).render.render.pathtrace.device,
+            render::PathtraceDevice::kGl);
+  EXPECT_THROW(parse({"render", "--pt-device", "gpu"}), UsageError);
+  EXPECT_THROW(parse({"render", "--pt-threads", "0"}), UsageError);
+  // auto: cpu on a software rasterizer, gl on a GPU.
+  EXPECT_EQ(render::resolvePathtraceDevice(render::PathtraceDevice::kAuto,
+                                           "llvmpipe (LLVM 15.0.6, 256 bits)"),
+            render::PathtraceDevice::kCpu);
+  EXPECT_EQ(render::resolvePathtraceDevice(render::PathtraceDevice::kAuto, "NVIDIA H200/PCIe/SSE2"),
+            render::PathtraceDevice::kGl);
+  EXPECT_EQ(render::resolvePathtraceDevice(render::PathtraceDevice::kGl, "llvmpipe"),
+            render::PathtraceDevice::kGl);
 }
 
 TEST(CliParse, Compare) {
