@@ -145,6 +145,19 @@ VOXGI_FN vec4 sampleTexture(VOXGI_TABLES_PARAM uvec4 t, vec2 uv) {
       f.y);
 }
 
+// --- alpha masks ------------------------------------------------------------------------
+// Whether a ray stops at a hit at uv on material m: an alpha-masked material (glTF
+// MASK) lets rays through where base alpha x texture alpha < its cutoff, as the
+// raster modes discard those fragments. `texture` is m's table entry (read only
+// when `textured` and m has a texture).
+VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 texture, vec2 uv) {
+  if ((m.flags & kMaterialAlphaMask) == 0u) return true;
+  float a = m.baseColor.a;
+  if (textured && (m.flags & kMaterialHasTexture) != 0u)
+    a *= sampleTexture(VOXGI_TABLES_ARG texture, uv).a;
+  return a >= m.params.z;
+}
+
 #ifdef __cplusplus
 }  // namespace voxgi::gpu
 #endif

@@ -106,6 +106,13 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
         indices[k] = static_cast<uint32_t>(k);
       }
     }
+    for (const scene::Material& m : scene.materials)
+      masked_ = masked_ || (settings_.alpha && m.alphaMode == scene::AlphaMode::kMask);
+    if (masked_) {
+      rtcSetGeometryUserData(geometry, this);
+      rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
+      rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(embree_->scene, geometry);
     rtcReleaseGeometry(geometry);
@@ -121,6 +128,22 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
 }
 
 CpuPathtracer::~CpuPathtracer() = default;
+
+void CpuPathtracer::alphaFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* self = static_cast<const CpuPathtracer*>(args->geometryUserPtr);
+  const gpu::PtTables tables{self->pt_.emitters.data(), self->texels_.data()};
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const Triangle& t = self->triangles_[RTCHitN_primID(args->hit, args->N, i)];
+    const gpu::GpuMaterial& m = self->materials_[static_cast<size_t>(t.material)];
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    const glm::vec2 uv = (1.0f - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
+    const glm::uvec4 texture = self->textured_ && (m.flags & gpu::kMaterialHasTexture) != 0u
+                                   ? self->textureTable_[m.texture]
+                                   : glm::uvec4(0u);
+    if (!gpu::alphaStops(tables, m, self->textured_, texture, uv)) args->valid[i] = 0;
+  }
+}
 
 int CpuPathtracer::threads() const {
   return embree_->arena->max_concurrency();

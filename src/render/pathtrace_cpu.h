@@ -25,6 +25,8 @@
 #include "render/pathtracer.h"
 #include "scene_shared.h"
 
+struct RTCFilterFunctionNArguments;  // Embree
+
 namespace voxgi::render {
 
 class CpuPathtracer final : public Pathtracer {
@@ -77,12 +79,15 @@ class CpuPathtracer final : public Pathtracer {
   bool occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const;
   glm::vec3 radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const;
   void tracePass(int firstSample);
+  // Embree's hit filter: drops hits where an alpha mask lets the ray through.
+  static void alphaFilter(const ::RTCFilterFunctionNArguments* args);
 
   const scene::Scene& scene_;
   PathtraceSettings settings_;
   PtScene pt_;
   std::vector<Triangle> triangles_;
   bool textured_ = false;
+  bool masked_ = false;  // some material is alpha-masked (and the plan reads masks)
   std::vector<gpu::GpuMaterial> materials_;
   std::vector<gpu::GpuLight> lights_;
   std::vector<glm::uvec4> textureTable_;

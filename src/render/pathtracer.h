@@ -47,6 +47,9 @@ struct PathtraceSettings {
   // Base-colour textures (the effect plan's `textures`); off, or with no textured
   // material, none are read (the GL kernel is compiled without them).
   bool textures = true;
+  // Alpha masks (the effect plan's `alpha`): rays pass where a MASK material's
+  // alpha is below its cutoff.
+  bool alpha = true;
   PathtraceDevice device = PathtraceDevice::kAuto;
   // cpu: worker threads (0: one per core).
   int threads = 0;

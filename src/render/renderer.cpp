@@ -164,6 +164,7 @@ void Renderer::createPasses() {
   if (mode == Mode::kPathtrace && !pathtrace_) {
     PathtraceSettings ps = settings_.pathtrace;
     ps.textures = features.textures;
+    ps.alpha = features.alpha;
     const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     ps.device = resolvePathtraceDevice(ps.device, glRenderer ? glRenderer : "");
     if (ps.device == PathtraceDevice::kCpu)
