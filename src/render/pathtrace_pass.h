@@ -3,7 +3,8 @@
 // (llvmpipe included).
 //
 // Reads: the scene (triangles, materials, punctual lights, emissive triangles) and a
-// BVH built on the CPU at construction (render/bvh.h; the "bvh" start-up stage).
+// BVH built on the CPU (render/gpu_bvh.h: its own at construction, or the one the
+// Renderer shares with rtgi; the "bvh" start-up stage).
 // Writes: linear radiance, the mean of all samples so far, into the caller's RGBA32F
 // texture at the frame size; it keeps the running sum (and its Kahan compensation)
 // in two RGBA32F images of its own, so samples accumulate progressively across calls
@@ -33,10 +34,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 #include "gl/handles.h"
-#include "render/bvh.h"
 #include "render/frame_context.h"
+#include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
 
 namespace voxgi::render {
@@ -61,7 +63,9 @@ class PathtracePass {
   // Called after each batch of dispatches with the samples per pixel done so far.
   using Progress = std::function<void(int done, int total)>;
 
-  PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings);
+  // `bvh`: the scene's BVH when the caller shares one (the Renderer); null builds one.
+  PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings,
+                std::shared_ptr<const GpuBvh> bvh = nullptr);
 
   // Clears the accumulation (the next execute() starts from sample 0).
   void reset();
@@ -76,9 +80,9 @@ class PathtracePass {
   int samplesSoFar() const { return samples_; }
   // Paths stopped by the loop budget since reset() (waits for the GPU); should be 0.
   uint64_t truncatedPaths() const;
-  const Bvh& bvh() const { return bvh_; }
-  double bvhBuildMs() const { return bvhMs_; }
-  int emissiveTriangles() const { return emissiveCount_; }
+  const Bvh& bvh() const { return gpuBvh_->bvh(); }
+  double bvhBuildMs() const { return gpuBvh_->buildMs(); }
+  int emissiveTriangles() const { return gpuBvh_->emissiveTriangles(); }
   Settings& settings() { return settings_; }
 
  private:
@@ -88,17 +92,10 @@ class PathtracePass {
 
   Settings settings_;
   const GpuScene& scene_;
+  std::shared_ptr<const GpuBvh> gpuBvh_;  // declared before textured_ and program_
   bool textured_ = false;  // the kernel reads base-colour textures (declared before program_)
   const gl::Program& program_;
-  Bvh bvh_;
-  double bvhMs_ = 0.0;
-  gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
-  gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
-  // Base-colour textures: per-triangle UVs, every texture's texels, and where each
-  // texture starts (empty without textures).
-  gl::Buffer uvs_, texels_, textureTable_;
-  gl::Texture uvTexels_, textureTexels_;
-  int emissiveCount_ = 0;
+  gl::Buffer params_, counter_;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;
   int samples_ = 0;
