@@ -19,6 +19,12 @@ VOXGI_CONST uint kGEmissionUnit = 7u;  // rgba16f: emitted radiance
 VOXGI_CONST uint kRtgiBvhNodeUnit = 0u;
 VOXGI_CONST uint kRtgiBvhTriangleUnit = 1u;
 VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
+// Base-colour textures at the hit (a textured BVH, unless VOXGI_NO_TEXTURES): corner
+// UVs and texels as the path tracer reads them (kPtUvTexUnit, kPtTexelTexUnit), and
+// the table of textures (uvec4 each, see kPtTextureBinding) as an SSBO.
+VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
+VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
+VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
 // Images written by the per-pixel stages and read by accumulate.
 VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;

@@ -15,7 +15,8 @@
 // along one cosine ray from the hit (the indirect stage's estimate), when the plan
 // has indirect light: voxels serve only as the light cache behind the hit. A mirror
 // sees an emitter it hits; a glossy surface does not (its highlight comes from the
-// shadows stage). Base-colour textures are not read at the hit (the factor only).
+// shadows stage). RTGI_BVH_TEXTURES (a textured BVH): base-colour textures at the hit,
+// sampled as the path tracer samples them (bilinear, no mipmaps).
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -39,6 +40,39 @@ layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading { GpuPt
 uint loopBudget;  // see kPtLoopBudget
 const float kInf = 1.0 / 0.0;
 #include "bvh_trace.glsl"
+
+#ifdef RTGI_BVH_TEXTURES
+layout(std430, binding = kRtgiBvhTextureBinding) readonly buffer Textures { uvec4 textures[]; };
+layout(binding = kRtgiBvhUvUnit) uniform usamplerBuffer uvTexels;
+layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
+
+// The path tracer's texture lookups (pathtrace.comp), the same arithmetic.
+// Texture coordinates at barycentrics bc of triangle tri.
+vec2 triangleUv(uint tri, vec2 bc) {
+  vec4 a = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2));
+  vec2 c = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2 + 1).xy);
+  return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+}
+
+vec4 srgbTexel(uvec4 t, ivec2 p) {
+  vec4 c = unpackUnorm4x8(texelFetch(textureTexels, int(t.x) + p.y * int(t.y) + p.x).x);
+  vec3 lo = c.rgb / 12.92, hi = pow((c.rgb + 0.055) / 1.055, vec3(2.4));
+  return vec4(mix(hi, lo, lessThanEqual(c.rgb, vec3(0.04045))), c.a);
+}
+
+// Texture t at uv, bilinear over linear (decoded) texels, repeating.
+vec4 sampleTexture(uvec4 t, vec2 uv) {
+  ivec2 size = ivec2(t.yz);
+  uv = mix(uv, vec2(0.0), bvec2(uvec2(isnan(uv)) | uvec2(isinf(uv))));
+  vec2 x = fract(uv) * vec2(size) - 0.5;
+  vec2 f = x - floor(x);
+  ivec2 i0 = ivec2(floor(x));
+  ivec2 a = i0 + size * ivec2(lessThan(i0, ivec2(0)));
+  ivec2 b = a + 1 - size * ivec2(greaterThanEqual(a + 1, size));
+  return mix(mix(srgbTexel(t, a), srgbTexel(t, ivec2(b.x, a.y)), f.x),
+             mix(srgbTexel(t, ivec2(a.x, b.y)), srgbTexel(t, b), f.x), f.y);
+}
+#endif
 
 // Ray offset off a triangle: a thousandth of a voxel, scaled with the scene.
 float bvhEpsilon() { return 1e-3 * octreeVoxelSize(); }
@@ -136,6 +170,10 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     GpuPtTriangle T = loadTriangle(tri);
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+#ifdef RTGI_BVH_TEXTURES
+    if ((m.flags & kMaterialHasTexture) != 0u)
+      m.baseColor *= sampleTexture(textures[m.texture], triangleUv(tri, bc));
+#endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
     bool front = dot(ng, dir) < 0.0;

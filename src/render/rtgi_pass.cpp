@@ -47,6 +47,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   if (!bvh_) return *specular_;
   std::vector<std::string> defines = settings_.features.defines();
   defines.emplace_back("RTGI_BVH");
+  if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
@@ -247,10 +248,18 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       glBindTextureUnit(gpu::kRtgiBvhNodeUnit, bvh_->nodeTexels());
       glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, bvh_->triangleTexels());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, bvh_->shading());
+      if (bvh_->textured()) {
+        glBindTextureUnit(gpu::kRtgiBvhUvUnit, bvh_->uvTexels());
+        glBindTextureUnit(gpu::kRtgiBvhTexelUnit, bvh_->textureTexels());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding,
+                         bvh_->textureTable());
+      }
     }
     run("specular", specularProgram(gs));
     if (bvh_)
-      for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit}) glBindTextureUnit(u, 0);
+      for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
+                       gpu::kRtgiBvhTexelUnit})
+        glBindTextureUnit(u, 0);
   }
   // A sparse start: until every pixel has had its turn (n frames; a budget's list
   // includes the pattern), the variant that lends traced light to those still

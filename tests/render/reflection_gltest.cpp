@@ -12,6 +12,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 #include "render/renderer.h"
+#include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
 #include "support/scene_builder.h"
 #include "support/test_paths.h"
@@ -171,6 +172,40 @@ TEST_F(ReflectionTest, MirrorReflectsTheCheckerAsSharpAsThePathTracer) {
   EXPECT_LT(fNoise, kFlipBound);
   EXPECT_LT(fExact, kFlipBound);
   EXPECT_GT(fVoxel, kFlipBound);  // the bound fails the voxel reflections
+}
+
+// A textured BVH: the reflected ray reads the base-colour texture where it lands, as
+// the path tracer does. The lamp's metal reflects its textured shade and body; with
+// the texture's mean colour missing (the factor only) rtgi's image came out 5.6%
+// brighter than the path tracer's, with it 0.2% darker (128x128, 32 frames).
+TEST_F(ReflectionTest, TexturedHitsReadTheirBaseColour) {
+  const scene::Scene s =
+      scene::loadGltf(samplesDir() + "/lights_punctual_lamp/LightsPunctualLamp.gltf");
+  render::RenderSettings rs;
+  rs.width = rs.height = 64;
+  rs.voxels = 64;
+  rs.rtgi.seed = rs.octree.seed = 7;
+  render::Renderer rtgi(*programs_, s, rs);
+  for (int f = 0; f < 32; ++f) rtgi.renderFrame();
+  ASSERT_NE(rtgi.bvh(), nullptr);
+  EXPECT_TRUE(rtgi.bvh()->textured());
+  rs.mode = render::Mode::kPathtrace;
+  rs.spp = 128;
+  render::Renderer pt(*programs_, s, rs);
+  pt.renderFrame();
+  auto toImage = [](const std::vector<float>& rgba) {
+    image::Image im;
+    im.width = im.height = 64;
+    im.channels = 3;
+    for (size_t i = 0; i < rgba.size(); i += 4)
+      im.pixels.insert(im.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+    return im;
+  };
+  const image::ErrorMetrics m =
+      image::errorMetrics(toImage(rtgi.readLinear()), toImage(pt.readLinear()));
+  std::printf("lamp: rtgi / pathtrace mean luminance %.4f, RMSE %.4f\n", m.meanLuminanceRatio,
+              m.rmse);
+  EXPECT_NEAR(m.meanLuminanceRatio, 1.0, 0.03);
 }
 
 // The effect plan decides: a scene without mirrors or glossy surfaces builds no BVH
