@@ -14,6 +14,17 @@ VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 where cov
 VOXGI_CONST uint kGNormalUnit = 5u;    // rgba16f: shading normal (towards the viewer), w roughness
 VOXGI_CONST uint kGAlbedoUnit = 6u;    // rgba8: base colour, w metallic
 VOXGI_CONST uint kGEmissionUnit = 7u;  // rgba16f: emitted radiance
+// The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): nodes and triangles as
+// buffer textures, and the per-triangle shading data (GpuPtShading) as an SSBO.
+VOXGI_CONST uint kRtgiBvhNodeUnit = 0u;
+VOXGI_CONST uint kRtgiBvhTriangleUnit = 1u;
+VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
+// Base-colour textures at the hit (a textured BVH, unless VOXGI_NO_TEXTURES): corner
+// UVs and texels as the path tracer reads them (kPtUvTexUnit, kPtTexelTexUnit), and
+// the table of textures (uvec4 each, see kPtTextureBinding) as an SSBO.
+VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
+VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
+VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
 // Images written by the per-pixel stages and read by accumulate.
 VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;
@@ -53,6 +64,8 @@ VOXGI_CONST uint kRtgiHasSpecular = 4u;
 VOXGI_CONST float kMirrorRoughness = 0.05f;
 // Dielectrics rougher than this reflect too little, too blurred, to trace.
 VOXGI_CONST float kGlossyRoughness = 0.6f;
+// With a BVH: mirrors a reflected ray passes on from before it is shaded.
+VOXGI_CONST int kMaxMirrorChain = 4;
 
 struct RtgiParams {
   uvec4 frame;         // x frame index since accumulation restarted, y seed, z width, w height

@@ -154,6 +154,8 @@ std::string renderHelp() {
          "                    its share only, like the others; pixels that have not traced\n"
          "                    yet show their traced neighbours' light (as the viewer does)\n"
          "  --budget-select S mask (default) or uniform: how the budget picks its pixels\n"
+         "  --voxel-reflections  mirrors and glossy surfaces reflect the voxels they see\n"
+         "                    (default: the exact triangles, through a BVH, lit exactly)\n"
          "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces in the first\n"
          "                    estimate of the voxels' light (default 4; refinement adds more)\n"
@@ -318,6 +320,8 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
       throw UsageError("--target-fps: must be in (0, 1000], or off");
   } else if (a == "--sparse-start") {
     rs->rtgi.sparseStart = true;
+  } else if (a == "--voxel-reflections") {
+    rs->rtgi.exactReflections = false;
   } else if (a == "--budget-select") {
     const std::string v = value();
     if (v == "mask")

@@ -106,8 +106,7 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
         indices[k] = static_cast<uint32_t>(k);
       }
     }
-    for (const scene::Material& m : scene.materials)
-      masked_ = masked_ || (settings_.alpha && m.alphaMode == scene::AlphaMode::kMask);
+    masked_ = ptReadsAlphaMasks(scene, settings_.alpha);
     if (masked_) {
       rtcSetGeometryUserData(geometry, this);
       rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);

@@ -1,110 +1,42 @@
 #include "render/pathtrace_pass.h"
 
 #include <algorithm>
-#include <bit>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 
 #include "core/log.h"
 #include "pathtrace_shared.h"
+#include "render/pathtrace_scene.h"
 
 namespace voxgi::render {
+namespace {
+
+// The kernel's variant: without textures when none are read, with alpha tests in
+// traversal when some material is masked.
+std::vector<std::string> kernelDefines(const scene::Scene& s, const PathtraceSettings& settings,
+                                       bool textured) {
+  std::vector<std::string> defines;
+  if (!textured) defines.push_back("VOXGI_NO_TEXTURES");
+  if (ptReadsAlphaMasks(s, settings.alpha)) defines.push_back("VOXGI_BVH_ALPHA");
+  return defines;
+}
+
+}  // namespace
 
 PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
-                             const Settings& settings)
+                             const Settings& settings, std::shared_ptr<const GpuBvh> bvh)
     : settings_(settings),
       scene_(gs),
-      textured_(ptReadsTextures(gs.scene(), settings.textures)),
-      program_(programs.get({{"render/pathtrace.comp"},
-                             textured_ ? std::vector<std::string>{}
-                                       : std::vector<std::string>{"VOXGI_NO_TEXTURES"}})),
+      gpuBvh_(bvh ? std::move(bvh) : std::make_shared<GpuBvh>(gs.scene(), settings.textures)),
+      textured_(gpuBvh_->textured()),
+      program_(programs.get(
+          {{"render/pathtrace.comp"}, kernelDefines(gs.scene(), settings, textured_)})),
       camera_(gs.scene().camera) {
   const scene::Scene& s = gs.scene();
-  const auto start = std::chrono::steady_clock::now();
-  const PtScene pt = buildPtScene(s);
-  Bvh::Options options;
-  options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
-  bvh_ = Bvh(pt.triangles, options);
-  for (const gpu::GpuBvhNode& n : bvh_.nodes()) {
-    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.leftMax.w), gpu::kPtMaxLeafSize);
-    VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.rightMax.w), gpu::kPtMaxLeafSize);
-  }
-  bvhMs_ =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-
-  // Per-triangle shading data in BVH order: vertex normals, material, emitter pdf.
-  const std::vector<uint32_t>& order = bvh_.order();
-  std::vector<gpu::GpuPtShading> shade(order.size());
-  for (size_t slot = 0; slot < order.size(); ++slot) {
-    const uint32_t t = order[slot];
-    const uint32_t i = pt.firstIndex[t];
-    gpu::GpuPtShading& g = shade[slot];
-    g.n0 = glm::vec4(s.vertices[s.indices[i]].normal,
-                     std::bit_cast<float>(static_cast<uint32_t>(pt.material[t])));
-    g.n1 = glm::vec4(s.vertices[s.indices[i + 1]].normal, pt.emitterAreaPdf[t]);
-    g.n2 = glm::vec4(s.vertices[s.indices[i + 2]].normal, 0.0f);
-  }
-  const std::vector<gpu::GpuPtEmissive>& emitters = pt.emitters;
-  emissiveCount_ = static_cast<int>(emitters.size());
-
-  const auto triangles = bvh_.gpuTriangles();
-  const auto& nodes = bvh_.nodes();
-  auto upload = [](const void* data, size_t bytes) {
-    return gl::createBuffer(static_cast<GLsizeiptr>(bytes), bytes ? data : nullptr);
-  };
-  GLint maxTexels = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-  auto texels = [&](const gl::Buffer& buffer, size_t bytes) {
-    if (bytes / 16 > static_cast<size_t>(maxTexels))
-      throw Error(
-          strf("pathtrace: %zu triangles need a BVH of %zu texels, more than this GL's "
-               "buffer texture limit of %d",
-               bvh_.triangleCount(), bytes / 16, maxTexels));
-    gl::Texture t = gl::createTexture(GL_TEXTURE_BUFFER);
-    if (bytes) glTextureBuffer(t.id(), GL_RGBA32UI, buffer.id());
-    return t;
-  };
-  nodes_ = upload(nodes.data(), nodes.size() * sizeof(gpu::GpuBvhNode));
-  triangles_ = upload(triangles.data(), triangles.size() * sizeof(gpu::GpuPtTriangle));
-  nodeTexels_ = texels(nodes_, nodes.size() * sizeof(gpu::GpuBvhNode));
-  triangleTexels_ = texels(triangles_, triangles.size() * sizeof(gpu::GpuPtTriangle));
-  shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
-  if (textured_) {
-    // Corner UVs in BVH order, then every texture's texels in one buffer and where
-    // each starts.
-    std::vector<glm::vec4> uvs(2 * order.size());
-    for (size_t slot = 0; slot < order.size(); ++slot) {
-      const uint32_t i = pt.firstIndex[order[slot]];
-      const glm::vec2 a = s.vertices[s.indices[i]].uv, b = s.vertices[s.indices[i + 1]].uv,
-                      c = s.vertices[s.indices[i + 2]].uv;
-      uvs[2 * slot] = glm::vec4(a, b);
-      uvs[2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
-    }
-    std::vector<glm::uvec4> table;
-    std::vector<uint32_t> pixels;
-    buildPtTextures(s, &table, &pixels);
-    if (pixels.size() > static_cast<size_t>(maxTexels))
-      throw Error(
-          strf("pathtrace: the scene's textures hold %zu texels, more than this GL's "
-               "buffer texture limit of %d",
-               pixels.size(), maxTexels));
-    uvs_ = upload(uvs.data(), uvs.size() * sizeof(glm::vec4));
-    uvTexels_ = texels(uvs_, uvs.size() * sizeof(glm::vec4));
-    texels_ = upload(pixels.data(), pixels.size() * 4);
-    textureTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
-    glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
-    textureTable_ = upload(table.data(), table.size() * sizeof(glm::uvec4));
-  }
-  emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   params_ = gl::createBuffer(sizeof(gpu::GpuPtParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   const uint32_t zero = 0;
   counter_ = gl::createBuffer(sizeof(uint32_t), &zero, GL_DYNAMIC_STORAGE_BIT);
-  epsilon_ = pt.epsilon;
-  logDebug(strf(
-      "pathtrace: BVH of %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d "
-      "emissive triangles",
-      bvh_.triangleCount(), nodes.size(), bvh_.depth(), bvh_.sahCost(), bvhMs_, emissiveCount_));
+  // Ray offsets scaled to the scene: 1e-5 of its diagonal.
+  epsilon_ = 1e-5f * std::max(s.bounds.diagonal(), 1e-20f);
 }
 
 void PathtracePass::allocate(int width, int height) {
@@ -148,7 +80,8 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   p.cameraUp = glm::vec4(up * tanHalf, 0.0f);
   p.cameraForward = glm::vec4(forward, 0.0f);
   p.image = glm::uvec4(ctx.width, ctx.height, firstSample, samples);
-  p.tile = glm::uvec4(x0, y0, settings_.seed, settings_.nextEventEstimation ? emissiveCount_ : 0);
+  p.tile = glm::uvec4(x0, y0, settings_.seed,
+                      settings_.nextEventEstimation ? gpuBvh_->emissiveTriangles() : 0);
   p.depth = glm::uvec4(settings_.maxDepth, settings_.rrDepth, scene_.lightCount(), 0);
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
 
@@ -156,15 +89,16 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kPtParamsBinding, params_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, scene_.materials());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, scene_.lights());
-  glBindTextureUnit(gpu::kPtNodeTexUnit, nodeTexels_.id());
-  glBindTextureUnit(gpu::kPtTriangleTexUnit, triangleTexels_.id());
+  const GpuBvh& bvh = *gpuBvh_;
+  glBindTextureUnit(gpu::kPtNodeTexUnit, bvh.nodeTexels());
+  glBindTextureUnit(gpu::kPtTriangleTexUnit, bvh.triangleTexels());
   if (textured_) {
-    glBindTextureUnit(gpu::kPtUvTexUnit, uvTexels_.id());
-    glBindTextureUnit(gpu::kPtTexelTexUnit, textureTexels_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTextureBinding, textureTable_.id());
+    glBindTextureUnit(gpu::kPtUvTexUnit, bvh.uvTexels());
+    glBindTextureUnit(gpu::kPtTexelTexUnit, bvh.textureTexels());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTextureBinding, bvh.textureTable());
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, shading_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, emissive_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, bvh.shading());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, bvh.emissive());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
   glBindImageTexture(gpu::kPtSumImage, sum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(gpu::kPtCompensationImage, compensation_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,

@@ -4,7 +4,8 @@
 //
 // The GL device of the Pathtracer interface (render/pathtracer.h).
 // Reads: the scene (triangles, materials, punctual lights, emissive triangles) and a
-// BVH built on the CPU at construction (render/bvh.h; the "bvh" start-up stage).
+// BVH built on the CPU (render/gpu_bvh.h: its own at construction, or the one the
+// Renderer shares with rtgi; the "bvh" start-up stage).
 // Writes: linear radiance, the mean of all samples so far, into the caller's RGBA32F
 // texture at the frame size; it keeps the running sum (and its Kahan compensation)
 // in two RGBA32F images of its own, so samples accumulate progressively across calls
@@ -33,12 +34,12 @@
 #define VOXGI_RENDER_PATHTRACE_PASS_H
 
 #include <cstdint>
+#include <memory>
 
 #include "gl/handles.h"
-#include "render/bvh.h"
 #include "render/frame_context.h"
+#include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
-#include "render/pathtrace_scene.h"
 #include "render/pathtracer.h"
 
 namespace voxgi::render {
@@ -47,7 +48,9 @@ class PathtracePass final : public Pathtracer {
  public:
   using Settings = PathtraceSettings;
 
-  PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings);
+  // `bvh`: the scene's BVH when the caller shares one (the Renderer); null builds one.
+  PathtracePass(gl::ProgramCache& programs, const GpuScene& scene, const Settings& settings,
+                std::shared_ptr<const GpuBvh> bvh = nullptr);
 
   void reset() override;
   void setCamera(const scene::Camera& camera) override { camera_ = camera; }
@@ -59,11 +62,11 @@ class PathtracePass final : public Pathtracer {
   int samplesSoFar() const override { return samples_; }
   // Waits for the GPU.
   uint64_t truncatedPaths() const override;
-  int emissiveTriangles() const override { return emissiveCount_; }
-  double bvhBuildMs() const override { return bvhMs_; }
-  size_t bvhNodes() const override { return bvh_.nodes().size(); }
+  int emissiveTriangles() const override { return gpuBvh_->emissiveTriangles(); }
+  double bvhBuildMs() const override { return gpuBvh_->buildMs(); }
+  size_t bvhNodes() const override { return gpuBvh_->bvh().nodes().size(); }
   PathtraceDevice device() const override { return PathtraceDevice::kGl; }
-  const Bvh& bvh() const { return bvh_; }
+  const Bvh& bvh() const { return gpuBvh_->bvh(); }
   Settings& settings() { return settings_; }
 
  private:
@@ -73,17 +76,10 @@ class PathtracePass final : public Pathtracer {
 
   Settings settings_;
   const GpuScene& scene_;
+  std::shared_ptr<const GpuBvh> gpuBvh_;  // declared before textured_ and program_
   bool textured_ = false;  // the kernel reads base-colour textures (declared before program_)
   const gl::Program& program_;
-  Bvh bvh_;
-  double bvhMs_ = 0.0;
-  gl::Buffer nodes_, triangles_, shading_, emissive_, params_, counter_;
-  gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
-  // Base-colour textures: per-triangle UVs, every texture's texels, and where each
-  // texture starts (empty without textures).
-  gl::Buffer uvs_, texels_, textureTable_;
-  gl::Texture uvTexels_, textureTexels_;
-  int emissiveCount_ = 0;
+  gl::Buffer params_, counter_;
   gl::Texture sum_, compensation_;
   int width_ = 0, height_ = 0;
   int samples_ = 0;

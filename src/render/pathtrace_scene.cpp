@@ -102,6 +102,14 @@ bool ptReadsTextures(const scene::Scene& s, bool allowed) {
   return false;
 }
 
+bool ptReadsAlphaMasks(const scene::Scene& s, bool allowed) {
+  if (!allowed) return false;
+  for (const scene::Draw& d : s.draws)
+    if (s.materials[static_cast<size_t>(d.material)].alphaMode == scene::AlphaMode::kMask)
+      return true;
+  return false;
+}
+
 void buildPtTextures(const scene::Scene& s, std::vector<glm::uvec4>* table,
                      std::vector<uint32_t>* texels) {
   table->clear();

@@ -37,6 +37,10 @@ PtScene buildPtScene(const scene::Scene& scene);
 // and some draw's material has one.
 bool ptReadsTextures(const scene::Scene& scene, bool allowed);
 
+// Whether the path tracer applies alpha masks: `allowed` (the effect plan) and some
+// draw's material is alpha-masked (glTF MASK).
+bool ptReadsAlphaMasks(const scene::Scene& scene, bool allowed);
+
 // Every base-colour texture's sRGB RGBA8 texels, one uint each, rows top first, in
 // one array; table[i] = (first texel of texture i, width, height, 0).
 void buildPtTextures(const scene::Scene& scene, std::vector<glm::uvec4>* table,

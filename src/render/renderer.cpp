@@ -158,7 +158,12 @@ void Renderer::createPasses() {
       budget_ = std::make_unique<FrameBudget>(1000.0 / settings_.targetFps, floor, 1.0, floor,
                                               FrameBudget::Gains{});
     }
-    rtgi_ = std::make_unique<RtgiPass>(programs_, rs);
+    // Reflections of the exact triangles need a BVH, built only when the plan has
+    // mirrors or glossy surfaces. An animated scene keeps the voxel reflections: its
+    // BVH would need a rebuild per pose.
+    std::shared_ptr<const GpuBvh> bvh;
+    if (rs.specular && rs.exactReflections && !scene_.animated()) bvh = sharedBvh();
+    rtgi_ = std::make_unique<RtgiPass>(programs_, rs, std::move(bvh));
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
@@ -170,9 +175,18 @@ void Renderer::createPasses() {
     if (ps.device == PathtraceDevice::kCpu)
       pathtrace_ = std::make_unique<CpuPathtracer>(scene_, ps);
     else
-      pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps);
-    startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
+      pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps, sharedBvh());
+    if (ps.device == PathtraceDevice::kCpu)
+      startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
   }
+}
+
+std::shared_ptr<const GpuBvh> Renderer::sharedBvh() {
+  if (!bvh_) {
+    bvh_ = std::make_shared<const GpuBvh>(gpuScene_.scene(), scene::shaderFeatures(plan_).textures);
+    startup_.push_back({"bvh", 0.0, bvh_->buildMs()});
+  }
+  return bvh_;
 }
 
 void Renderer::createTargets() {

@@ -125,6 +125,9 @@ class Renderer {
   // Work done once at construction, by stage name and wall-clock ms ("bvh").
   const std::vector<gl::StageTime>& startupStages() const { return startup_; }
   const Pathtracer* pathtrace() const { return pathtrace_.get(); }
+  // The scene's BVH, shared by the path tracer and rtgi's reflections; null until a
+  // mode needs one (rtgi only with the specular effect in the plan).
+  const GpuBvh* bvh() const { return bvh_.get(); }
 
   // Re-creates the targets at width x height (checked as in the constructor).
   void resize(int width, int height);
@@ -186,6 +189,7 @@ class Renderer {
   std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;
   bool voxelized_ = false;
+  std::shared_ptr<const GpuBvh> bvh_;
   std::unique_ptr<Pathtracer> pathtrace_;
   Pathtracer::Progress progress_;
   std::vector<gl::StageTime> startup_;
@@ -198,6 +202,8 @@ class Renderer {
   scene::Camera lastCamera_;
 
   void createTargets();
+  // Builds the BVH at its first use (the "bvh" start-up stage).
+  std::shared_ptr<const GpuBvh> sharedBvh();
   void createPasses();
   // modeUsesOctree / modeUsesVoxels under this renderer's effect plan.
   bool usesOctree(Mode m) const;

@@ -10,9 +10,11 @@
 
 namespace voxgi::render {
 
-RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
+RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
+                   std::shared_ptr<const GpuBvh> bvh)
     : settings_(settings),
       programs_(programs),
+      bvh_(std::move(bvh)),
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
@@ -23,7 +25,8 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings)
 void RtgiPass::buildOptionalStages() {
   if (settings_.indirect && !indirect_)
     indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
-  if (settings_.specular && !specular_)
+  // With a BVH the variant depends on the scene's lights (specularProgram).
+  if (settings_.specular && !specular_ && !bvh_)
     specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
 }
 
@@ -36,6 +39,21 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
                              ? "RTGI_EMITTERS_EXACT"
                              : "RTGI_EMITTERS_SAMPLED");
   return programs_.get({{"render/rtgi_direct.comp"}, defines});
+}
+
+// The specular stage's variant: the voxel march, or with a BVH (RTGI_BVH) the
+// triangles, shading the hit with the direct stage's scene variants.
+const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
+  if (!bvh_) return *specular_;
+  std::vector<std::string> defines = settings_.features.defines();
+  defines.emplace_back("RTGI_BVH");
+  if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
+  if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
+  if (gs.emitterCount() > 0)
+    defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
+                             ? "RTGI_EMITTERS_EXACT"
+                             : "RTGI_EMITTERS_SAMPLED");
+  return programs_.get({{"render/rtgi_specular.comp"}, defines});
 }
 
 void RtgiPass::resize(int width, int height) {
@@ -224,7 +242,25 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   };
   if (direct) run(shadows ? "shadows" : "direct", directProgram(gs));
   if (settings_.indirect) run("indirect", *indirect_);
-  if (specular) run("specular", *specular_);
+  if (specular) {
+    if (bvh_) {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+      glBindTextureUnit(gpu::kRtgiBvhNodeUnit, bvh_->nodeTexels());
+      glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, bvh_->triangleTexels());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, bvh_->shading());
+      if (bvh_->textured()) {
+        glBindTextureUnit(gpu::kRtgiBvhUvUnit, bvh_->uvTexels());
+        glBindTextureUnit(gpu::kRtgiBvhTexelUnit, bvh_->textureTexels());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding,
+                         bvh_->textureTable());
+      }
+    }
+    run("specular", specularProgram(gs));
+    if (bvh_)
+      for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
+                       gpu::kRtgiBvhTexelUnit})
+        glBindTextureUnit(u, 0);
+  }
   // A sparse start: until every pixel has had its turn (n frames; a budget's list
   // includes the pattern), the variant that lends traced light to those still
   // waiting. It is a separate program because a SIMD software rasterizer would run

@@ -11,17 +11,22 @@
 //   indirect    one cosine ray per pixel into the lit voxels (rtgi_indirect.comp),
 //               with the indirect effect;
 //   specular    the reflected ray of mirrors and glossy surfaces (rtgi_specular.comp),
-//               with the specular effect (the scene has such materials);
+//               with the specular effect (the scene has such materials): traced
+//               against the exact triangles when given a BVH (render/gpu_bvh.h), the
+//               hit shaded with exact direct light (BVH shadow rays) plus voxel
+//               indirect light; without one, the light of the voxel the ray meets;
 //   accumulate  emission + the three terms, into the mean over still frames.
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
 #ifndef VOXGI_RENDER_RTGI_PASS_H
 #define VOXGI_RENDER_RTGI_PASS_H
 
+#include <memory>
 #include <vector>
 
 #include "gl/handles.h"
 #include "render/frame_context.h"
+#include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
 #include "rtgi_shared.h"
 #include "scene/effects.h"
@@ -49,10 +54,16 @@ class RtgiPass {
     // costs the same, the first included: what a moving camera needs, since each
     // move restarts the accumulation (the viewer).
     bool sparseStart = false;
+    // Reflections of the exact triangles (the Renderer then builds a BVH for the
+    // specular stage); false: of the voxels, as before (no BVH).
+    bool exactReflections = true;
     uint32_t seed = 1;
   };
 
-  RtgiPass(gl::ProgramCache& programs, const Settings& settings);
+  // `bvh`: the scene's triangles for the specular stage's rays; null: they march
+  // the voxels.
+  RtgiPass(gl::ProgramCache& programs, const Settings& settings,
+           std::shared_ptr<const GpuBvh> bvh = nullptr);
   // Renders frame `frameIndex` of the accumulation (0 restarts it) into `accum`.
   // `octree` may be null when the settings trace nothing (no shadows, indirect or
   // specular light).
@@ -71,6 +82,8 @@ class RtgiPass {
   int maskWidth() const { return maskValid_ ? width_ : 0; }
   int maskHeight() const { return maskValid_ ? height_ : 0; }
   size_t targetBytes() const { return targetBytes_; }
+  // Whether the specular stage traces the exact triangles.
+  bool tracesTriangles() const { return bvh_ != nullptr; }
 
  private:
   void resize(int width, int height);
@@ -81,11 +94,13 @@ class RtgiPass {
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   const gl::Program& directProgram(const GpuScene& gs);
+  const gl::Program& specularProgram(const GpuScene& gs);
   // The programs of the indirect and specular stages, built only when they run.
   void buildOptionalStages();
 
   Settings settings_;
   gl::ProgramCache& programs_;
+  std::shared_ptr<const GpuBvh> bvh_;
   const gl::Program& gbuffer_;
   const gl::Program& accumulate_;
   const gl::Program* accumulateSparse_ = nullptr;  // built at the first sparse start

@@ -179,6 +179,8 @@ TEST(CliParse, ViewDefaultsAndOptions) {
   EXPECT_EQ(parse({"render"}).render.render.targetFps, 0.0);  // render: every pixel
   EXPECT_FALSE(parse({"render"}).render.render.rtgi.sparseStart);
   EXPECT_TRUE(parse({"render", "--sparse-start"}).render.render.rtgi.sparseStart);
+  EXPECT_TRUE(parse({"render"}).render.render.rtgi.exactReflections);
+  EXPECT_FALSE(parse({"render", "--voxel-reflections"}).render.render.rtgi.exactReflections);
   inv = parse({"view",         "s.glb",  "--size",           "320x200", "--frames",  "30",
                "--screenshot", "a.png",  "--screenshot-dir", "shots",   "--keys",    "10:2,5:+",
                "--stats",      "s.json", "--exposure",       "2",       "--tonemap", "aces",

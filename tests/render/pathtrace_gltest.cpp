@@ -493,6 +493,67 @@ TEST_P(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
   EXPECT_NEAR(whiteLeft.g, 1.0, 0.02);
 }
 
+// An alpha-masked quad (glTF MASK, cutoff 0.5) whose texture is transparent on its
+// left half, in front of a white Lambertian plane lit along the view by a
+// directional light of irradiance pi (so the lit plane's radiance is 1). Through
+// the cut-out, the camera sees the plane, and the plane is lit through it: camera
+// rays and shadow rays both pass the mask. The opaque half is black.
+TEST_P(PathtraceTest, AlphaMaskedTexelsLetRaysThrough) {
+  std::vector<scene::Vertex> v;
+  for (float z : {0.0f, 1.0f})
+    for (glm::vec2 p : {glm::vec2(-2, -2), glm::vec2(2, -2), glm::vec2(2, 2), glm::vec2(-2, 2)})
+      v.push_back({glm::vec3(p, z), glm::vec3(0, 0, 1), glm::vec2((p.x + 2) / 4, (2 - p.y) / 4)});
+  scene::Material plane;
+  plane.baseColor = glm::vec4(1.0f);
+  plane.metallic = 0.0f;
+  plane.roughness = 1.0f;
+  scene::Material mask = plane;
+  mask.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  mask.baseColorTexture = 0;
+  mask.alphaMode = scene::AlphaMode::kMask;
+  mask.alphaCutoff = 0.5f;
+  scene::Camera cam;
+  cam.position = glm::vec3(0, 0, 3);
+  cam.yfov = 2.0f * std::atan(0.25f);  // x, y in [-0.5, 0.5] at the quad (z = 1)
+  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, plane, cam);
+  s.materials.push_back(mask);
+  for (uint32_t i : {4u, 5u, 6u, 4u, 6u, 7u}) s.indices.push_back(i);
+  s.draws.push_back({6, 6, 1, -1, -1});
+  scene::Texture t;
+  t.width = t.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (uint8_t c : {uint8_t(255), uint8_t(255), uint8_t(255), uint8_t(x < 2 ? 0 : 255)})
+        t.rgba8.push_back(c);
+  s.textures.push_back(t);
+  scene::Light sun;
+  sun.type = scene::LightType::kDirectional;
+  sun.direction = glm::vec3(0, 0, -1);
+  sun.intensity = kPi;
+  s.lights.push_back(sun);
+  s.finalize();
+  Settings r;
+  r.size = 16;
+  r.spp = 4;
+  const auto px = renderLinear(s, r);
+  ASSERT_TRUE(allFinite(px));
+  // Columns well inside each half (x in [-0.5, 0.5] at the quad; u = (x + 2) / 4).
+  double left = 0.0, right = 0.0;
+  int n = 0;
+  for (int y = 0; y < r.size; ++y)
+    for (int x = 0; x < 4; ++x) {
+      left += px[(static_cast<size_t>(y) * r.size + static_cast<size_t>(x)) * 4];
+      right += px[(static_cast<size_t>(y) * r.size + static_cast<size_t>(r.size - 1 - x)) * 4];
+      ++n;
+    }
+  left /= n;
+  right /= n;
+  std::printf("masked quad: through the cut-out %.4f (lit plane: 1), opaque half %.4f\n", left,
+              right);
+  EXPECT_NEAR(left, 1.0, 0.01);
+  EXPECT_LT(right, 0.01);
+}
+
 // Both devices render the same image on every scene in scenes/: with the same seed
 // their random streams agree and every decision is made by the same shared code,
 // so paths match sample for sample, and only a rounding difference in a hit point

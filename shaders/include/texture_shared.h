@@ -1,0 +1,79 @@
+// Base-colour texture reads and alpha masks, written once for GLSL and C++ (see
+// shared_fn.h): the path tracer on both devices (through pathtrace_shading.h) and
+// rtgi's reflections of exact triangles read texels with these. Each device brings
+// its access to the tables through macros: the shader defines them before the
+// include, C++ gets them below.
+//   VOXGI_EMISSIVE(i)  the i-th GpuPtEmissive of the alias table (pathtrace_shading.h);
+//   VOXGI_TEXEL(i)     the i-th packed sRGB RGBA8 texel of all base-colour textures;
+//   VOXGI_TABLES_PARAM / VOXGI_TABLES_ARG  how the tables reach a function (C++: a
+//                      PtTables reference; GLSL: nothing, they are buffers).
+// Twin test: tests/render/shading_twin_gltest.cpp.
+#ifndef VOXGI_TEXTURE_SHARED_H
+#define VOXGI_TEXTURE_SHARED_H
+
+#include "pathtrace_shared.h"
+#include "scene_shared.h"
+#include "shared_fn.h"
+
+#ifdef __cplusplus
+namespace voxgi::gpu {
+using glm::isinf;
+using glm::isnan;
+using glm::smoothstep;
+// The CPU device's tables.
+struct PtTables {
+  const GpuPtEmissive* emissive = nullptr;
+  const uint* texels = nullptr;
+};
+#define VOXGI_TABLES_PARAM const PtTables &tables,
+#define VOXGI_TABLES_ARG tables,
+#define VOXGI_EMISSIVE(i) tables.emissive[i]
+#define VOXGI_TEXEL(i) tables.texels[i]
+#endif
+
+// --- base-colour textures -----------------------------------------------------------
+// One decoded (linear) texel of texture t = (first texel, width, height, -).
+VOXGI_FN vec4 srgbTexel(VOXGI_TABLES_PARAM uvec4 t, ivec2 p) {
+  vec4 c = unpackUnorm4x8(VOXGI_TEXEL(t.x + uint(p.y) * t.y + uint(p.x)));
+  vec3 rgb = vec3(c);
+  vec3 lo = rgb / 12.92f;
+  vec3 hi = pow((rgb + 0.055f) / 1.055f, vec3(2.4f));
+  return vec4(c.r <= 0.04045f ? lo.r : hi.r, c.g <= 0.04045f ? lo.g : hi.g,
+              c.b <= 0.04045f ? lo.b : hi.b, c.a);
+}
+
+// Texture t at uv, bilinear over linear (decoded) texels, repeating as the raster
+// sampler does. No mipmaps: paths jittered over the pixel average the footprint.
+VOXGI_FN vec4 sampleTexture(VOXGI_TABLES_PARAM uvec4 t, vec2 uv) {
+  ivec2 size = ivec2(int(t.y), int(t.z));
+  if (isnan(uv.x) || isinf(uv.x)) uv.x = 0.0f;
+  if (isnan(uv.y) || isinf(uv.y)) uv.y = 0.0f;
+  vec2 x = fract(uv) * vec2(size) - 0.5f;  // in [-0.5, size - 0.5)
+  vec2 f = x - floor(x);
+  ivec2 i0 = ivec2(floor(x));  // -1 .. size - 1
+  ivec2 a = ivec2(i0.x < 0 ? i0.x + size.x : i0.x, i0.y < 0 ? i0.y + size.y : i0.y);
+  ivec2 b = ivec2(a.x + 1 >= size.x ? 0 : a.x + 1, a.y + 1 >= size.y ? 0 : a.y + 1);
+  return mix(
+      mix(srgbTexel(VOXGI_TABLES_ARG t, a), srgbTexel(VOXGI_TABLES_ARG t, ivec2(b.x, a.y)), f.x),
+      mix(srgbTexel(VOXGI_TABLES_ARG t, ivec2(a.x, b.y)), srgbTexel(VOXGI_TABLES_ARG t, b), f.x),
+      f.y);
+}
+
+// --- alpha masks ------------------------------------------------------------------------
+// Whether a ray stops at a hit at uv on material m: an alpha-masked material (glTF
+// MASK) lets rays through where base alpha x texture alpha < its cutoff, as the
+// raster modes discard those fragments. `texture` is m's table entry (read only
+// when `textured` and m has a texture).
+VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 texture, vec2 uv) {
+  if ((m.flags & kMaterialAlphaMask) == 0u) return true;
+  float a = m.baseColor.a;
+  if (textured && (m.flags & kMaterialHasTexture) != 0u)
+    a *= sampleTexture(VOXGI_TABLES_ARG texture, uv).a;
+  return a >= m.params.z;
+}
+
+#ifdef __cplusplus
+}  // namespace voxgi::gpu
+#endif
+
+#endif  // VOXGI_TEXTURE_SHARED_H

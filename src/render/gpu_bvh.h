@@ -1,0 +1,63 @@
+// The scene's exact triangles on the GPU for ray tracing: the BVH (render/bvh.h)
+// built on the CPU, and what a hit needs to be shaded (vertex normals, material,
+// emitter pdf; corner UVs and every base-colour texture's texels when textured), in
+// the layouts of shaders/include/pathtrace_shared.h. Traversed by
+// shaders/include/bvh_trace.glsl.
+//
+// Used by the path tracer (PathtracePass) and by rtgi's reflections (RtgiPass, when
+// the effect plan has the specular effect): the Renderer builds one and both passes
+// read it. A scene without mirrors or glossy surfaces, rendered by rtgi, builds none.
+//
+// Costs at start-up: the binned SAH build (buildMs(); cornell_room's 3.5k triangles
+// take a few ms) and 64 + 48 + 48 bytes per triangle of GPU memory (nodes, triangles,
+// shading), plus 32 bytes per triangle and the texels when textured.
+#ifndef VOXGI_RENDER_GPU_BVH_H
+#define VOXGI_RENDER_GPU_BVH_H
+
+#include <cstddef>
+
+#include "gl/handles.h"
+#include "render/bvh.h"
+#include "scene/scene.h"
+
+namespace voxgi::render {
+
+class GpuBvh {
+ public:
+  // `textures`: whether base-colour textures may be read (the effect plan's); the
+  // BVH is textured() when so and some drawn material has a texture.
+  GpuBvh(const scene::Scene& scene, bool textures);
+
+  const Bvh& bvh() const { return bvh_; }
+  double buildMs() const { return buildMs_; }
+  bool textured() const { return textured_; }
+  int emissiveTriangles() const { return emissiveCount_; }
+  size_t gpuBytes() const { return gpuBytes_; }
+
+  // Node and triangle texels (RGBA32UI buffer textures), the shading SSBO (one
+  // GpuPtShading per triangle, BVH order), the emissive triangles (GpuPtEmissive,
+  // alias table), and when textured the UV texels, the texel texels and the table
+  // of textures (uvec4 per texture).
+  GLuint nodeTexels() const { return nodeTexels_.id(); }
+  GLuint triangleTexels() const { return triangleTexels_.id(); }
+  GLuint shading() const { return shading_.id(); }
+  GLuint emissive() const { return emissive_.id(); }
+  GLuint uvTexels() const { return uvTexels_.id(); }
+  GLuint textureTexels() const { return textureTexels_.id(); }
+  GLuint textureTable() const { return textureTable_.id(); }
+
+ private:
+  Bvh bvh_;
+  double buildMs_ = 0.0;
+  bool textured_ = false;
+  int emissiveCount_ = 0;
+  size_t gpuBytes_ = 0;
+  gl::Buffer nodes_, triangles_, shading_, emissive_;
+  gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
+  gl::Buffer uvs_, texels_, textureTable_;
+  gl::Texture uvTexels_, textureTexels_;
+};
+
+}  // namespace voxgi::render
+
+#endif  // VOXGI_RENDER_GPU_BVH_H
