@@ -340,6 +340,29 @@ TEST(Viewer, FollowsWindowResize) {
   EXPECT_EQ(stats["gl_errors"], 0);
 }
 
+TEST(Viewer, PlaysTheCameraPath) {
+  VOXGI_REQUIRE_XVFB();
+  const std::string dir = scratchDir();
+  const auto r = runViewer(testDataDir() +
+                           "/animated/camera_path.gltf --mode raster --size 64x48 --no-panel "
+                           "--frames 6 --keys 3:r --stats " +
+                           dir + "/s.json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["frames"], 6);
+  EXPECT_EQ(stats["animated"], true);
+  EXPECT_EQ(stats["camera_path"], true);
+  EXPECT_EQ(stats["following_camera_path"], true);  // no fly input: still on the path
+  EXPECT_GT(stats["animation_time"].get<double>(), 0.0);
+  EXPECT_EQ(stats["gl_errors"], 0);
+  // A still scene has no animation to play.
+  const auto still =
+      runViewer("--mode raster --size 64x48 --no-panel --frames 2 --stats " + dir + "/still.json");
+  ASSERT_EQ(still.exitCode, 0) << still.output;
+  EXPECT_EQ(readJson(dir + "/still.json")["animated"], false);
+  EXPECT_FALSE(readJson(dir + "/still.json").contains("camera_path"));
+}
+
 TEST(Viewer, QuitKeyEndsTheRunCleanly) {
   VOXGI_REQUIRE_XVFB();
   const std::string dir = scratchDir();
