@@ -363,6 +363,33 @@ TEST(Viewer, PlaysTheCameraPath) {
   EXPECT_FALSE(readJson(dir + "/still.json").contains("camera_path"));
 }
 
+TEST(Viewer, FlyingLeavesTheCameraPath) {
+  VOXGI_REQUIRE_XVFB();
+  if (runCommand("sh -c 'command -v xdotool'").exitCode != 0) {
+    if (::voxgi::test::toolsRequired()) FAIL() << "xdotool missing (tools/setup installs it)";
+    GTEST_SKIP() << "xdotool not installed";
+  }
+  const std::string dir = scratchDir();
+  // W held for half a second once the path plays (the file "go"), the pointer over
+  // the window so that it has the keyboard (no window manager under Xvfb).
+  LiveCommand viewer("xvfb-run -a sh -c '" + voxgiBinary() + " view " + testDataDir() +
+                     "/animated/camera_path.gltf --mode raster --size 64x48 --no-panel --stats " +
+                     dir + "/s.json & v=$!; echo voxgi-pid $v; while [ ! -e " + dir +
+                     "/go ]; do sleep 0.05; done; xdotool search --sync --name \"voxgi view\" " +
+                     "mousemove --window %1 20 20 keydown w sleep 0.5 keyup w; wait $v'");
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
+  ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
+  std::ofstream(dir + "/go") << "";
+  ASSERT_TRUE(viewer.waitFor("free camera")) << viewer.output();
+  kill(pid, SIGTERM);
+  EXPECT_EQ(viewer.finish(), 0) << viewer.output();
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["camera_path"], true);
+  EXPECT_EQ(stats["following_camera_path"], false);
+  EXPECT_EQ(stats["gl_errors"], 0);
+}
+
 TEST(Viewer, QuitKeyEndsTheRunCleanly) {
   VOXGI_REQUIRE_XVFB();
   const std::string dir = scratchDir();
