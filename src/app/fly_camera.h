@@ -30,6 +30,9 @@ class FlyCamera {
   // Advances by `seconds`; returns whether the camera changed.
   bool update(const FlyInput& input, float seconds);
   void reset();
+  // Puts the camera at `camera` (the pose of the scene's camera path this frame);
+  // the next update() moves on from there, and reset() still returns to the start.
+  void jumpTo(const scene::Camera& camera) { camera_ = camera; }
 
   const scene::Camera& camera() const { return camera_; }
   float speed() const { return speed_; }

@@ -117,6 +117,7 @@ int runRender(const RenderOptions& o) {
     c.up =
         std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
     scene.fitClipPlanes();
+    scene.poseCamera = false;  // the viewpoint stays put; meshes and lights still move
   }
   const double loadMs = msSince(loadStart);
 
@@ -144,10 +145,11 @@ int runRender(const RenderOptions& o) {
   std::vector<std::string> stageOrder;
   for (int f = 0; f < o.frames; ++f) {
     const auto t = Clock::now();
-    // Frame f shows time + f / fps, with the animation effect (else the first pose stays).
+    // Frame f shows time + f / fps, with the animation effect (else the first pose
+    // stays): meshes, lights and the camera along its path.
     if (scene.animated() && plan.has("animation") && f > 0) {
       scene.pose(o.time + f / o.fps);
-      renderer.geometryChanged();
+      renderer.posed();
     }
     bar.begin();
     renderer.renderFrame();
@@ -260,6 +262,9 @@ int runRender(const RenderOptions& o) {
     stats["time"] = o.time;
     stats["fps"] = o.fps;
     stats["animation_seconds"] = scene.animationDuration;
+    stats["camera_path"] = scene.cameraMoves && scene.poseCamera;
+    stats["moving_lights"] = std::count_if(scene.lights.begin(), scene.lights.end(),
+                                           [](const scene::Light& l) { return l.moves; });
   }
   stats["scene_warnings"] = scene.warnings;
   stats["gpu_scene_bytes"] = gs.bytes();

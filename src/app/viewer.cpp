@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
@@ -62,6 +63,15 @@ class StopSignals {
 double msBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
+
+// What tells that a file changed: its modification time, and its size, since two
+// writes within one tick of the file system's clock (4 ms on Linux at HZ=250) get
+// the same time.
+struct FileStamp {
+  fs::file_time_type time = fs::file_time_type::min();  // min(): missing
+  std::uintmax_t size = 0;
+  bool operator==(const FileStamp& o) const { return time == o.time && size == o.size; }
+};
 
 std::optional<Action> actionForGlfwKey(int key) {
   using K = Action::Kind;
@@ -134,7 +144,9 @@ class Viewer {
   void checkFiles();
   void checkShaders();
   void checkScene();
-  void flyCamera(float seconds);
+  // Returns whether the user moved or turned the camera.
+  bool flyCamera(float seconds);
+  void animate(double seconds);
   void drawPanel();
   void drawKnobs();
   void drawTimings();
@@ -152,7 +164,7 @@ class Viewer {
   std::unique_ptr<FlyCamera> camera_;
   std::unique_ptr<ImGuiLayer> imgui_;
   std::string scenePath_;
-  fs::file_time_type sceneStamp_;  // of the scene on screen; min() when it was missing
+  FileStamp sceneStamp_;  // of the scene on screen
 
   std::vector<Action> pendingActions_;
   bool panel_ = true;
@@ -161,6 +173,10 @@ class Viewer {
   Clock::time_point lastReload_, lastFrame_;
   glm::dvec2 lastCursor_{0.0};
   bool looking_ = false;
+  // Animation: the scene's clock (seconds, wrapping in Scene::pose), and whether the
+  // view follows the file's camera path (until the user flies; r returns to it).
+  double animationTime_ = 0.0;
+  bool followPath_ = false;
 
   // What the panel and the stats report.
   std::string modeMessage_;
@@ -229,6 +245,10 @@ void Viewer::apply(const Action& a) {
     }
     case K::kResetCamera:
       camera_->reset();
+      if (scene_->cameraMoves && !followPath_) {
+        followPath_ = true;
+        logInfo(strf("view: frame %d: camera follows the scene's camera path", frame_));
+      }
       break;
     case K::kScreenshot:
       // The frame on screen is the last one rendered; with none yet, render first.
@@ -256,27 +276,34 @@ void Viewer::checkFiles() {
   checkShaders();
 }
 
-fs::file_time_type fileStamp(const std::string& path) {
+FileStamp fileStamp(const std::string& path) {
   std::error_code ec;
+  FileStamp stamp;
   const fs::file_time_type t = fs::last_write_time(path, ec);
-  return ec ? fs::file_time_type::min() : t;
+  if (ec) return stamp;
+  stamp.time = t;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  stamp.size = ec ? 0 : size;
+  return stamp;
 }
 
 // The scene file changed on disk, or went away: load it again. A file that loads
 // replaces the scene and keeps the view (camera, mode, size, tonemap); one that
 // does not leaves the last good scene on screen, with the error in the log, the
 // panel and the stats. Each change is tried once (a half-written file is tried
-// again when the write completes and its time changes).
+// again when the write completes and its time or size changes).
 void Viewer::checkScene() {
-  const fs::file_time_type stamp = fileStamp(scenePath_);
+  const FileStamp stamp = fileStamp(scenePath_);
   if (stamp == sceneStamp_) return;
   sceneStamp_ = stamp;
   try {
     auto fresh = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+    fresh->pose(animationTime_);
     auto renderer = std::make_unique<render::Renderer>(*programs_, *fresh, renderer_->settings());
     renderer->setTonemapSettings(renderer_->tonemapSettings());
     renderer_ = std::move(renderer);  // the old renderer goes before the scene it reads
     scene_ = std::move(fresh);
+    followPath_ = followPath_ && scene_->cameraMoves;
     ++sceneReloadsOk_;
     sceneError_.clear();
     logInfo(strf("view: frame %d: reloaded the scene (%zu triangles)", frame_,
@@ -306,7 +333,16 @@ void Viewer::checkShaders() {
   if (r.rebuilt > 0) renderer_->restartAccumulation();
 }
 
-void Viewer::flyCamera(float seconds) {
+// Animated scenes play in real time: meshes, lights and the camera path.
+void Viewer::animate(double seconds) {
+  if (!scene_->animated()) return;
+  animationTime_ += seconds;
+  scene_->pose(animationTime_);
+  renderer_->posed();
+  if (followPath_) camera_->jumpTo(scene_->camera);
+}
+
+bool Viewer::flyCamera(float seconds) {
   FlyInput in;
   const bool keyboard = !imgui_->wantsKeyboard();
   auto down = [&](int key) { return keyboard && glfwGetKey(window_, key) == GLFW_PRESS; };
@@ -324,7 +360,7 @@ void Viewer::flyCamera(float seconds) {
   if (look && looking_) in.look = glm::vec2(cursor - lastCursor_);
   looking_ = look;
   lastCursor_ = cursor;
-  camera_->update(in, seconds);
+  return camera_->update(in, seconds);
 }
 
 void Viewer::takeScreenshot(const ScreenshotPaths& paths) {
@@ -489,7 +525,14 @@ void Viewer::drawPanel() {
     ImGui::Text("forward %.3f %.3f %.3f", c.forward.x, c.forward.y, c.forward.z);
     ImGui::Text("speed %.3g units/s (Shift x4, Ctrl x1/4)", camera_->speed());
     ImGui::TextDisabled("WASD move, Q/E down/up, right mouse look, r reset");
+    if (scene_->cameraMoves)
+      ImGui::Text(followPath_ ? "following the file's camera path (flying leaves it)"
+                              : "free camera (r returns to the camera path)");
   }
+  if (scene_->animated())
+    ImGui::Text("animation %.2f s of %.2f s",
+                std::fmod(animationTime_, std::max(scene_->animationDuration, 1e-9)),
+                scene_->animationDuration);
   if (renderer_->settings().targetFps > 0.0 && renderer_->rtgi()) {
     ImGui::Text("budget %.1f fps: tracing %.1f%% of pixels", renderer_->settings().targetFps,
                 100.0 * renderer_->rtgi()->lastTracedFraction());
@@ -537,6 +580,12 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["effects"] = {{"enabled", renderer_->effects().enabledList()},
                       {"skipped", renderer_->effects().skipped}};
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
+  stats["animated"] = scene_->animated();
+  if (scene_->animated()) {
+    stats["animation_time"] = animationTime_;
+    stats["camera_path"] = scene_->cameraMoves;
+    stats["following_camera_path"] = followPath_;
+  }
   stats["gl_errors"] = gl::debugErrorCount();
   image::writeText(options_.stats, stats.dump(2) + "\n");
 }
@@ -588,6 +637,7 @@ int Viewer::run() {
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
   logInfo("effects: " + renderer_->effects().summary());
   camera_ = std::make_unique<FlyCamera>(scene_->camera, scene_->bounds, scene_->scale.cameraSpeed);
+  followPath_ = scene_->cameraMoves;
 
   // Our key callback first; the ImGui backend chains to it after its own.
   glfwSetWindowUserPointer(window_, this);
@@ -632,11 +682,16 @@ int Viewer::run() {
     checkFiles();
 
     const auto start = Clock::now();
-    const float seconds =
-        std::min(static_cast<float>(msBetween(lastFrame_, start)) * 1e-3f, kMaxStepSeconds);
+    const double elapsed = msBetween(lastFrame_, start) * 1e-3;
+    const float seconds = std::min(static_cast<float>(elapsed), kMaxStepSeconds);
     lastFrame_ = start;
     imgui_->beginFrame();
-    flyCamera(seconds);
+    // The first frame shows the first pose (t = 0), as `render` does.
+    if (frame_ > 0) animate(elapsed);
+    if (flyCamera(seconds) && followPath_) {
+      followPath_ = false;
+      logInfo(strf("view: frame %d: free camera (r returns to the camera path)", frame_));
+    }
     renderer_->renderFrame(camera_->camera());
     glBlitNamedFramebuffer(renderer_->displayFramebuffer(), 0, 0, 0, w, h, 0, 0, w, h,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);

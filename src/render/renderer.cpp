@@ -228,6 +228,15 @@ void Renderer::geometryChanged() {
   accumulated_ = 0;
 }
 
+void Renderer::posed() {
+  if (scene_.meshesAnimated()) geometryChanged();
+  if (scene_.lightsAnimated()) {
+    gpuScene_.updateLights();
+    lightsMoved_ = true;
+    accumulated_ = 0;
+  }
+}
+
 void Renderer::setMode(Mode mode) {
   if (mode == settings_.mode) return;
   const Mode previous = settings_.mode;
@@ -334,6 +343,11 @@ void Renderer::renderFrame(const scene::Camera& camera) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
     octreeBuilt_ = true;
+    lightsMoved_ = false;
+  } else if (usesOctree(settings_.mode) && lightsMoved_) {
+    // A light moved: the voxels' light starts again from a first estimate.
+    octree_->inject(ctx, gpuScene_);
+    lightsMoved_ = false;
   } else if (usesOctree(settings_.mode)) {
     // The scene is still: the voxels' light converges frame by frame, whatever the
     // camera does.

@@ -134,6 +134,11 @@ class Renderer {
   void setMode(Mode mode);
   // The scene was re-posed (Scene::pose): upload it; voxels follow with revoxelize.
   void geometryChanged();
+  // The same for everything Scene::pose() moves: the animated vertices (as
+  // geometryChanged), and moved lights, which also re-light the voxels (the octree's
+  // inject runs again on the next frame) and restart accumulation. The camera needs
+  // nothing here: a frame from another camera restarts accumulation by itself.
+  void posed();
   // The knobs of the current mode, then the tonemap's; setting one restarts
   // accumulation. Valid until the mode changes.
   std::vector<Knob> knobs();
@@ -186,6 +191,7 @@ class Renderer {
   std::unique_ptr<FrameBudget> budget_;
   bool showMask_ = false;
   bool octreeBuilt_ = false;
+  bool lightsMoved_ = false;  // the voxel light is stale: inject again
   std::vector<gl::StageTime> sceneStages_;
   TonemapPass tonemap_;
   bool voxelized_ = false;

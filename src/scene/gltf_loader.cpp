@@ -229,7 +229,8 @@ class Loader {
                  repairedIn_.size() > 1
                      ? strf(" and %zu more primitives", repairedIn_.size() - 1).c_str()
                      : ""));
-    if (scene_.animated()) boundMotion();
+    if (scene_.meshesAnimated()) boundMotion();
+    if (scene_.animated()) scene_.pose(0.0);  // the first pose, not the rest pose
     if (scene_.draws.empty()) warn_("no triangles to draw");
     scene_.finalize();
     if (opt_.addDefaultLight) scene_.addDefaultLightIfUnlit();
@@ -436,7 +437,6 @@ class Loader {
         for (size_t i = 0; i < r.localPositions.size(); ++i)
           scene_.motionBounds.extend(scene_.vertices[r.firstVertex + i].position);
     }
-    scene_.pose(0.0);
   }
 
   // --- validity, as the glTF 2.0 spec states it, of the parts voxgi reads ---------
@@ -1073,7 +1073,9 @@ class Loader {
     if (!finite(cam.forward) || !finite(cam.up) || !(cam.yfov > 1e-4f && cam.yfov < 3.1f))
       fail(strf("camera %d: degenerate transform or yfov", index));
     cam.fromFile = true;
+    cam.node = node;
     scene_.camera = cam;
+    scene_.cameraMoves = moving_[static_cast<size_t>(node)] != 0;
   }
 
   void addLight(int index, int node, const glm::dmat4& world) {
@@ -1102,6 +1104,8 @@ class Loader {
       fail(strf("light %d: NaN or Inf parameter", index));
     if (light.outerConeAngle <= light.innerConeAngle)
       light.outerConeAngle = light.innerConeAngle + 1e-3f;
+    light.node = node;
+    light.moves = moving_[static_cast<size_t>(node)] != 0;
     scene_.lights.push_back(light);
   }
 

@@ -87,7 +87,7 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
   // Animated scenes rewrite their vertices (updateGeometry); others never do.
   vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data(),
-                               s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
+                               s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   indices_ = gl::createBuffer(ibytes, s.indices.empty() ? nullptr : s.indices.data());
   vao_ = gl::createVertexArray();
   const GLuint vao = vao_.id();
@@ -107,15 +107,16 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   materials_ = gl::createBuffer(static_cast<GLsizeiptr>(mats.size() * sizeof(gpu::GpuMaterial)),
                                 mats.data());
   lights_ = gl::createBuffer(static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
-                             lights.empty() ? nullptr : lights.data());
+                             lights.empty() ? nullptr : lights.data(),
+                             s.lightsAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   emitters_ = gl::createBuffer(static_cast<GLsizeiptr>(emitters.size() * sizeof(gpu::GpuEmitter)),
                                emitters.empty() ? nullptr : emitters.data(),
-                               s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
+                               s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   emitterData_ = emitters;
   auto cdf = emitterPowerCdf(emitters);
   if (cdf.empty()) cdf.push_back(0.0f);
   emitterCdf_ = gl::createBuffer(static_cast<GLsizeiptr>(cdf.size() * sizeof(float)), cdf.data(),
-                                 s.animated() ? GL_DYNAMIC_STORAGE_BIT : 0);
+                                 s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
   bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
@@ -138,8 +139,16 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
+void GpuScene::updateLights() {
+  if (!scene_.lightsAnimated()) return;
+  const auto lights = packLights(scene_);
+  glNamedBufferSubData(lights_.id(), 0,
+                       static_cast<GLsizeiptr>(lights.size() * sizeof(gpu::GpuLight)),
+                       lights.data());
+}
+
 void GpuScene::updateGeometry() {
-  if (!scene_.animated()) return;
+  if (!scene_.meshesAnimated()) return;
   uint32_t lo = UINT32_MAX, hi = 0;
   for (const AnimatedRange& r : scene_.animatedRanges) {
     lo = std::min(lo, r.firstVertex);

@@ -19,6 +19,8 @@ class GpuScene {
   const Scene& scene() const { return scene_; }
   // Re-uploads the animated vertices (and emitters) after Scene::pose().
   void updateGeometry();
+  // Re-uploads the lights after Scene::pose() moved some (a no-op when none moves).
+  void updateLights();
   GLuint vertexArray() const { return vao_.id(); }
   // The vertex array's buffers: scene::Vertex per vertex, uint32 indices.
   GLuint vertexBuffer() const { return vertices_.id(); }

@@ -141,8 +141,12 @@ glm::dvec4 sample(const AnimationChannel& c, double t) {
 
 }  // namespace
 
+bool Scene::lightsAnimated() const {
+  return std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.moves; });
+}
+
 void Scene::pose(double seconds) {
-  if (animatedRanges.empty()) return;
+  if (!animated()) return;
   double t = seconds;
   if (animationDuration > 0.0) {
     t = std::fmod(t, animationDuration);
@@ -181,6 +185,26 @@ void Scene::pose(double seconds) {
       const float len = glm::length(n);
       v.normal = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
     }
+  }
+  // Lights and the camera as the loader places them: at the node's origin, looking
+  // (shining) along its -z, the camera's up along its +y. A degenerate pose (a scale
+  // of 0 on the way) keeps the previous direction.
+  auto direction = [](const glm::dvec3& d, const glm::vec3& previous) {
+    const double len = glm::length(d);
+    return len > 0.0 && std::isfinite(len) ? glm::vec3(d / len) : previous;
+  };
+  for (Light& l : lights) {
+    if (!l.moves) continue;
+    const glm::dmat4& m = worldOf(l.node);
+    l.position = glm::vec3(glm::dvec3(m[3]) - origin);
+    l.direction = direction(-glm::dvec3(m[2]), l.direction);
+  }
+  if (cameraMoves && poseCamera) {
+    const glm::dmat4& m = worldOf(camera.node);
+    camera.position = glm::vec3(glm::dvec3(m[3]) - origin);
+    camera.forward = direction(-glm::dvec3(m[2]), camera.forward);
+    camera.up = direction(glm::dvec3(m[1]), camera.up);
+    if (!bounds.empty()) fitClipPlanes();
   }
 }
 

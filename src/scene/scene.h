@@ -58,6 +58,8 @@ struct Light {
   float innerConeAngle = 0.0f;
   float outerConeAngle = 0.7853981634f;
   std::string name;
+  int node = -1;       // the glTF node that places it
+  bool moves = false;  // that node or an ancestor is animated: Scene::pose() moves it
 };
 
 struct Camera {
@@ -68,6 +70,7 @@ struct Camera {
   float znear = 0.01f;
   float zfar = 100.0f;
   bool fromFile = false;
+  int node = -1;  // the glTF node of a camera from the file
   glm::mat4 view() const;
   glm::mat4 projection(float aspect) const;
 };
@@ -155,14 +158,24 @@ struct Scene {
   std::vector<SceneNode> nodes;
   std::vector<AnimationChannel> animations;
   std::vector<AnimatedRange> animatedRanges;
+  // The file's camera moves: its node or an ancestor is animated (a camera path).
+  bool cameraMoves = false;
+  // pose() moves the camera along its path; false keeps it where it was set
+  // (render --look-from).
+  bool poseCamera = true;
   double animationDuration = 0.0;  // seconds; time wraps around
   Bounds motionBounds;             // union of the animated vertices over all poses
   std::vector<std::string> warnings;
   std::vector<std::string> notes;  // information the loader printed (a file without scenes)
 
   size_t triangleCount() const { return indices.size() / 3; }
-  bool animated() const { return !animatedRanges.empty(); }
-  // Moves the animated vertices to their pose at `seconds` (camera and lights stay).
+  // Something moves: a mesh, the camera or a light.
+  bool animated() const { return meshesAnimated() || cameraMoves || lightsAnimated(); }
+  bool meshesAnimated() const { return !animatedRanges.empty(); }
+  bool lightsAnimated() const;
+  // Moves the animated vertices, lights and (with poseCamera) the camera to their
+  // pose at `seconds`, through the node hierarchy; the camera's clip planes are
+  // refitted to the bounds. A no-op for a still scene.
   void pose(double seconds);
   bool hasEmission() const;
 

@@ -340,6 +340,56 @@ TEST(Viewer, FollowsWindowResize) {
   EXPECT_EQ(stats["gl_errors"], 0);
 }
 
+TEST(Viewer, PlaysTheCameraPath) {
+  VOXGI_REQUIRE_XVFB();
+  const std::string dir = scratchDir();
+  const auto r = runViewer(testDataDir() +
+                           "/animated/camera_path.gltf --mode raster --size 64x48 --no-panel "
+                           "--frames 6 --keys 3:r --stats " +
+                           dir + "/s.json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["frames"], 6);
+  EXPECT_EQ(stats["animated"], true);
+  EXPECT_EQ(stats["camera_path"], true);
+  EXPECT_EQ(stats["following_camera_path"], true);  // no fly input: still on the path
+  EXPECT_GT(stats["animation_time"].get<double>(), 0.0);
+  EXPECT_EQ(stats["gl_errors"], 0);
+  // A still scene has no animation to play.
+  const auto still =
+      runViewer("--mode raster --size 64x48 --no-panel --frames 2 --stats " + dir + "/still.json");
+  ASSERT_EQ(still.exitCode, 0) << still.output;
+  EXPECT_EQ(readJson(dir + "/still.json")["animated"], false);
+  EXPECT_FALSE(readJson(dir + "/still.json").contains("camera_path"));
+}
+
+TEST(Viewer, FlyingLeavesTheCameraPath) {
+  VOXGI_REQUIRE_XVFB();
+  if (runCommand("sh -c 'command -v xdotool'").exitCode != 0) {
+    if (::voxgi::test::toolsRequired()) FAIL() << "xdotool missing (tools/setup installs it)";
+    GTEST_SKIP() << "xdotool not installed";
+  }
+  const std::string dir = scratchDir();
+  // W held for half a second once the path plays (the file "go"), the pointer over
+  // the window so that it has the keyboard (no window manager under Xvfb).
+  LiveCommand viewer("xvfb-run -a sh -c '" + voxgiBinary() + " view " + testDataDir() +
+                     "/animated/camera_path.gltf --mode raster --size 64x48 --no-panel --stats " +
+                     dir + "/s.json & v=$!; echo voxgi-pid $v; while [ ! -e " + dir +
+                     "/go ]; do sleep 0.05; done; xdotool search --sync --name \"voxgi view\" " +
+                     "mousemove --window %1 20 20 keydown w sleep 0.5 keyup w; wait $v'");
+  const pid_t pid = viewer.readPid();
+  ASSERT_GT(pid, 0) << viewer.output();
+  ASSERT_TRUE(viewer.waitFor("first frame")) << viewer.output();
+  std::ofstream(dir + "/go") << "";
+  ASSERT_TRUE(viewer.waitFor("free camera")) << viewer.output();
+  kill(pid, SIGTERM);
+  EXPECT_EQ(viewer.finish(), 0) << viewer.output();
+  const auto stats = readJson(dir + "/s.json");
+  EXPECT_EQ(stats["camera_path"], true);
+  EXPECT_EQ(stats["following_camera_path"], false);
+  EXPECT_EQ(stats["gl_errors"], 0);
+}
+
 TEST(Viewer, QuitKeyEndsTheRunCleanly) {
   VOXGI_REQUIRE_XVFB();
   const std::string dir = scratchDir();
