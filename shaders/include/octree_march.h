@@ -32,19 +32,13 @@
 #include <glm/gtc/bitfield.hpp>
 #include <glm/integer.hpp>
 namespace voxgi::gpu {
-using vec3 = glm::vec3;
 using ivec3 = glm::ivec3;
 using uvec3 = glm::uvec3;
 using bvec3 = glm::bvec3;
-using glm::clamp;
 using glm::equal;
 using glm::findMSB;
-using glm::floor;
 using glm::greaterThan;
 using glm::lessThan;
-using glm::max;
-using glm::min;
-using glm::mix;
 using glm::notEqual;
 #define VOXGI_NODES_PARAM const uint *octreeNodes,
 #define VOXGI_NODES_ARG octreeNodes,

@@ -148,23 +148,39 @@ int CpuPathtracer::threads() const {
   return embree_->arena->max_concurrency();
 }
 
-bool CpuPathtracer::intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const {
+namespace {
+
+// A ray from o along d over (0, tMax), for rtcIntersect1 and rtcOccluded1.
+RTCRay makeRay(const glm::vec3& o, const glm::vec3& d, float tMax) {
+  RTCRay ray;
+  ray.org_x = o.x;
+  ray.org_y = o.y;
+  ray.org_z = o.z;
+  ray.tnear = 0.0f;
+  ray.dir_x = d.x;
+  ray.dir_y = d.y;
+  ray.dir_z = d.z;
+  ray.time = 0.0f;
+  ray.tfar = tMax;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+RTCIntersectContext incoherentContext() {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  return context;
+}
+
+}  // namespace
+
+bool CpuPathtracer::intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const {
+  RTCIntersectContext context = incoherentContext();
   RTCRayHit rh;
-  rh.ray.org_x = o.x;
-  rh.ray.org_y = o.y;
-  rh.ray.org_z = o.z;
-  rh.ray.dir_x = d.x;
-  rh.ray.dir_y = d.y;
-  rh.ray.dir_z = d.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = std::numeric_limits<float>::infinity();
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xffffffffu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  rh.ray = makeRay(o, d, std::numeric_limits<float>::infinity());
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(embree_->scene, &context, &rh);
@@ -177,22 +193,8 @@ bool CpuPathtracer::intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) 
 
 bool CpuPathtracer::occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const {
   if (!(tMax > 0.0f)) return false;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-  RTCRay ray;
-  ray.org_x = o.x;
-  ray.org_y = o.y;
-  ray.org_z = o.z;
-  ray.dir_x = d.x;
-  ray.dir_y = d.y;
-  ray.dir_z = d.z;
-  ray.tnear = 0.0f;
-  ray.tfar = tMax;
-  ray.time = 0.0f;
-  ray.mask = 0xffffffffu;
-  ray.id = 0;
-  ray.flags = 0;
+  RTCIntersectContext context = incoherentContext();
+  RTCRay ray = makeRay(o, d, tMax);
   rtcOccluded1(embree_->scene, &context, &ray);
   return ray.tfar < 0.0f;  // -inf on a hit
 }
