@@ -22,7 +22,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-import sweep  # noqa: E402  (its metrics: voxgi compare and FLIP)
+import sweep  # noqa: E402  (run_tool)
 
 SIZE = "256x256"
 SEED = 7  # test renders; references use tools/make-reference's seed
@@ -78,8 +78,10 @@ def run(view, scene, extra, args, outdir, tag):
 
 
 def measure(base, ref_exr, ref_png):
-    m = sweep.metrics(base, ref_exr, ref_png)
-    return {"flip": m["flip"], "rmse": m["rmse"], "lum": m["mean_luminance_ratio"]}
+    import flip as fliptool
+    m = json.loads(sweep.run_tool([voxgi(), "compare", base + ".exr", ref_exr, "--json"]))
+    return {"flip": fliptool.flip(base + ".png", ref_png), "rmse": m["rmse"],
+            "lum": m["mean_luminance_ratio"]}
 
 
 def plot(rows, outdir):

@@ -10,7 +10,7 @@ namespace voxgi::gpu {
 
 VOXGI_CONST uint kRtgiParamsBinding = 3u;  // uniform block
 // G-buffer, read as textures (texelFetch).
-VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 where covered
+VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 + material where covered
 VOXGI_CONST uint kGNormalUnit = 5u;    // rgba16f: shading normal (towards the viewer), w roughness
 VOXGI_CONST uint kGAlbedoUnit = 6u;    // rgba8: base colour, w metallic
 VOXGI_CONST uint kGEmissionUnit = 7u;  // rgba16f: emitted radiance
@@ -25,6 +25,14 @@ VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
 VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
 VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
 VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
+// Reprojection (a frame after the camera moved): the running mean as it was before
+// this frame (the accumulation target, read as a texture), the previous frame's
+// G-buffer position and normal, and the reprojected mean (rgba32f image) that
+// accumulate then reads in place of the target.
+VOXGI_CONST uint kHistoryUnit = 9u;
+VOXGI_CONST uint kReprojectedImage = 8u;
+VOXGI_CONST uint kGPreviousPositionUnit = 10u;
+VOXGI_CONST uint kGPreviousNormalUnit = 11u;
 // Images written by the per-pixel stages and read by accumulate.
 VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;
@@ -77,6 +85,11 @@ struct RtgiParams {
   uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame;
                        // y: mask threshold or uniform fraction (float bits); z: kSelect*;
                        // w: flags (kRtgiSparseStart)
+  // Reprojection: the previous frame's view-projection (without its jitter), and
+  // the history a pixel keeps when the camera moved: x at most this many frames,
+  // y for glossy surfaces, z for mirrors, w on edges between surfaces.
+  vec4 previousViewProj[4];
+  vec4 history;
 };
 
 // Pixels that trace this frame, appended by rtgi_select.comp; `groups` doubles as
@@ -96,7 +109,7 @@ bool sameSurface(bool covered0, vec3 n0, float d0, bool covered1, vec3 n1, float
 #endif
 
 #ifdef __cplusplus
-static_assert(sizeof(RtgiParams) == 112);
+static_assert(sizeof(RtgiParams) == 192);
 static_assert(sizeof(PixelListHeader) == 32);
 }  // namespace voxgi::gpu
 #endif

@@ -31,7 +31,7 @@ void main() {
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
   // Two-sided surfaces are shaded on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) n = -n;
-  outPosition = vec4(vPosition, 1.0);
+  outPosition = vec4(vPosition, 1.0 + float(materialIndex));
   outNormal = vec4(n, m.params.y);
   outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(m.params.x, 0.0, 1.0));
 #ifdef VOXGI_NO_EMISSION

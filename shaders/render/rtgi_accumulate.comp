@@ -6,7 +6,8 @@
 // start, those that have not traced yet borrow their neighbours' light. A
 // non-finite term is dropped rather than poisoning the mean. VOXGI_NO_EMISSION
 // (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
-// adds the light lent to pixels that have not traced yet.
+// adds the light lent to pixels that have not traced yet; RTGI_REPROJECTED, on a
+// frame after a camera move, starts from the reproject stage's mean.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -20,6 +21,19 @@ layout(binding = kDirectImage, rgba16f) uniform readonly image2D directIn;
 layout(binding = kIndirectImage, rgba16f) uniform readonly image2D indirectIn;
 layout(binding = kSpecularImage, rgba16f) uniform readonly image2D specularIn;
 layout(binding = kAccumImage, rgba32f) uniform image2D accum;
+#ifdef RTGI_REPROJECTED
+layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojected;
+#endif
+
+// The mean so far: the target's, or on a frame after a camera move what the
+// reproject stage made of it; none on the first frame.
+vec4 previousMean(ivec2 px) {
+#ifdef RTGI_REPROJECTED
+  return imageLoad(reprojected, px);
+#else
+  return rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+#endif
+}
 
 vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isinf(c)))); }
 
@@ -76,15 +90,20 @@ void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
   bool traced = !outside(px);
+  vec4 previous = previousMean(px);
 #ifndef RTGI_SPARSE_START
-  if (!traced) return;  // traced nothing this frame: it keeps its mean
-  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+  bool keep = !traced;  // traced nothing this frame: it keeps its mean
 #else
   // Until a pixel first traces it shows borrowed light with a count of 0, which its
   // first sample replaces; after that, untraced, it keeps its mean.
-  vec4 previous = rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
-  if (!traced && previous.a > 0.0) return;
+  bool keep = !traced && previous.a > 0.0;
 #endif
+  if (keep) {
+#ifdef RTGI_REPROJECTED
+    imageStore(accum, px, previous);
+#endif
+    return;
+  }
 #ifdef VOXGI_NO_EMISSION
   vec3 c = vec3(0.0);
 #else

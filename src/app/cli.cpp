@@ -156,6 +156,13 @@ std::string renderHelp() {
          "                    its share only, like the others; pixels that have not traced\n"
          "                    yet show their traced neighbours' light (as the viewer does)\n"
          "  --budget-select S mask (default) or uniform: how the budget picks its pixels\n"
+         "  --reproject on|off  on (default): a camera move (a camera path, the viewer)\n"
+         "                    keeps the image, each pixel's history following its surface\n"
+         "                    (dropped where the view reveals another); off: a move\n"
+         "                    restarts accumulation\n"
+         "  --history-cap N   while the camera moves, a pixel's history counts at most N\n"
+         "                    frames (default 16; glossy surfaces 4, mirrors none), so\n"
+         "                    light follows the view; a still camera accumulates on\n"
          "  --voxel-reflections  mirrors and glossy surfaces reflect the voxels they see\n"
          "                    (default: the exact triangles, through a BVH, lit exactly)\n"
          "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
@@ -223,13 +230,14 @@ std::string viewHelp() {
          "  --effects LIST    override the effect plan (see voxgi render --help), e.g.\n"
          "                    +specular,-shadows; the panel shows the plan\n"
          "  --voxels N, --revoxelize, --small-triangles P, --bounces N, --inject-rays N,\n"
-         "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S\n"
+         "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S,\n"
+         "  --reproject on|off, --history-cap N\n"
          "                    as for voxgi render\n"
          "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
          "                    pixels each frame (default 30; off: every pixel, every\n"
-         "                    frame). A camera move restarts the accumulation: its first\n"
-         "                    frame traces that share too, and pixels that have not traced\n"
-         "                    yet show their traced neighbours' light\n"
+         "                    frame). A camera move keeps each pixel's history where its\n"
+         "                    surface stays in view (--reproject); pixels that lost it and\n"
+         "                    have not traced since show their traced neighbours' light\n"
          "  --no-panel        start with the panel hidden\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
@@ -324,6 +332,13 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->rtgi.sparseStart = true;
   } else if (a == "--voxel-reflections") {
     rs->rtgi.exactReflections = false;
+  } else if (a == "--reproject") {
+    const std::string v = value();
+    if (v != "on" && v != "off")
+      throw UsageError("--reproject: expected on or off, got '" + v + "'");
+    rs->rtgi.reproject = v == "on";
+  } else if (a == "--history-cap") {
+    rs->rtgi.historyCap = parseInt("--history-cap", value(), 1, 1 << 20);
   } else if (a == "--budget-select") {
     const std::string v = value();
     if (v == "mask")

@@ -233,6 +233,8 @@ int runRender(const RenderOptions& o) {
   }
   if (o.render.mode == render::Mode::kRtgi) {
     stats["interleave"] = renderer.rtgi()->settings().interleave;
+    stats["reproject"] = renderer.rtgi()->settings().reproject;
+    stats["history_cap"] = renderer.rtgi()->settings().historyCap;
     stats["traced_fraction"] = traced.empty() ? 1.0 : median(traced);
     if (o.render.targetFps > 0.0)
       stats["budget"] = {{"target_fps", o.render.targetFps},

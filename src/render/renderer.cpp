@@ -309,11 +309,20 @@ bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
 
 void Renderer::renderFrame(const scene::Camera& camera) {
   const auto frameStart = std::chrono::steady_clock::now();
-  if (!sameCamera(camera, lastCamera_)) accumulated_ = 0;
+  // A camera move restarts accumulation, except in rtgi with reprojection, whose
+  // pixels carry their history over to where their surfaces now are.
+  bool reproject = false;
+  if (!sameCamera(camera, lastCamera_)) {
+    reproject =
+        settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->settings().reproject && accumulated_ > 0;
+    if (!reproject) accumulated_ = 0;
+  }
   lastCamera_ = camera;
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
   glm::mat4 projection = camera.projection(aspect);
+  const glm::mat4 previousViewProj = lastViewProj_;
+  lastViewProj_ = projection * camera.view();
   if (settings_.mode == Mode::kRtgi && settings_.jitter) {
     // A pixel traces once every `interleave` frames (all of them on the first): its
     // k-th sample takes offset k.
@@ -365,7 +374,8 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       break;
     case Mode::kRtgi:
       if (budget_) rtgi_->setTraceFraction(budget_->fraction());
-      rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id());
+      rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id(),
+                     reproject ? &previousViewProj : nullptr);
       break;
     case Mode::kPathtrace:
       // Progressive: this frame's samples join those since accumulation restarted.

@@ -16,9 +16,11 @@
 // before anything is allocated.
 //
 // `render` draws the scene's camera at a fixed size; the viewer passes its own
-// camera every frame and resizes the targets with the window. Any change of camera,
-// size, mode or knob restarts accumulation (accumulatedFrames() counts the frames
-// since), which progressive modes read to start their average over.
+// camera every frame and resizes the targets with the window. Any change of size,
+// mode or knob restarts accumulation (accumulatedFrames() counts the frames since),
+// which progressive modes read to start their average over; so does a change of
+// camera, except in rtgi with reprojection (RtgiPass::Settings::reproject), which
+// carries each pixel's history over to the new view.
 #ifndef VOXGI_RENDER_RENDERER_H
 #define VOXGI_RENDER_RENDERER_H
 
@@ -206,6 +208,7 @@ class Renderer {
   std::vector<gl::StageTime> stages_;
   int accumulated_ = 0;
   scene::Camera lastCamera_;
+  glm::mat4 lastViewProj_{1.0f};  // lastCamera_'s, without jitter
 
   void createTargets();
   // Builds the BVH at its first use (the "bvh" start-up stage).

@@ -65,8 +65,11 @@ void RtgiPass::resize(int width, int height) {
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   };
-  make(position_, GL_RGBA32F);
-  make(normal_, GL_RGBA16F);
+  for (int i = 0; i < 2; ++i) {
+    make(position_[i], GL_RGBA32F);
+    make(normal_[i], GL_RGBA16F);
+  }
+  make(history_, GL_RGBA32F);
   make(albedo_, GL_RGBA8);
   make(emission_, GL_RGBA16F);
   make(depth_, GL_DEPTH_COMPONENT32F);
@@ -84,26 +87,34 @@ void RtgiPass::resize(int width, int height) {
                               4 * static_cast<size_t>(width) * static_cast<size_t>(height)),
       nullptr, GL_DYNAMIC_STORAGE_BIT);
   histogram_ = gl::createBuffer(4 * gpu::kMaskBins, nullptr, GL_DYNAMIC_STORAGE_BIT);
-  fbo_ = gl::createFramebuffer();
-  const GLuint f = fbo_.id();
-  glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, position_.id(), 0);
-  glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, normal_.id(), 0);
-  glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
-  glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT3, emission_.id(), 0);
-  glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-  const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                             GL_COLOR_ATTACHMENT3};
-  glNamedFramebufferDrawBuffers(f, 4, buffers);
-  const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE)
-    throw Error(strf("rtgi G-buffer %dx%d: framebuffer incomplete (0x%x)", width, height, status));
+  for (int i = 0; i < 2; ++i) {
+    fbo_[i] = gl::createFramebuffer();
+    const GLuint f = fbo_[i].id();
+    glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, position_[i].id(), 0);
+    glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, normal_[i].id(), 0);
+    glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
+    glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT3, emission_.id(), 0);
+    glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+    const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                               GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(f, 4, buffers);
+    const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      throw Error(
+          strf("rtgi G-buffer %dx%d: framebuffer incomplete (0x%x)", width, height, status));
+  }
+  current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (16 + 8 + 4 + 8 + 4 + 8 * 3 + 16 + 9);
+                 (2 * (16 + 8) + 16 + 4 + 8 + 4 + 8 * 3 + 16 + 9);
 }
 
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
-                       const glm::vec3& cameraPosition, int frameIndex, GLuint accum) {
+                       const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
+                       const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
+  // The G-buffer drawn last frame becomes the previous one.
+  current_ ^= 1;
+  const bool reprojecting = previousViewProj != nullptr && frameIndex > 0;
   buildOptionalStages();
   const bool specular = settings_.specular;
   // Without shadow rays the direct stage is cheap unshadowed light, run only when
@@ -133,6 +144,12 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       frameInterleave /= 2;
   p.work = glm::uvec4(static_cast<uint32_t>(frameInterleave), 0u, 0u,
                       settings_.sparseStart ? gpu::kRtgiSparseStart : 0u);
+  if (reprojecting) {
+    for (int i = 0; i < 4; ++i) p.previousViewProj[i] = (*previousViewProj)[i];
+    const auto cap = static_cast<float>(std::max(settings_.historyCap, 0));
+    p.history = glm::vec4(cap, std::min(cap, static_cast<float>(kGlossyHistory)), 0.0f,
+                          std::min(cap, static_cast<float>(kEdgeHistory)));
+  }
   // Every pixel traces without interleaving, and on the first frame unless it starts
   // sparse.
   const bool everyPixel = frameInterleave <= 1 || (frameIndex == 0 && !settings_.sparseStart);
@@ -140,12 +157,13 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
 
   {
     gl::StageScope stage(ctx.timer, "gbuffer");
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    const GLuint fbo = fbo_[current_].id();
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, ctx.width, ctx.height);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (GLint i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+    for (GLint i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
     const float one = 1.0f;
-    glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -164,8 +182,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeLightCdfBinding, gs.emitterCdf());
-  glBindTextureUnit(gpu::kGPositionUnit, position_.id());
-  glBindTextureUnit(gpu::kGNormalUnit, normal_.id());
+  glBindTextureUnit(gpu::kGPositionUnit, position_[current_].id());
+  glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
   glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());
   glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
   glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
@@ -180,6 +198,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
   const auto gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
   const auto gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
+  if (reprojecting) reproject(ctx, gx, gy, accum, gs.materials());
   // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
   // built by the select stage, dispatched indirectly.
   const int n = frameInterleave;
@@ -232,7 +251,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   auto run = [&](const char* name, const gl::Program& program) {
     gl::StageScope stage(ctx.timer, name);
     glUseProgram(program.id());
-    if (&program == &accumulate_ || &program == accumulateSparse_)
+    if (&program == &accumulate_ || &program == accumulateVariant_)
       glDispatchCompute(gx, gy, 1);
     else if (listed)
       glDispatchComputeIndirect(0);
@@ -264,14 +283,22 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   // A sparse start: until every pixel has had its turn (n frames; a budget's list
   // includes the pattern), the variant that lends traced light to those still
   // waiting. It is a separate program because a SIMD software rasterizer would run
-  // the lending code, masked, for every pixel of every frame.
-  if (settings_.sparseStart && !everyPixel && frameIndex < settings_.interleave) {
-    if (!accumulateSparse_) {
-      std::vector<std::string> defines = settings_.features.defines();
-      defines.push_back("RTGI_SPARSE_START");
-      accumulateSparse_ = &programs_.get({{"render/rtgi_accumulate.comp"}, defines});
+  // the lending code, masked, for every pixel of every frame. A frame after a move
+  // lends too, to the pixels that lost their history, and starts from the
+  // reprojected mean (RTGI_REPROJECTED).
+  const bool lends =
+      !everyPixel && ((settings_.sparseStart && frameIndex < settings_.interleave) || reprojecting);
+  if (lends || reprojecting) {
+    std::vector<std::string> defines = settings_.features.defines();
+    if (lends) defines.emplace_back("RTGI_SPARSE_START");
+    if (reprojecting) {
+      defines.emplace_back("RTGI_REPROJECTED");
+      glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                         GL_RGBA32F);
     }
-    run("accumulate", *accumulateSparse_);
+    const gl::Program& variant = programs_.get({{"render/rtgi_accumulate.comp"}, defines});
+    accumulateVariant_ = &variant;
+    run("accumulate", variant);
   } else {
     run("accumulate", accumulate_);
   }
@@ -282,8 +309,24 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     lastTraced_ = static_cast<double>(header.count.x) / static_cast<double>(pixelsTotal);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   }
-  for (GLuint u = 0; u < 7; ++u) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  for (GLuint u = 0; u <= gpu::kReprojectedImage; ++u)
+    glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   for (GLuint u : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
+    glBindTextureUnit(u, 0);
+}
+
+void RtgiPass::reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials) {
+  gl::StageScope stage(ctx.timer, "reproject");
+  glBindTextureUnit(gpu::kHistoryUnit, accum);
+  glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
+  glBindTextureUnit(gpu::kGPreviousNormalUnit, normal_[current_ ^ 1].id());
+  glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32F);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
+  glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, settings_.features.defines()}).id());
+  glDispatchCompute(gx, gy, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit})
     glBindTextureUnit(u, 0);
 }
 

@@ -15,7 +15,10 @@
 //               against the exact triangles when given a BVH (render/gpu_bvh.h), the
 //               hit shaded with exact direct light (BVH shadow rays) plus voxel
 //               indirect light; without one, the light of the voxel the ray meets;
-//   accumulate  emission + the three terms, into the mean over still frames.
+//   reproject   after a camera move, first of all: each pixel's running mean follows
+//               the surface it shows from the previous frame's pixels, dropped where
+//               they showed another surface, its count capped (rtgi_reproject.comp);
+//   accumulate  emission + the three terms, into each pixel's running mean.
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
 #ifndef VOXGI_RENDER_RTGI_PASS_H
@@ -57,6 +60,13 @@ class RtgiPass {
     // Reflections of the exact triangles (the Renderer then builds a BVH for the
     // specular stage); false: of the voxels, as before (no BVH).
     bool exactReflections = true;
+    // A camera move keeps the image: each pixel's history is reprojected onto the
+    // surface it now shows (false: a move restarts accumulation).
+    bool reproject = true;
+    // While the camera moves, a pixel's history counts at most this many frames
+    // (glossy surfaces at most kGlossyHistory, mirrors none), so the light follows
+    // the view; a still camera accumulates without a cap.
+    int historyCap = 16;
     uint32_t seed = 1;
   };
 
@@ -66,9 +76,17 @@ class RtgiPass {
            std::shared_ptr<const GpuBvh> bvh = nullptr);
   // Renders frame `frameIndex` of the accumulation (0 restarts it) into `accum`.
   // `octree` may be null when the settings trace nothing (no shadows, indirect or
-  // specular light).
+  // specular light). `previousViewProj`, on a frame after the camera moved (not the
+  // first): the view-projection, without jitter, of the frame before, whose image
+  // `accum` holds; the history is reprojected from it.
   void execute(FrameContext& ctx, const GpuScene& scene, const voxel::Octree* octree,
-               const glm::vec3& cameraPosition, int frameIndex, GLuint accum);
+               const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
+               const glm::mat4* previousViewProj = nullptr);
+  // Glossy surfaces (not mirrors) keep at most this many frames of history across a
+  // camera move: their highlights move with the view.
+  static constexpr int kGlossyHistory = 4;
+  // Nor do pixels on an edge between surfaces.
+  static constexpr int kEdgeHistory = 2;
   const Settings& settings() const { return settings_; }
   Settings& settings() { return settings_; }
   // The share of all pixels, pattern included, the next frame should trace (frame
@@ -90,6 +108,9 @@ class RtgiPass {
   // The mask stage (edges, blur, histogram), and the threshold that selects at most
   // `extra` pixels of it.
   void runMask(FrameContext& ctx, GLuint gx, GLuint gy);
+  // The reproject stage (see above), into `accum`; `materials`: the scene's (which
+  // of them emit).
+  void reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
   float maskThreshold(uint64_t extra) const;
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
@@ -103,7 +124,7 @@ class RtgiPass {
   std::shared_ptr<const GpuBvh> bvh_;
   const gl::Program& gbuffer_;
   const gl::Program& accumulate_;
-  const gl::Program* accumulateSparse_ = nullptr;  // built at the first sparse start
+  const gl::Program* accumulateVariant_ = nullptr;  // this frame's, when not accumulate_
   const gl::Program* indirect_ = nullptr;
   const gl::Program* specular_ = nullptr;
   double traceFraction_ = 1.0;
@@ -113,9 +134,13 @@ class RtgiPass {
   gl::Buffer pixelList_, histogram_;
   std::vector<uint32_t> histogramBins_;
   gl::Buffer params_;
-  gl::Texture position_, normal_, albedo_, emission_, depth_;
+  // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
+  // they share all but position and normal.
+  gl::Texture position_[2], normal_[2], albedo_, emission_, depth_;
+  gl::Framebuffer fbo_[2];
+  int current_ = 0;
+  gl::Texture history_;  // the reprojected mean, on a frame after a camera move
   gl::Texture directImage_, indirectImage_, specularImage_;
-  gl::Framebuffer fbo_;
   int width_ = 0, height_ = 0;
   size_t targetBytes_ = 0;
 };

@@ -92,6 +92,21 @@ TEST(CliParse, PathtraceOptions) {
             render::PathtraceDevice::kGl);
 }
 
+TEST(CliParse, ReprojectionOptions) {
+  // On by default, for render and view alike; the cap defaults to 16 frames.
+  const Invocation d = parse({"render"});
+  EXPECT_TRUE(d.render.render.rtgi.reproject);
+  EXPECT_EQ(d.render.render.rtgi.historyCap, 16);
+  EXPECT_TRUE(parse({"view"}).view.render.rtgi.reproject);
+  const Invocation off = parse({"render", "--reproject", "off", "--history-cap", "4"});
+  EXPECT_FALSE(off.render.render.rtgi.reproject);
+  EXPECT_EQ(off.render.render.rtgi.historyCap, 4);
+  EXPECT_FALSE(parse({"view", "--reproject", "off"}).view.render.rtgi.reproject);
+  EXPECT_THROW(parse({"render", "--reproject", "yes"}), UsageError);
+  EXPECT_THROW(parse({"render", "--reproject"}), UsageError);
+  EXPECT_THROW(parse({"render", "--history-cap", "0"}), UsageError);
+}
+
 TEST(CliParse, Compare) {
   Invocation inv = parse({"compare", "a.exr", "b.exr", "--json"});
   EXPECT_EQ(inv.command, Command::kCompare);
