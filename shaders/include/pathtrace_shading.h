@@ -28,7 +28,9 @@ struct EmitterSample {
 
 // Picks one of `count` emissive triangles by power through the Walker alias table
 // (Vose's construction, built in src/render/pathtrace_scene.cpp) from one
-// uniform number, then a uniform point on it from two more, as seen from p.
+// uniform number, then a uniform point on it from two more, as seen from p. An
+// emissive texture is read at that point where the device reads textures
+// (VOXGI_TEXTURE defined).
 VOXGI_FN EmitterSample sampleEmitter(VOXGI_TABLES_PARAM vec3 p, uint count, float u0, float u1,
                                      float u2) {
   EmitterSample s;
@@ -41,7 +43,9 @@ VOXGI_FN EmitterSample sampleEmitter(VOXGI_TABLES_PARAM vec3 p, uint count, floa
   GpuPtEmissive e = VOXGI_EMISSIVE(i);
   if (u - float(i) >= e.v0.w) e = VOXGI_EMISSIVE(floatBitsToUint(e.e1.w));
   float sq = sqrt(u1);
-  vec3 q = vec3(e.v0) + vec3(e.e1) * (sq * (1.0f - u2)) + vec3(e.e2) * (sq * u2);
+  float b1 = sq * (1.0f - u2);
+  float b2 = sq * u2;
+  vec3 q = vec3(e.v0) + vec3(e.e1) * b1 + vec3(e.e2) * b2;
   vec3 c = cross(vec3(e.e1), vec3(e.e2));
   float area2 = length(c);
   vec3 nl = c / area2;
@@ -56,6 +60,14 @@ VOXGI_FN EmitterSample sampleEmitter(VOXGI_TABLES_PARAM vec3 p, uint count, floa
   s.dist = dist;
   s.pdfLight = e.e2.w / (0.5f * area2) * dist2 / cosL;
   s.radiance = vec3(e.radiance);
+#ifdef VOXGI_TEXTURE
+  uint texture = floatBitsToUint(e.uv2.z);
+  if (texture != 0u) {  // the emissive texture at the point (the same uniform map)
+    vec2 uv = vec2(e.uv01.x, e.uv01.y) * (1.0f - b1 - b2) + vec2(e.uv01.z, e.uv01.w) * b1 +
+              vec2(e.uv2.x, e.uv2.y) * b2;
+    s.radiance *= vec3(sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(texture - 1u), uv));
+  }
+#endif
   return s;
 }
 

@@ -18,8 +18,8 @@ namespace voxgi::gpu {
 VOXGI_CONST uint kPtShadingBinding = 5u;
 VOXGI_CONST uint kPtEmissiveBinding = 6u;
 VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
-// Base-colour textures (unless VOXGI_NO_TEXTURES): uvec4 per texture of the scene,
-// x first texel in kPtTexelTexUnit, y width, z height.
+// Textures (unless VOXGI_NO_TEXTURES): uvec4 per texture of the scene, x first
+// texel in kPtTexelTexUnit, y width, z height, w 1 if sRGB-encoded (colour).
 VOXGI_CONST uint kPtTextureBinding = 8u;
 VOXGI_CONST uint kPtParamsBinding = 1u;
 // Texture units: the BVH nodes and the triangles, read as RGBA32UI buffer textures
@@ -30,7 +30,7 @@ VOXGI_CONST uint kPtTriangleTexUnit = 1u;
 // Texture coordinates of each triangle's corners, in BVH order: two RGBA32UI texels
 // a triangle, (u0, v0, u1, v1) and (u2, v2, 0, 0), floats as bits.
 VOXGI_CONST uint kPtUvTexUnit = 2u;
-// Every base-colour texture's sRGB RGBA8 texels, one R32UI texel each, rows top first.
+// Every texture's RGBA8 texels, one R32UI texel each, rows top first.
 VOXGI_CONST uint kPtTexelTexUnit = 3u;
 // Image units: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;
@@ -78,11 +78,16 @@ struct GpuPtShading {
 
 // An emissive triangle for next-event estimation, chosen by power through a
 // Walker alias table (Vose's construction).
+// With an emissive texture, the radiance at a point is `radiance` times the texture
+// there (read at the corner UVs interpolated); the probability of choosing a
+// triangle then follows the texture's mean over it.
 struct GpuPtEmissive {
   vec4 v0;        // w: alias acceptance probability
   vec4 e1;        // w: alias index (bits)
   vec4 e2;        // w: probability of choosing this triangle
-  vec4 radiance;  // rgb, w: 1 if two-sided
+  vec4 radiance;  // rgb: the material's emission (factor x strength), w: 1 if two-sided
+  vec4 uv01;      // corner UVs 0 and 1
+  vec4 uv2;       // xy corner UV 2, z: emissive texture + 1 (bits; 0: none), w: unused
 };
 
 struct GpuPtParams {
@@ -101,7 +106,7 @@ static_assert(sizeof(GpuBvhNode) == 64);
 static_assert(offsetof(GpuBvhNode, rightMin) == 32);
 static_assert(sizeof(GpuPtTriangle) == 48);
 static_assert(sizeof(GpuPtShading) == 48);
-static_assert(sizeof(GpuPtEmissive) == 64);
+static_assert(sizeof(GpuPtEmissive) == 96);
 static_assert(offsetof(GpuPtEmissive, radiance) == 48);
 static_assert(sizeof(GpuPtParams) == 128);
 static_assert(offsetof(GpuPtParams, image) == 64);

@@ -17,6 +17,9 @@ VOXGI_CONST uint kLightBinding = 1u;
 VOXGI_CONST uint kEmitterBinding = 2u;
 VOXGI_CONST uint kFrameBinding = 0u;  // uniform block
 VOXGI_CONST uint kBaseColorUnit = 0u;
+// Past every unit the passes that draw the scene bind for their own use.
+VOXGI_CONST uint kEmissiveUnit = 9u;
+VOXGI_CONST uint kMetallicRoughnessUnit = 10u;
 VOXGI_CONST uint kHdrInputUnit = 0u;  // tonemap input
 
 // Uniform locations.
@@ -28,6 +31,8 @@ VOXGI_CONST int kTonemapLocation = 2;
 VOXGI_CONST uint kMaterialHasTexture = 1u;
 VOXGI_CONST uint kMaterialDoubleSided = 2u;
 VOXGI_CONST uint kMaterialAlphaMask = 4u;
+VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
+VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
 
 // Light types (KHR_lights_punctual).
 VOXGI_CONST uint kLightDirectional = 0u;
@@ -49,8 +54,8 @@ struct GpuMaterial {
   vec4 params;     // x metallic, y roughness, z alpha cutoff, w unused
   uint flags;
   uint texture;  // base-colour texture: index into Scene::textures (with kMaterialHasTexture)
-  uint pad1;
-  uint pad2;
+  uint emissiveTexture;           // with kMaterialHasEmissiveTexture
+  uint metallicRoughnessTexture;  // with kMaterialHasMetallicRoughnessTexture
 };
 
 struct GpuLight {
@@ -77,6 +82,7 @@ struct GpuFrame {
 static_assert(sizeof(GpuMaterial) == 64);
 static_assert(offsetof(GpuMaterial, params) == 32);
 static_assert(offsetof(GpuMaterial, flags) == 48);
+static_assert(offsetof(GpuMaterial, metallicRoughnessTexture) == 60);
 static_assert(sizeof(GpuLight) == 64);
 static_assert(sizeof(GpuEmitter) == 64);
 static_assert(sizeof(GpuFrame) == 96);

@@ -1,10 +1,12 @@
-// Base-colour texture reads and alpha masks, written once for GLSL and C++ (see
-// shared_fn.h): the path tracer on both devices (through pathtrace_shading.h) and
-// rtgi's reflections of exact triangles read texels with these. Each device brings
-// its access to the tables through macros: the shader defines them before the
-// include, C++ gets them below.
+// Texture reads (base colour, emission, metallic-roughness) and alpha masks, written
+// once for GLSL and C++ (see shared_fn.h): the path tracer on both devices (through
+// pathtrace_shading.h) and rtgi's reflections of exact triangles read texels with
+// these. Each device brings its access to the tables through macros: the shader
+// defines them before the include, C++ gets them below.
 //   VOXGI_EMISSIVE(i)  the i-th GpuPtEmissive of the alias table (pathtrace_shading.h);
-//   VOXGI_TEXEL(i)     the i-th packed sRGB RGBA8 texel of all base-colour textures;
+//   VOXGI_TEXEL(i)     the i-th packed RGBA8 texel of all textures;
+//   VOXGI_TEXTURE(i)   the i-th texture's table entry (optional: without it, only
+//                      the reads that take an entry are compiled);
 //   VOXGI_TABLES_PARAM / VOXGI_TABLES_ARG  how the tables reach a function (C++: a
 //                      PtTables reference; GLSL: nothing, they are buffers).
 // Twin test: tests/render/shading_twin_gltest.cpp.
@@ -24,17 +26,21 @@ using glm::smoothstep;
 struct PtTables {
   const GpuPtEmissive* emissive = nullptr;
   const uint* texels = nullptr;
+  const uvec4* textures = nullptr;  // the texture table: one entry per texture
 };
 #define VOXGI_TABLES_PARAM const PtTables &tables,
 #define VOXGI_TABLES_ARG tables,
 #define VOXGI_EMISSIVE(i) tables.emissive[i]
 #define VOXGI_TEXEL(i) tables.texels[i]
+#define VOXGI_TEXTURE(i) tables.textures[i]
 #endif
 
-// --- base-colour textures -----------------------------------------------------------
-// One decoded (linear) texel of texture t = (first texel, width, height, -).
+// --- textures -----------------------------------------------------------------------
+// One texel of texture t = (first texel, width, height, sRGB), linear: colour
+// textures (t.w 1) are decoded from sRGB, data textures read as they are.
 VOXGI_FN vec4 srgbTexel(VOXGI_TABLES_PARAM uvec4 t, ivec2 p) {
   vec4 c = unpackUnorm4x8(VOXGI_TEXEL(t.x + uint(p.y) * t.y + uint(p.x)));
+  if (t.w == 0u) return c;
   vec3 rgb = vec3(c);
   vec3 lo = rgb / 12.92f;
   vec3 hi = pow((rgb + 0.055f) / 1.055f, vec3(2.4f));
@@ -71,6 +77,27 @@ VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 
     a *= sampleTexture(VOXGI_TABLES_ARG texture, uv).a;
   return a >= m.params.z;
 }
+
+#ifdef VOXGI_TEXTURE
+// --- materials ------------------------------------------------------------------------
+// Material m as seen at uv: its base colour, metallic, roughness and emission times
+// whichever of its textures it has (glTF: metallic in the blue channel, roughness in
+// green). Returns m unchanged when it has none.
+VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv) {
+  if ((m.flags & kMaterialHasTexture) != 0u)
+    m.baseColor *= sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.texture), uv);
+  if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
+    vec4 mr = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.metallicRoughnessTexture), uv);
+    m.params.x *= mr.b;
+    m.params.y *= mr.g;
+  }
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) {
+    vec4 e = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.emissiveTexture), uv);
+    m.emission = vec4(vec3(m.emission) * vec3(e), m.emission.w);
+  }
+  return m;
+}
+#endif
 
 #ifdef __cplusplus
 }  // namespace voxgi::gpu

@@ -8,6 +8,8 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
+layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessTexture;
 
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
@@ -27,16 +29,28 @@ void main() {
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
 #endif
+  float metallic = m.params.x;
+  float roughness = m.params.y;
+  vec3 emission = m.emission.rgb;
+#ifndef VOXGI_NO_TEXTURES
+  // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
+  if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
+    vec4 mr = texture(metallicRoughnessTexture, vUv);
+    metallic *= mr.b;
+    roughness *= mr.g;
+  }
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) emission *= texture(emissiveTexture, vUv).rgb;
+#endif
   vec3 n = normalize(vNormal);
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
   // Two-sided surfaces are shaded on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) n = -n;
   outPosition = vec4(vPosition, 1.0 + float(materialIndex));
-  outNormal = vec4(n, m.params.y);
-  outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(m.params.x, 0.0, 1.0));
+  outNormal = vec4(n, roughness);
+  outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(metallic, 0.0, 1.0));
 #ifdef VOXGI_NO_EMISSION
   outEmission = vec4(0.0);
 #else
-  outEmission = vec4(m.emission.rgb, 0.0);
+  outEmission = vec4(emission, 0.0);
 #endif
 }

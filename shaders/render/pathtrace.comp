@@ -38,6 +38,7 @@ layout(binding = kPtOutputImage, rgba32f) uniform writeonly image2D outImage;
 #define VOXGI_EMISSIVE(i) emissive[i]
 #ifndef VOXGI_NO_TEXTURES
 #define VOXGI_TEXEL(i) texelFetch(textureTexels, int(i)).x
+#define VOXGI_TEXTURE(i) textures[i]
 #else
 #define VOXGI_TEXEL(i) 0u
 #endif
@@ -117,8 +118,9 @@ vec3 radiance(vec3 o, vec3 d) {
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
 #ifndef VOXGI_NO_TEXTURES
-    if ((m.flags & kMaterialHasTexture) != 0u)
-      m.baseColor *= sampleTexture(textures[m.texture], triangleUv(tri, bc));
+    if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
+                    kMaterialHasMetallicRoughnessTexture)) != 0u)
+      m = texturedMaterial(m, triangleUv(tri, bc));
 #endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));

@@ -12,6 +12,8 @@ layout(std430, binding = kEmitterBinding) readonly buffer Emitters { GpuEmitter 
 
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
+layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessTexture;
 
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
@@ -28,6 +30,18 @@ void main() {
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
 #endif
+  float metallic = m.params.x;
+  float roughness = m.params.y;
+  vec3 emission = m.emission.rgb;
+#ifndef VOXGI_NO_TEXTURES
+  // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
+  if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
+    vec4 mr = texture(metallicRoughnessTexture, vUv);
+    metallic *= mr.b;
+    roughness *= mr.g;
+  }
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) emission *= texture(emissiveTexture, vUv).rgb;
+#endif
 
   Surface s;
   s.p = vPosition;
@@ -35,8 +49,6 @@ void main() {
   s.n = normalize(vNormal);
   // Two-sided surfaces are lit on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) s.n = -s.n;
-  float metallic = m.params.x;
-  float roughness = m.params.y;
   s.diffuse = base.rgb * (1.0 - metallic);
   s.f0 = mix(vec3(0.04), base.rgb, metallic);
   s.alpha = roughness * roughness;
@@ -45,7 +57,7 @@ void main() {
 #ifdef VOXGI_NO_EMISSION
   vec3 radiance = vec3(0.0);
 #else
-  vec3 radiance = m.emission.rgb;
+  vec3 radiance = emission;
 #endif
   int lightCount = int(frame.counts.x);
   for (int i = 0; i < lightCount; ++i) radiance += punctualLight(lights[i], s);

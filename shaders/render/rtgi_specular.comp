@@ -15,8 +15,9 @@
 // along one cosine ray from the hit (the indirect stage's estimate), when the plan
 // has indirect light: voxels serve only as the light cache behind the hit. A mirror
 // sees an emitter it hits; a glossy surface does not (its highlight comes from the
-// shadows stage). RTGI_BVH_TEXTURES (a textured BVH): base-colour textures at the hit,
-// sampled as the path tracer samples them (bilinear, no mipmaps).
+// shadows stage). RTGI_BVH_TEXTURES (a textured BVH): the material's textures at the hit
+// (base colour, metallic-roughness, emission), sampled as the path tracer samples
+// them (bilinear, no mipmaps).
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -53,6 +54,7 @@ layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #define VOXGI_TABLES_PARAM
 #define VOXGI_TABLES_ARG
 #define VOXGI_TEXEL(i) texelFetch(textureTexels, int(i)).x
+#define VOXGI_TEXTURE(i) textures[i]
 #include "texture_shared.h"
 #endif
 
@@ -71,6 +73,10 @@ float bvhVisible(vec3 p, vec3 l, float dist) {
   float tMax = min(dist, 3.0e38) * (1.0 - 1e-4);
   if (!trace(p, l, tMax, false, t, tri, bc)) return 1.0;
   GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+#ifdef RTGI_BVH_TEXTURES
+  // Where an emissive texture is black, the surface is no emitter: it shadows.
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) m = texturedMaterial(m, triangleUv(tri, bc));
+#endif
   return m.emission.rgb != vec3(0.0) ? 1.0 : 0.0;
 #endif
 }
@@ -153,8 +159,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
 #ifdef RTGI_BVH_TEXTURES
-    if ((m.flags & kMaterialHasTexture) != 0u)
-      m.baseColor *= sampleTexture(textures[m.texture], triangleUv(tri, bc));
+    if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
+                    kMaterialHasMetallicRoughnessTexture)) != 0u)
+      m = texturedMaterial(m, triangleUv(tri, bc));
 #endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));

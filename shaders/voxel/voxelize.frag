@@ -11,6 +11,7 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
 layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 
 #include "voxel_fragment.glsl"
 
@@ -38,6 +39,9 @@ void main() {
   vec3 e = vec3(0.0);
 #else
   vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
+#ifndef VOXGI_NO_TEXTURES
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) e *= texture(emissiveTexture, gUv).rgb;
+#endif
 #endif
   voxelAddFragment(ivec2(gl_FragCoord.xy), gAxis, gPlane, gDepth, base.rgb, n, e, weight);
 }

@@ -32,6 +32,7 @@ layout(location = kVoxelCommandLocation) uniform uint firstCommand;
 layout(std430, binding = kLargeIndexBinding) writeonly buffer LargeIndices { uint largeIndices[]; };
 layout(std430, binding = kDrawCommandBinding) buffer DrawCommands { uint drawCommands[]; };
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
+layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 // The scene's vertices (scene::Vertex, 32 bytes: 2 texels) and indices.
 layout(binding = kVoxelVertexUnit) uniform samplerBuffer vertexData;
 layout(binding = kVoxelIndexUnit) uniform usamplerBuffer indexData;
@@ -168,10 +169,16 @@ void main() {
     float b0 = 1.0 - b1 - b2;
 
     vec4 base = m.baseColor;
+    vec3 emitted = e;
 #ifndef VOXGI_NO_TEXTURES
-    if ((m.flags & kMaterialHasTexture) != 0u) {
+    if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture)) != 0u) {
       vec2 uv = b0 * vt[0] + b1 * vt[1] + b2 * vt[2];
-      base *= textureGrad(baseColorTexture, uv, duvdx, duvdy);
+      if ((m.flags & kMaterialHasTexture) != 0u)
+        base *= textureGrad(baseColorTexture, uv, duvdx, duvdy);
+#ifndef VOXGI_NO_EMISSION
+      if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
+        emitted *= textureGrad(emissiveTexture, uv, duvdx, duvdy).rgb;
+#endif
     }
 #endif
 #ifndef VOXGI_NO_ALPHA
@@ -179,6 +186,6 @@ void main() {
 #endif
     vec3 nn = normalize(b0 * vn[0] + b1 * vn[1] + b2 * vn[2]);
     if (any(isnan(nn))) nn = vec3(0.0);
-    voxelAddFragment(ivec2(lo) + ivec2(px, py), axis, plane, depth, base.rgb, nn, e, weight);
+    voxelAddFragment(ivec2(lo) + ivec2(px, py), axis, plane, depth, base.rgb, nn, emitted, weight);
   }
 }

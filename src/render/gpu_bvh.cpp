@@ -11,7 +11,7 @@
 namespace voxgi::render {
 GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures(s, textures)) {
   const auto start = std::chrono::steady_clock::now();
-  const PtScene pt = buildPtScene(s);
+  const PtScene pt = buildPtScene(s, textured_);
   Bvh::Options options;
   options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
   bvh_ = Bvh(pt.triangles, options);

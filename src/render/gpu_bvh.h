@@ -1,6 +1,6 @@
 // The scene's exact triangles on the GPU for ray tracing: the BVH (render/bvh.h)
 // built on the CPU, and what a hit needs to be shaded (vertex normals, material,
-// emitter pdf; corner UVs and every base-colour texture's texels when textured), in
+// emitter pdf; corner UVs and every texture's texels when textured), in
 // the layouts of shaders/include/pathtrace_shared.h. Traversed by
 // shaders/include/bvh_trace.glsl.
 //

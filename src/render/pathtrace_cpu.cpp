@@ -46,7 +46,7 @@ void checkDevice(RTCDevice device, const char* what) {
 CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings& settings)
     : scene_(scene),
       settings_(settings),
-      pt_(buildPtScene(scene)),
+      pt_(buildPtScene(scene, ptReadsTextures(scene, settings.textures))),
       textured_(ptReadsTextures(scene, settings.textures)),
       materials_(scene::GpuScene::packMaterials(scene)),
       lights_(scene::GpuScene::packLights(scene)),
@@ -202,7 +202,7 @@ bool CpuPathtracer::occluded(const glm::vec3& o, const glm::vec3& d, float tMax)
 // One path, step for step as radiance() in shaders/render/pathtrace.comp.
 glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const {
   using namespace gpu;
-  const PtTables tables{pt_.emitters.data(), texels_.data()};
+  const PtTables tables{pt_.emitters.data(), texels_.data(), textureTable_.data()};
   vec3 result(0.0f);
   vec3 throughput(1.0f);
   const float eps = pt_.epsilon;
@@ -216,13 +216,12 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
     Hit hit;
     if (!intersect(o, d, &hit)) break;  // black background
     const Triangle& T = triangles_[hit.triangle];
-    const GpuMaterial& m = materials_[static_cast<size_t>(T.material)];
     const vec2 bc = hit.bc;
-    vec4 baseColor = m.baseColor;
-    if (textured_ && (m.flags & kMaterialHasTexture) != 0u) {
-      const vec2 uv = (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2;
-      baseColor *= sampleTexture(tables, textureTable_[m.texture], uv);
-    }
+    const GpuMaterial m =
+        textured_ ? texturedMaterial(tables, materials_[static_cast<size_t>(T.material)],
+                                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2)
+                  : materials_[static_cast<size_t>(T.material)];
+    const vec4 baseColor = m.baseColor;
     const vec3 p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
     vec3 ng = T.ng;
     const bool front = dot(ng, d) < 0.0f;

@@ -21,9 +21,11 @@
 // reflectance = base colour (no Fresnel), anything else the glTF metallic-roughness
 // BRDF (Lambert + GGX with visible-normal sampling, Heitz 2018). An emissive surface
 // emits from its front face (both faces when double-sided) and reflects by its
-// material like any other. Base-colour textures multiply the base colour: corner
-// UVs per triangle and every texture's sRGB texels live in buffer textures, sampled
-// bilinearly over decoded (linear) texels with repeat wrapping, no mipmaps. Without
+// material like any other. Textures multiply their factors (base colour; emission,
+// also where next-event estimation samples a point; metallic in blue and roughness
+// in green of the metallic-roughness texture): corner UVs per triangle and every
+// texture's texels live in buffer textures, sampled bilinearly over linear texels
+// (colour textures decoded from sRGB) with repeat wrapping, no mipmaps. Without
 // textures (Settings::textures off, or no textured material) the kernel is compiled
 // without them (VOXGI_NO_TEXTURES). Alpha masks are not read.
 // Camera: the scene camera at the image aspect, box pixel filter (uniform jitter).

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/log.h"
+#include "scene/emitters.h"
 
 #include "brdf_shared.h"
 
@@ -38,13 +39,17 @@ void buildAliasTable(const std::vector<double>& weights, std::vector<float>* pro
   // What is left holds (up to rounding) exactly 1.
 }
 
-PtScene buildPtScene(const scene::Scene& s) {
+PtScene buildPtScene(const scene::Scene& s, bool textured) {
   PtScene pt;
   pt.triangles.reserve(s.triangleCount());
   pt.material.reserve(s.triangleCount());
   pt.firstIndex.reserve(s.triangleCount());
+  std::vector<glm::vec3> emission;  // per triangle: mean radiance
   for (const scene::Draw& d : s.draws) {
     for (uint32_t i = d.firstIndex; i + 2 < d.firstIndex + d.indexCount; i += 3) {
+      const size_t t = (i - d.firstIndex) / 3;
+      emission.push_back(textured ? scene::triangleEmission(s, d, t)
+                                  : s.materials[static_cast<size_t>(d.material)].emission);
       pt.triangles.push_back({s.vertices[s.indices[i]].position,
                               s.vertices[s.indices[i + 1]].position,
                               s.vertices[s.indices[i + 2]].position});
@@ -62,13 +67,22 @@ PtScene buildPtScene(const scene::Scene& s) {
     const glm::vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
     const float area = 0.5f * glm::length(glm::cross(e1, e2));
     const double p =
-        static_cast<double>(area) * gpu::luminance(m.emission) * (m.doubleSided ? 2.0 : 1.0);
+        static_cast<double>(area) * gpu::luminance(emission[t]) * (m.doubleSided ? 2.0 : 1.0);
     if (!(p > 0.0)) continue;
     gpu::GpuPtEmissive e{};
     e.v0 = glm::vec4(tri.v0, 0.0f);
     e.e1 = glm::vec4(e1, 0.0f);
     e.e2 = glm::vec4(e2, 0.0f);
     e.radiance = glm::vec4(m.emission, m.doubleSided ? 1.0f : 0.0f);
+    if (textured && m.emissiveTexture >= 0 &&
+        static_cast<size_t>(m.emissiveTexture) < s.textures.size()) {
+      const uint32_t* idx = &s.indices[pt.firstIndex[t]];
+      const glm::vec2 a = s.vertices[idx[0]].uv, b = s.vertices[idx[1]].uv,
+                      c = s.vertices[idx[2]].uv;
+      e.uv01 = glm::vec4(a, b);
+      e.uv2 =
+          glm::vec4(c, std::bit_cast<float>(static_cast<uint32_t>(m.emissiveTexture) + 1u), 0.0f);
+    }
     pt.emitters.push_back(e);
     power.push_back(p);
     owner.push_back(t);
@@ -96,8 +110,9 @@ PtScene buildPtScene(const scene::Scene& s) {
 bool ptReadsTextures(const scene::Scene& s, bool allowed) {
   if (!allowed) return false;
   for (const scene::Draw& d : s.draws) {
-    const int t = s.materials[static_cast<size_t>(d.material)].baseColorTexture;
-    if (t >= 0 && static_cast<size_t>(t) < s.textures.size()) return true;
+    const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
+    for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture})
+      if (t >= 0 && static_cast<size_t>(t) < s.textures.size()) return true;
   }
   return false;
 }
@@ -115,7 +130,8 @@ void buildPtTextures(const scene::Scene& s, std::vector<glm::uvec4>* table,
   table->clear();
   texels->clear();
   for (const scene::Texture& t : s.textures) {
-    table->push_back(glm::uvec4(static_cast<uint32_t>(texels->size()), t.width, t.height, 0u));
+    table->push_back(
+        glm::uvec4(static_cast<uint32_t>(texels->size()), t.width, t.height, t.srgb ? 1u : 0u));
     const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
     VOXGI_CHECK_EQ(t.rgba8.size(), n * 4);
     const size_t first = texels->size();

@@ -19,9 +19,9 @@ struct PtScene {
   std::vector<BvhTriangle> triangles;
   std::vector<int> material;         // per triangle
   std::vector<uint32_t> firstIndex;  // per triangle: its first index in scene.indices
-  // Emissive triangles chosen in proportion to power (area x luminance, twice for
-  // two-sided emitters) through a Walker alias table (Vose's construction); each
-  // entry's w fields carry the table (see GpuPtEmissive).
+  // Emissive triangles chosen in proportion to power (area x luminance of the mean
+  // radiance, twice for two-sided emitters) through a Walker alias table (Vose's construction);
+  // each entry's w fields carry the table (see GpuPtEmissive).
   std::vector<gpu::GpuPtEmissive> emitters;
   // Per triangle: the area density with which next-event estimation picks a point
   // on it (probability / area), 0 for triangles that are not in the table. MIS
@@ -31,18 +31,22 @@ struct PtScene {
   float epsilon = 1e-5f;
 };
 
-PtScene buildPtScene(const scene::Scene& scene);
+// `textured`: the device reads textures (ptReadsTextures). Then an emissive
+// triangle's chance follows its emissive texture's mean over it (Draw::emissiveMean;
+// black ones are not in the table) and its entry names the texture; otherwise the
+// material's emission alone.
+PtScene buildPtScene(const scene::Scene& scene, bool textured = true);
 
-// Whether the path tracer reads base-colour textures: `allowed` (the effect plan)
-// and some draw's material has one.
+// Whether the path tracer reads textures: `allowed` (the effect plan) and some
+// draw's material has one (base colour, emissive or metallic-roughness).
 bool ptReadsTextures(const scene::Scene& scene, bool allowed);
 
 // Whether the path tracer applies alpha masks: `allowed` (the effect plan) and some
 // draw's material is alpha-masked (glTF MASK).
 bool ptReadsAlphaMasks(const scene::Scene& scene, bool allowed);
 
-// Every base-colour texture's sRGB RGBA8 texels, one uint each, rows top first, in
-// one array; table[i] = (first texel of texture i, width, height, 0).
+// Every texture's RGBA8 texels, one uint each, rows top first, in one array;
+// table[i] = (first texel of texture i, width, height, 1 if sRGB-encoded).
 void buildPtTextures(const scene::Scene& scene, std::vector<glm::uvec4>* table,
                      std::vector<uint32_t>* texels);
 

@@ -44,8 +44,8 @@ struct PathtraceSettings {
   // enough that a dispatch stays well under a second on llvmpipe, so progress
   // stays live; larger images are cut into bands of whole rows.
   int64_t pixelsPerDispatch = 1 << 18;
-  // Base-colour textures (the effect plan's `textures`); off, or with no textured
-  // material, none are read (the GL kernel is compiled without them).
+  // Textures (base colour, emissive, metallic-roughness; the effect plan's `textures`); off, or
+  // with no textured material, none are read (the GL kernel is compiled without them).
   bool textures = true;
   // Alpha masks (the effect plan's `alpha`): rays pass where a MASK material's
   // alpha is below its cutoff.

@@ -4,7 +4,7 @@ namespace voxgi::render {
 
 void drawSceneGeometry(const GpuScene& gs) {
   glBindVertexArray(gs.vertexArray());
-  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  gs.bindSampler();
   const scene::Scene& s = gs.scene();
   for (const scene::Draw& d : s.draws) {
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
@@ -14,14 +14,13 @@ void drawSceneGeometry(const GpuScene& gs) {
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
     }
-    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    gs.bindMaterialTextures(m);
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
   }
   glDisable(GL_CULL_FACE);
-  glBindTextureUnit(gpu::kBaseColorUnit, 0);
-  glBindSampler(gpu::kBaseColorUnit, 0);
+  GpuScene::unbindMaterialTextures();
 }
 
 RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)

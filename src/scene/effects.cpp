@@ -14,7 +14,9 @@ const std::vector<std::string>& effectNames() {
 }
 
 bool isSpecular(const Material& m) {
-  return m.metallic > 0.5f || m.roughness < gpu::kGlossyRoughness;
+  // A metallic-roughness texture scales both factors down, as far as a mirror.
+  return m.metallic > 0.5f || m.roughness < gpu::kGlossyRoughness ||
+         m.metallicRoughnessTexture >= 0;
 }
 
 void EffectPlan::enable(const std::string& name) {
@@ -58,8 +60,8 @@ EffectPlan planEffects(const Scene& scene) {
     const Material& m = scene.materials[i];
     emissive = emissive || m.isEmissive();
     specular = specular || isSpecular(m);
-    textured = textured || (m.baseColorTexture >= 0 &&
-                            static_cast<size_t>(m.baseColorTexture) < scene.textures.size());
+    for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture})
+      textured = textured || (t >= 0 && static_cast<size_t>(t) < scene.textures.size());
     masked = masked || m.alphaMode == AlphaMode::kMask;
   }
   const bool lit = !scene.lights.empty() || emissive;

@@ -6,7 +6,8 @@
 //   emission   emitted light, emitters as lights   an emissive material
 //   indirect   diffuse bounces (pixel and voxels)  a punctual light or an emissive surface
 //   specular   the traced reflection stage         a mirror or glossy material
-//   textures   base-colour texture sampling        a textured material
+//   textures   texture sampling (base colour,      a textured material
+//              emissive, metallic-roughness)
 //   alpha      alpha-mask discard                  an alpha-masked material
 //   animation  the scene is re-posed per frame     an animated node
 // Only materials that are drawn count. A skipped effect costs nothing: its stage
@@ -29,7 +30,8 @@ namespace voxgi::scene {
 const std::vector<std::string>& effectNames();
 
 // Whether a material reflects enough, sharply enough, for the specular stage to
-// trace it: metallic, or a dielectric smoother than gpu::kGlossyRoughness.
+// trace it: metallic, a dielectric smoother than gpu::kGlossyRoughness, or one with a
+// metallic-roughness texture (which can make any texel a mirror).
 // rtgi_specular.comp applies the same rule per pixel.
 bool isSpecular(const Material& m);
 

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/log.h"
+#include "texture_shared.h"
 
 namespace voxgi::scene {
 namespace {
@@ -26,6 +29,103 @@ int normalBucket(const glm::vec3& n) {
 
 }  // namespace
 
+void measureEmissiveTextures(Scene* scene) {
+  const auto start = std::chrono::steady_clock::now();
+  size_t measured = 0;
+  std::vector<uint32_t> texels;
+  for (Draw& d : scene->draws) {
+    d.emissiveMean.clear();
+    const Material& m = scene->materials[static_cast<size_t>(d.material)];
+    if (m.emissiveTexture < 0 || static_cast<size_t>(m.emissiveTexture) >= scene->textures.size())
+      continue;
+    const Texture& tex = scene->textures[static_cast<size_t>(m.emissiveTexture)];
+    const int w = tex.width, h = tex.height;
+    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
+    VOXGI_CHECK_EQ(tex.rgba8.size(), n * 4);
+    texels.resize(n);
+    std::memcpy(texels.data(), tex.rgba8.data(), n * 4);
+    const gpu::PtTables tables{nullptr, texels.data(), nullptr};
+    const glm::uvec4 entry(0u, static_cast<uint32_t>(w), static_cast<uint32_t>(h),
+                           tex.srgb ? 1u : 0u);
+    // Each byte value decoded as the shared texel read decodes it.
+    std::array<float, 256> decoded;
+    for (uint32_t v = 0; v < 256; ++v) {
+      const gpu::PtTables one{nullptr, &v, nullptr};
+      decoded[v] = gpu::srgbTexel(one, glm::uvec4(0u, 1u, 1u, entry.w), glm::ivec2(0)).r;
+    }
+    const size_t tris = d.indexCount / 3;
+    d.emissiveMean.resize(tris);
+    for (size_t t = 0; t < tris; ++t) {
+      const uint32_t* idx = &scene->indices[d.firstIndex + t * 3];
+      // Corners in texel space: texel (i, j) has its centre at (i, j).
+      glm::vec2 q[3];
+      for (int k = 0; k < 3; ++k) q[k] = scene->vertices[idx[k]].uv * glm::vec2(w, h) - 0.5f;
+      // The texels whose centres lie in the triangle (repeating as the sampler does).
+      const glm::vec2 lo = glm::min(q[0], glm::min(q[1], q[2]));
+      const glm::vec2 hi = glm::max(q[0], glm::max(q[1], q[2]));
+      const float area2 =
+          (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
+      glm::dvec3 sum(0.0);
+      size_t count = 0;
+      const double box =
+          (std::floor(static_cast<double>(hi.x)) - std::ceil(static_cast<double>(lo.x)) + 1.0) *
+          (std::floor(static_cast<double>(hi.y)) - std::ceil(static_cast<double>(lo.y)) + 1.0);
+      if (area2 != 0.0f && std::isfinite(area2) && box < 16.0 * 1024.0 * 1024.0) {
+        const float sign = area2 > 0.0f ? 1.0f : -1.0f;
+        for (int y = static_cast<int>(std::ceil(lo.y)); y <= static_cast<int>(std::floor(hi.y));
+             ++y)
+          for (int x = static_cast<int>(std::ceil(lo.x)); x <= static_cast<int>(std::floor(hi.x));
+               ++x) {
+            const glm::vec2 p(static_cast<float>(x), static_cast<float>(y));
+            bool inside = true;
+            for (int k = 0; k < 3 && inside; ++k) {
+              const glm::vec2 e = q[(k + 1) % 3] - q[k], r = p - q[k];
+              inside = sign * (e.x * r.y - e.y * r.x) >= 0.0f;
+            }
+            if (!inside) continue;
+            const int tx = ((x % w) + w) % w, ty = ((y % h) + h) % h;
+            const uint8_t* c = &tex.rgba8[(static_cast<size_t>(ty) * static_cast<size_t>(w) +
+                                           static_cast<size_t>(tx)) *
+                                          4];
+            sum += glm::dvec3(decoded[c[0]], decoded[c[1]], decoded[c[2]]);
+            ++count;
+          }
+      }
+      if (count >= 4) {
+        d.emissiveMean[t] = glm::vec3(sum / static_cast<double>(count));
+        continue;
+      }
+      // Fewer than four texel centres inside: the bilinear texture at a grid of 8 x 8
+      // points, spread by the path tracer's uniform map from the unit square to the
+      // triangle (pathtrace_shading.h).
+      const glm::vec2 a = scene->vertices[idx[0]].uv, b = scene->vertices[idx[1]].uv,
+                      c = scene->vertices[idx[2]].uv;
+      constexpr int kGrid = 8;
+      sum = glm::dvec3(0.0);
+      for (int i = 0; i < kGrid; ++i)
+        for (int j = 0; j < kGrid; ++j) {
+          const float sq = std::sqrt((static_cast<float>(i) + 0.5f) / kGrid);
+          const float u2 = (static_cast<float>(j) + 0.5f) / kGrid;
+          const glm::vec2 uv = a + (b - a) * (sq * (1.0f - u2)) + (c - a) * (sq * u2);
+          sum += glm::dvec3(glm::vec3(gpu::sampleTexture(tables, entry, uv)));
+        }
+      d.emissiveMean[t] = glm::vec3(sum / static_cast<double>(kGrid * kGrid));
+    }
+    measured += tris;
+  }
+  if (measured)
+    logDebug(
+        strf("%s: emissive texture averaged over %zu triangles in %.1f ms", scene->path.c_str(),
+             measured,
+             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                 .count()));
+}
+
+glm::vec3 triangleEmission(const Scene& scene, const Draw& d, size_t t) {
+  const glm::vec3 e = scene.materials[static_cast<size_t>(d.material)].emission;
+  return t < d.emissiveMean.size() ? e * d.emissiveMean[t] : e;
+}
+
 std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options) {
   std::vector<Emitter> out;
   for (const Draw& d : scene.draws) {
@@ -37,6 +137,8 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
     };
     if (tris <= static_cast<size_t>(options.exactTrianglesPerPrimitive)) {
       for (size_t t = 0; t < tris; ++t) {
+        const glm::vec3 radiance = triangleEmission(scene, d, t);
+        if (!(radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f)) continue;
         Emitter e;
         e.kind = Emitter::Kind::kTriangle;
         e.v0 = corner(t, 0);
@@ -45,7 +147,7 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
         const glm::vec3 c = glm::cross(e.v1 - e.v0, e.v2 - e.v0);
         e.area = 0.5f * glm::length(c);
         e.normal = glm::normalize(c);
-        e.radiance = m.emission;
+        e.radiance = radiance;
         e.twoSided = m.doubleSided;
         out.push_back(e);
       }
@@ -57,6 +159,7 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
     struct Acc {
       glm::dvec3 weightedNormal{0.0};
       glm::dvec3 weightedCenter{0.0};
+      glm::dvec3 weightedRadiance{0.0};
       double area = 0.0;
     };
     std::map<int, Acc> buckets;
@@ -65,6 +168,8 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
       const glm::vec3 c = glm::cross(p1 - p0, p2 - p0);
       const float len = glm::length(c);
       if (!(len > 0.0f)) continue;
+      const glm::vec3 radiance = triangleEmission(scene, d, t);
+      if (!(radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f)) continue;
       const glm::vec3 n = c / len;
       const glm::vec3 centroid = (p0 + p1 + p2) / 3.0f;
       const glm::bvec3 upper = glm::greaterThan(centroid, b.center());
@@ -73,6 +178,7 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
       const double area = 0.5 * static_cast<double>(len);
       acc.weightedNormal += glm::dvec3(n) * area;
       acc.weightedCenter += glm::dvec3(centroid) * area;
+      acc.weightedRadiance += glm::dvec3(radiance) * area;
       acc.area += area;
     }
     for (const auto& [key, acc] : buckets) {
@@ -83,7 +189,8 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
       e.v0 = glm::vec3(acc.weightedCenter / acc.area);
       e.normal = glm::vec3(acc.weightedNormal / projected);
       e.area = static_cast<float>(projected);
-      e.radiance = m.emission;
+      // The facets' mean radiance, by area (all equal without an emissive texture).
+      e.radiance = d.emissiveMean.empty() ? m.emission : glm::vec3(acc.weightedRadiance / acc.area);
       e.twoSided = m.doubleSided;
       out.push_back(e);
     }

@@ -31,7 +31,20 @@ struct EmitterOptions {
   int maxEmitters = 4096;
 };
 
+// Triangles whose emissive texture is black over them are not lights: each
+// triangle weighs by the texture's mean over it (Draw::emissiveMean).
 std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options = {});
+
+// Fills Draw::emissiveMean for every draw whose material has an emissive texture:
+// the texture's mean (linear) over each triangle: the mean of the texels whose
+// centres lie in the triangle, or, for a triangle holding fewer than four, of the
+// bilinear texture (as the path tracer reads it) at a stratified grid of points.
+// Done once at load; the loader calls it.
+void measureEmissiveTextures(Scene* scene);
+
+// The radiance triangle t of draw d emits on average: the material's emission times
+// its emissive texture's mean over the triangle.
+glm::vec3 triangleEmission(const Scene& scene, const Draw& d, size_t t);
 
 // CPU reference of the GPU evaluation: irradiance (per unit radiance, i.e. the
 // geometric factor) at point p with normal n from one emitter. Used by tests.

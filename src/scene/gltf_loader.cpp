@@ -18,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/log.h"
+#include "scene/emitters.h"
 
 namespace voxgi::scene {
 namespace {
@@ -232,6 +233,7 @@ class Loader {
     if (scene_.meshesAnimated()) boundMotion();
     if (scene_.animated()) scene_.pose(0.0);  // the first pose, not the rest pose
     if (scene_.draws.empty()) warn_("no triangles to draw");
+    measureEmissiveTextures(&scene_);
     scene_.finalize();
     if (opt_.addDefaultLight) scene_.addDefaultLightIfUnlit();
     return std::move(scene_);
@@ -561,6 +563,12 @@ class Loader {
       checkRange(m.alphaCutoff, 0.0, kHuge, at + ".alphaCutoff");
       if (pbr.baseColorTexture.index != -1)
         checkIndex(pbr.baseColorTexture.index, model_.textures.size(), p + "baseColorTexture.index",
+                   "texture", "textures");
+      if (pbr.metallicRoughnessTexture.index != -1)
+        checkIndex(pbr.metallicRoughnessTexture.index, model_.textures.size(),
+                   p + "metallicRoughnessTexture.index", "texture", "textures");
+      if (m.emissiveTexture.index != -1)
+        checkIndex(m.emissiveTexture.index, model_.textures.size(), at + ".emissiveTexture.index",
                    "texture", "textures");
     }
   }
@@ -919,7 +927,15 @@ class Loader {
       mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
       mat.emission = glm::max(mat.emission, 0.0f);
       if (pbr.baseColorTexture.index != -1)
-        mat.baseColorTexture = texture(pbr.baseColorTexture.index);
+        mat.baseColorTexture = texture(pbr.baseColorTexture.index, true,
+                                       pbr.baseColorTexture.texCoord, what + ": baseColorTexture");
+      if (pbr.metallicRoughnessTexture.index != -1)
+        mat.metallicRoughnessTexture =
+            texture(pbr.metallicRoughnessTexture.index, false,
+                    pbr.metallicRoughnessTexture.texCoord, what + ": metallicRoughnessTexture");
+      if (m.emissiveTexture.index != -1 && mat.isEmissive())
+        mat.emissiveTexture = texture(m.emissiveTexture.index, true, m.emissiveTexture.texCoord,
+                                      what + ": emissiveTexture");
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -930,9 +946,16 @@ class Loader {
   }
 
   // A texture a material reads: its source and sampler must exist (a texture no
-  // material uses is not read, so not checked).
-  int texture(int index) {
-    auto found = textureMap_.find(index);
+  // material uses is not read, so not checked). `srgb`: a colour texture (base
+  // colour, emissive), decoded from sRGB where it is sampled; else a data texture
+  // (metallic-roughness), read linearly. One entry per texture and encoding.
+  int texture(int index, bool srgb, int texCoord, const std::string& slot) {
+    if (texCoord != 0 && !texCoordWarned_) {
+      texCoordWarned_ = true;
+      warn_(strf("%s: texCoord %d is not supported: TEXCOORD_0 is read instead", slot.c_str(),
+                 texCoord));
+    }
+    auto found = textureMap_.find({index, srgb});
     if (found != textureMap_.end()) return found->second;
     const auto& tex = model_.textures[static_cast<size_t>(index)];
     const int source = tex.source;
@@ -948,9 +971,10 @@ class Loader {
     t.width = img.width;
     t.height = img.height;
     t.rgba8 = img.image;  // decoded to RGBA8 by loadImage
+    t.srgb = srgb;
     scene_.textures.push_back(std::move(t));
     const int id = static_cast<int>(scene_.textures.size() - 1);
-    textureMap_[index] = id;
+    textureMap_[{index, srgb}] = id;
     return id;
   }
 
@@ -1297,7 +1321,8 @@ class Loader {
   tinygltf::Model model_;
   Scene scene_;
   int defaultMaterial_ = 0;
-  std::map<int, int> textureMap_;
+  std::map<std::pair<int, bool>, int> textureMap_;  // (glTF texture, sRGB) -> Scene::textures
+  bool texCoordWarned_ = false;
   std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
   std::vector<char> moving_;       // per node: it or an ancestor is animated
   size_t dropped_ = 0, repaired_ = 0;

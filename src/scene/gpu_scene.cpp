@@ -14,8 +14,13 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
     g.params = glm::vec4(m.metallic, m.roughness, m.alphaCutoff, 0.0f);
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
-              (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u);
+              (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u) |
+              (m.emissiveTexture >= 0 ? gpu::kMaterialHasEmissiveTexture : 0u) |
+              (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u);
     g.texture = m.baseColorTexture >= 0 ? static_cast<uint32_t>(m.baseColorTexture) : 0u;
+    g.emissiveTexture = m.emissiveTexture >= 0 ? static_cast<uint32_t>(m.emissiveTexture) : 0u;
+    g.metallicRoughnessTexture =
+        m.metallicRoughnessTexture >= 0 ? static_cast<uint32_t>(m.metallicRoughnessTexture) : 0u;
     out.push_back(g);
   }
   return out;
@@ -125,7 +130,8 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   for (const Texture& t : s.textures) {
     gl::Texture tex = gl::createTexture(GL_TEXTURE_2D);
     const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(t.width, t.height))));
-    glTextureStorage2D(tex.id(), levels, GL_SRGB8_ALPHA8, t.width, t.height);
+    // Colour textures decode from sRGB as they are sampled; data textures are linear.
+    glTextureStorage2D(tex.id(), levels, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height);
     glTextureSubImage2D(tex.id(), 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE,
                         t.rgba8.data());
     glGenerateTextureMipmap(tex.id());
@@ -137,6 +143,24 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+void GpuScene::bindMaterialTextures(const Material& m) const {
+  glBindTextureUnit(gpu::kBaseColorUnit, texture(m.baseColorTexture));
+  glBindTextureUnit(gpu::kEmissiveUnit, texture(m.emissiveTexture));
+  glBindTextureUnit(gpu::kMetallicRoughnessUnit, texture(m.metallicRoughnessTexture));
+}
+
+void GpuScene::bindSampler() const {
+  for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit})
+    glBindSampler(unit, sampler_.id());
+}
+
+void GpuScene::unbindMaterialTextures() {
+  for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit}) {
+    glBindTextureUnit(unit, 0);
+    glBindSampler(unit, 0);
+  }
 }
 
 void GpuScene::updateLights() {

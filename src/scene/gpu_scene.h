@@ -1,5 +1,5 @@
 // The scene uploaded once: vertex/index buffers and a vertex array, material,
-// light and emitter SSBOs, base-colour textures (sRGB, mipmapped).
+// light and emitter SSBOs, textures (mipmapped; sRGB for colour, linear for data).
 #ifndef VOXGI_SCENE_GPU_SCENE_H
 #define VOXGI_SCENE_GPU_SCENE_H
 
@@ -39,6 +39,11 @@ class GpuScene {
     return index >= 0 ? textures_[static_cast<size_t>(index)].id() : 0;
   }
   GLuint sampler() const { return sampler_.id(); }
+  // The sampler on every material texture unit (kBaseColorUnit, kEmissiveUnit,
+  // kMetallicRoughnessUnit); m's textures on them (0 where it has none); both undone.
+  void bindSampler() const;
+  void bindMaterialTextures(const Material& m) const;
+  static void unbindMaterialTextures();
   size_t bytes() const { return bytes_; }
 
   static std::vector<gpu::GpuMaterial> packMaterials(const Scene& s);

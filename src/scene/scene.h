@@ -30,18 +30,24 @@ struct Material {
   glm::vec4 baseColor{1.0f};  // linear
   float metallic = 1.0f;      // glTF defaults
   float roughness = 1.0f;
-  glm::vec3 emission{0.0f};   // emissiveFactor x KHR_materials_emissive_strength (radiance)
-  int baseColorTexture = -1;  // index into Scene::textures
+  glm::vec3 emission{0.0f};           // emissiveFactor x KHR_materials_emissive_strength (radiance)
+  int baseColorTexture = -1;          // index into Scene::textures (sRGB)
+  int emissiveTexture = -1;           // sRGB; multiplies emission
+  int metallicRoughnessTexture = -1;  // linear; blue x metallic, green x roughness
   bool doubleSided = false;
   AlphaMode alphaMode = AlphaMode::kOpaque;
   float alphaCutoff = 0.5f;
   bool isEmissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+  bool hasTexture() const {
+    return baseColorTexture >= 0 || emissiveTexture >= 0 || metallicRoughnessTexture >= 0;
+  }
 };
 
 struct Texture {
   std::string name;
   int width = 0, height = 0;
-  std::vector<uint8_t> rgba8;  // sRGB-encoded base colour, 4 channels
+  std::vector<uint8_t> rgba8;  // 4 channels, rows top first
+  bool srgb = true;            // colour (base colour, emission); false: data (metallic-roughness)
 };
 
 enum class LightType { kDirectional, kPoint, kSpot };
@@ -99,6 +105,10 @@ struct Draw {
   int material = 0;
   int node = -1;
   int mesh = -1;
+  // With an emissive texture: per triangle, the mean of that texture (linear) over
+  // the triangle; what emitter sampling weighs it by (scene/emitters.h,
+  // measureEmissiveTextures). Empty otherwise.
+  std::vector<glm::vec3> emissiveMean;
 };
 
 // The glTF node hierarchy, kept for animation; transforms in double precision.

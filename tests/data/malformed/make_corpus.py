@@ -522,6 +522,23 @@ def _():
     return to_json(g)
 
 
+@case("material_bad_emissive_texture_index.gltf",
+      "materials[0].emissiveTexture.index 2 points nowhere (1 texture)")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["materials"][0]["emissiveFactor"] = [1.0, 1.0, 1.0]
+    g["materials"][0]["emissiveTexture"] = {"index": 2}
+    return to_json(g)
+
+
+@case("material_bad_metallic_roughness_texture_index.gltf",
+      "materials[0].pbrMetallicRoughness.metallicRoughnessTexture.index -2 points nowhere")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {"index": -2}
+    return to_json(g)
+
+
 @case("texture_bad_image_index.gltf", "textures[0].source 5 points nowhere (1 image)")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})
