@@ -2,7 +2,7 @@
 """Writes moving_box.gltf: a static floor and a box whose node slides along x
 from -0.5 to +0.5 over one second (LINEAR), then back by 2 s (a second key).
 Self-contained: the buffer is a base64 data: URI. Run from anywhere."""
-import base64, json, os, struct
+from gltf_writer import Buffer, bounds, write
 
 def box(lo, hi):
     (x0, y0, z0), (x1, y1, z1) = lo, hi
@@ -21,33 +21,15 @@ box_pos, box_idx = box((-0.25, 0.0, -0.25), (0.25, 0.5, 0.25))
 times = [0.0, 1.0, 2.0]
 moves = [(-0.5, 0.0, 0.0), (0.5, 0.0, 0.0), (-0.5, 0.0, 0.0)]
 
-blob = b""
-views, accessors = [], []
-def add(data, fmt, count, type_, ctype, target=None, minmax=None):
-    global blob
-    while len(blob) % 4:
-        blob += b"\0"
-    raw = b"".join(struct.pack(fmt, *v) if isinstance(v, tuple) else struct.pack(fmt, v) for v in data)
-    view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(raw)}
-    if target:
-        view["target"] = target
-    views.append(view)
-    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": type_}
-    if minmax:
-        acc["min"], acc["max"] = minmax
-    accessors.append(acc)
-    blob += raw
-    return len(accessors) - 1
+buf = Buffer()
+add = buf.add
 
-def bounds(p):
-    return [[min(v[i] for v in p) for i in range(3)], [max(v[i] for v in p) for i in range(3)]]
-
-fp = add(floor_pos, "<3f", 4, "VEC3", 5126, 34962, bounds(floor_pos))
-fi = add(floor_idx, "<I", 6, "SCALAR", 5125, 34963)
-bp = add(box_pos, "<3f", len(box_pos), "VEC3", 5126, 34962, bounds(box_pos))
-bi = add(box_idx, "<I", len(box_idx), "SCALAR", 5125, 34963)
-ti = add(times, "<f", 3, "SCALAR", 5126, None, [[0.0], [2.0]])
-tv = add(moves, "<3f", 3, "VEC3", 5126)
+fp = add(floor_pos, "<3f", "VEC3", 5126, 34962, bounds(floor_pos))
+fi = add(floor_idx, "<I", "SCALAR", 5125, 34963)
+bp = add(box_pos, "<3f", "VEC3", 5126, 34962, bounds(box_pos))
+bi = add(box_idx, "<I", "SCALAR", 5125, 34963)
+ti = add(times, "<f", "SCALAR", 5126, None, [[0.0], [2.0]])
+tv = add(moves, "<3f", "VEC3", 5126)
 
 gltf = {
     "asset": {"version": "2.0", "generator": "voxgi tests/data/animated/make_animated.py"},
@@ -70,12 +52,5 @@ gltf = {
     ],
     "animations": [{"name": "slide", "samplers": [{"input": ti, "output": tv, "interpolation": "LINEAR"}],
                     "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}]}],
-    "accessors": accessors,
-    "bufferViews": views,
-    "buffers": [{"byteLength": len(blob),
-                 "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
 }
-out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "moving_box.gltf")
-with open(out, "w") as f:
-    json.dump(gltf, f, indent=1)
-print("wrote", out)
+write(buf.finish(gltf), "moving_box.gltf")

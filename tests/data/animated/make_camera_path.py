@@ -16,7 +16,9 @@ Self-contained: the buffer is a base64 data: URI. Run from anywhere; the tests
 (tests/scene/camera_animation_test.cpp, tests/render/camera_animation_gltest.cpp)
 compute the expected poses by hand from the numbers here.
 """
-import base64, json, math, os, struct
+import math
+
+from gltf_writer import Buffer, bounds, write
 
 
 def quad(p0, p1, p2, p3, normal):
@@ -82,31 +84,8 @@ def look(yaw_degrees):
     return mul(yaw(yaw_degrees), pitch(-15.0))
 
 
-blob = b""
-views, accessors = [], []
-
-
-def add(data, fmt, type_, ctype, target=None, minmax=None):
-    global blob
-    while len(blob) % 4:
-        blob += b"\0"
-    raw = b"".join(struct.pack(fmt, *v) if isinstance(v, tuple) else struct.pack(fmt, v)
-                   for v in data)
-    view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(raw)}
-    if target:
-        view["target"] = target
-    views.append(view)
-    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": len(data),
-           "type": type_}
-    if minmax:
-        acc["min"], acc["max"] = minmax
-    accessors.append(acc)
-    blob += raw
-    return len(accessors) - 1
-
-
-def bounds(p):
-    return [[min(v[i] for v in p) for i in range(3)], [max(v[i] for v in p) for i in range(3)]]
+buf = Buffer()
+add = buf.add
 
 
 def mesh(parts):
@@ -174,12 +153,5 @@ gltf = {
             {"sampler": 3, "target": {"node": 5, "path": "rotation"}},
         ],
     }],
-    "accessors": accessors,
-    "bufferViews": views,
-    "buffers": [{"byteLength": len(blob),
-                 "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
 }
-out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "camera_path.gltf")
-with open(out, "w") as f:
-    json.dump(gltf, f, indent=1)
-print("wrote", out)
+write(buf.finish(gltf), "camera_path.gltf")
