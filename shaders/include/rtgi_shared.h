@@ -31,6 +31,9 @@ VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
 // accumulate then reads in place of the target.
 VOXGI_CONST uint kHistoryUnit = 9u;
 VOXGI_CONST uint kReprojectedImage = 8u;
+// rgba16f: the surface point's world position last frame less this frame's (moving
+// meshes; 0 elsewhere).
+VOXGI_CONST uint kGMotionUnit = 12u;
 VOXGI_CONST uint kGPreviousPositionUnit = 10u;
 VOXGI_CONST uint kGPreviousNormalUnit = 11u;
 // Images written by the per-pixel stages and read by accumulate.

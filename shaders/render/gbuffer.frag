@@ -14,11 +14,13 @@ layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessText
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
+layout(location = 3) in vec3 vPreviousPosition;
 
 layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out vec4 outAlbedo;
 layout(location = 3) out vec4 outEmission;
+layout(location = 4) out vec4 outMotion;  // where the point was last frame, less where it is
 
 void main() {
   GpuMaterial m = materials[materialIndex];
@@ -46,6 +48,7 @@ void main() {
   // Two-sided surfaces are shaded on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) n = -n;
   outPosition = vec4(vPosition, 1.0 + float(materialIndex));
+  outMotion = vec4(vPreviousPosition - vPosition, 0.0);
   outNormal = vec4(n, roughness);
   outAlbedo = vec4(clamp(base.rgb, 0.0, 1.0), clamp(metallic, 0.0, 1.0));
 #ifdef VOXGI_NO_EMISSION

@@ -1,7 +1,8 @@
 #version 450 core
-// rtgi stage "reproject": the first stage of a frame after the camera moved. Each
-// pixel's running mean follows the surface it shows: the surface point of this
-// frame's G-buffer is projected with the previous frame's camera, and the history
+// rtgi stage "reproject": the first stage of a frame after the camera or meshes
+// moved. Each pixel's running mean follows the surface it shows: the surface point
+// of this frame's G-buffer, where it was last frame (its motion, from the meshes'
+// previous vertices), is projected with the previous frame's camera, and the history
 // there is read from the four previous pixels around it (bilinear weights), keeping
 // only those that showed the same surface: the same material (the G-buffer's object
 // id: a lamp and the ceiling around it are coplanar), normals within 25 degrees,
@@ -26,6 +27,7 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(binding = kHistoryUnit) uniform sampler2D history;
 layout(binding = kGPreviousPositionUnit) uniform sampler2D previousPosition;
 layout(binding = kGPreviousNormalUnit) uniform sampler2D previousNormal;
+layout(binding = kGMotionUnit) uniform sampler2D gMotion;
 layout(binding = kReprojectedImage, rgba32f) uniform writeonly image2D reprojected;
 
 // The history a pixel of this material keeps across a camera move.
@@ -57,7 +59,9 @@ void main() {
   vec3 n = normalize(nr.xyz);
   mat4 previous = mat4(rtgi.previousViewProj[0], rtgi.previousViewProj[1],
                        rtgi.previousViewProj[2], rtgi.previousViewProj[3]);
-  vec4 clip = previous * vec4(p.xyz, 1.0);
+  // Where the point was: moving meshes moved it since (motion: 0 elsewhere).
+  vec3 was = p.xyz + texelFetch(gMotion, px, 0).xyz;
+  vec4 clip = previous * vec4(was, 1.0);
   vec3 sum = vec3(0.0);
   float count = 0.0, weight = 0.0;
   bool edge = false, lampEdge = emits(p.w);
@@ -73,7 +77,7 @@ void main() {
       vec4 qp = texelFetch(previousPosition, q, 0);
       vec3 qn = normalize(texelFetch(previousNormal, q, 0).xyz);
       // Not covered or another material; another surface.
-      if (qp.w != p.w || !(dot(qn, n) > 0.9) || !(abs(dot(qp.xyz - p.xyz, n)) < tolerance)) {
+      if (qp.w != p.w || !(dot(qn, n) > 0.9) || !(abs(dot(qp.xyz - was, n)) < tolerance)) {
         edge = true;
         lampEdge = lampEdge || (qp.w > 0.5 && emits(qp.w));
         continue;

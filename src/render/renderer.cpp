@@ -225,7 +225,15 @@ void Renderer::resize(int width, int height) {
 
 void Renderer::geometryChanged() {
   gpuScene_.updateGeometry();
-  accumulated_ = 0;
+  // rtgi with reprojection carries the history over, along the meshes' motion.
+  if (reprojects() && accumulated_ > 0)
+    meshesMoved_ = true;
+  else
+    accumulated_ = 0;
+}
+
+bool Renderer::reprojects() const {
+  return settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->settings().reproject;
 }
 
 void Renderer::posed() {
@@ -310,13 +318,21 @@ bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
 void Renderer::renderFrame(const scene::Camera& camera) {
   const auto frameStart = std::chrono::steady_clock::now();
   // A camera move restarts accumulation, except in rtgi with reprojection, whose
-  // pixels carry their history over to where their surfaces now are.
-  bool reproject = false;
+  // pixels carry their history over to where their surfaces now are (as after a
+  // mesh move, geometryChanged()).
+  bool reproject = meshesMoved_ && accumulated_ > 0;
   if (!sameCamera(camera, lastCamera_)) {
-    reproject =
-        settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->settings().reproject && accumulated_ > 0;
+    reproject = reprojects() && accumulated_ > 0;
     if (!reproject) accumulated_ = 0;
   }
+  // After a frame that drew moved meshes, one that draws them where they are has no
+  // motion: their previous positions catch up.
+  if (geometryUnsettled_ && !meshesMoved_) {
+    gpuScene_.settleGeometry();
+    geometryUnsettled_ = false;
+  }
+  geometryUnsettled_ = geometryUnsettled_ || meshesMoved_;
+  meshesMoved_ = false;
   lastCamera_ = camera;
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);

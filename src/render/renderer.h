@@ -135,6 +135,8 @@ class Renderer {
   void resize(int width, int height);
   void setMode(Mode mode);
   // The scene was re-posed (Scene::pose): upload it; voxels follow with revoxelize.
+  // Restarts accumulation, except in rtgi with reprojection, which follows each
+  // point's motion from the previous vertex positions.
   void geometryChanged();
   // The same for everything Scene::pose() moves: the animated vertices (as
   // geometryChanged), and moved lights, which also re-light the voxels (the octree's
@@ -209,6 +211,11 @@ class Renderer {
   int accumulated_ = 0;
   scene::Camera lastCamera_;
   glm::mat4 lastViewProj_{1.0f};  // lastCamera_'s, without jitter
+  // Animated meshes moved since the last frame (rtgi reprojects along their motion);
+  // the vertices' previous positions differ from the current ones.
+  bool meshesMoved_ = false, geometryUnsettled_ = false;
+  // Whether a camera or mesh move keeps rtgi's history (reprojection).
+  bool reprojects() const;
 
   void createTargets();
   // Builds the BVH at its first use (the "bvh" start-up stage).

@@ -72,6 +72,7 @@ void RtgiPass::resize(int width, int height) {
   make(history_, GL_RGBA32F);
   make(albedo_, GL_RGBA8);
   make(emission_, GL_RGBA16F);
+  make(motion_, GL_RGBA16F);
   make(depth_, GL_DEPTH_COMPONENT32F);
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
@@ -94,10 +95,11 @@ void RtgiPass::resize(int width, int height) {
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, normal_[i].id(), 0);
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT3, emission_.id(), 0);
+    glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT4, motion_.id(), 0);
     glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-    const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                               GL_COLOR_ATTACHMENT3};
-    glNamedFramebufferDrawBuffers(f, 4, buffers);
+    const GLenum buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                               GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+    glNamedFramebufferDrawBuffers(f, 5, buffers);
     const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
       throw Error(
@@ -105,7 +107,7 @@ void RtgiPass::resize(int width, int height) {
   }
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (2 * (16 + 8) + 16 + 4 + 8 + 4 + 8 * 3 + 16 + 9);
+                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
 }
 
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
@@ -161,7 +163,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, ctx.width, ctx.height);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (GLint i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
+    for (GLint i = 0; i < 5; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
     const float one = 1.0f;
     glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
     glEnable(GL_DEPTH_TEST);
@@ -320,13 +322,15 @@ void RtgiPass::reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, 
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
   glBindTextureUnit(gpu::kGPreviousNormalUnit, normal_[current_ ^ 1].id());
+  glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
   glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
   glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, settings_.features.defines()}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit})
+  for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit,
+                   gpu::kGMotionUnit})
     glBindTextureUnit(u, 0);
 }
 

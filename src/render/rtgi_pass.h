@@ -4,7 +4,7 @@
 // radiance into the renderer's RGBA32F target (which it keeps between frames).
 // Stages, each timed:
 //   gbuffer     raster primary visibility: position, normal + roughness, base colour
-//               + metallic, emission (rtgi_shared.h);
+//               + metallic, emission, motion (rtgi_shared.h);
 //   shadows     direct light with shadow rays through the octree (rtgi_direct.comp);
 //               with the shadows effect off, "direct": the same without shadow rays,
 //               and absent when there is no light at all;
@@ -136,7 +136,7 @@ class RtgiPass {
   gl::Buffer params_;
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.
-  gl::Texture position_[2], normal_[2], albedo_, emission_, depth_;
+  gl::Texture position_[2], normal_[2], albedo_, emission_, motion_, depth_;
   gl::Framebuffer fbo_[2];
   int current_ = 0;
   gl::Texture history_;  // the reprojected mean, on a frame after a camera move

@@ -94,9 +94,18 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   vertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data(),
                                s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   indices_ = gl::createBuffer(ibytes, s.indices.empty() ? nullptr : s.indices.data());
+  if (s.meshesAnimated())
+    previousVertices_ = gl::createBuffer(vbytes, s.vertices.empty() ? nullptr : s.vertices.data());
   vao_ = gl::createVertexArray();
   const GLuint vao = vao_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(Vertex));
+  // Attribute 3, the position in the previous frame (motion vectors): the same
+  // buffer unless meshes move.
+  glVertexArrayVertexBuffer(vao, 1, s.meshesAnimated() ? previousVertices_.id() : vertices_.id(), 0,
+                            sizeof(Vertex));
+  glEnableVertexArrayAttrib(vao, 3);
+  glVertexArrayAttribFormat(vao, 3, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+  glVertexArrayAttribBinding(vao, 3, 1);
   glVertexArrayElementBuffer(vao, indices_.id());
   const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
                              offsetof(Vertex, uv)};
@@ -178,6 +187,11 @@ void GpuScene::updateGeometry() {
     lo = std::min(lo, r.firstVertex);
     hi = std::max(hi, r.firstVertex + static_cast<uint32_t>(r.localPositions.size()));
   }
+  // What was drawn last becomes the previous pose.
+  glCopyNamedBufferSubData(vertices_.id(), previousVertices_.id(),
+                           static_cast<GLintptr>(lo) * sizeof(Vertex),
+                           static_cast<GLintptr>(lo) * sizeof(Vertex),
+                           static_cast<GLsizeiptr>(hi - lo) * sizeof(Vertex));
   glNamedBufferSubData(vertices_.id(), static_cast<GLintptr>(lo) * sizeof(Vertex),
                        static_cast<GLsizeiptr>(hi - lo) * sizeof(Vertex),
                        scene_.vertices.data() + lo);
@@ -192,6 +206,12 @@ void GpuScene::updateGeometry() {
                          cdf.data());
     emitterData_ = emitters;
   }
+}
+
+void GpuScene::settleGeometry() {
+  if (!scene_.meshesAnimated()) return;
+  glCopyNamedBufferSubData(vertices_.id(), previousVertices_.id(), 0, 0,
+                           static_cast<GLsizeiptr>(scene_.vertices.size() * sizeof(Vertex)));
 }
 
 }  // namespace voxgi::scene

@@ -19,6 +19,9 @@ class GpuScene {
   const Scene& scene() const { return scene_; }
   // Re-uploads the animated vertices (and emitters) after Scene::pose().
   void updateGeometry();
+  // Animated meshes: after a frame that drew no new pose, the previous positions
+  // (vertex attribute 3, for motion vectors) become the current ones again.
+  void settleGeometry();
   // Re-uploads the lights after Scene::pose() moved some (a no-op when none moves).
   void updateLights();
   GLuint vertexArray() const { return vao_.id(); }
@@ -55,6 +58,8 @@ class GpuScene {
  private:
   const Scene& scene_;
   gl::Buffer vertices_, indices_, materials_, lights_, emitters_, emitterCdf_;
+  // Animated meshes: the vertices as the last frame drew them (attribute 3).
+  gl::Buffer previousVertices_;
   std::vector<gpu::GpuEmitter> emitterData_;
   gl::VertexArray vao_;
   std::vector<gl::Texture> textures_;

@@ -192,5 +192,53 @@ TEST_F(ReprojectionTest, HistoryFollowsTheViewAndIsCapped) {
   EXPECT_GE(after, 40.0f);  // 16 + 1 + 24: no cap once still
 }
 
+// An animated box slides its own width: with the motion the G-buffer takes from
+// the previous vertices, its pixels keep their history where it went, and where it
+// was, the floor shows no red trace of it.
+TEST_F(ReprojectionTest, MovingMeshesCarryTheirHistory) {
+  scene::Scene s = scene::loadGltf(testDataDir() + "/animated/moving_box.gltf");
+  render::RenderSettings rs = settings(48, true);
+  rs.jitter = false;
+  rs.revoxelize = true;  // the voxels' light follows the box too
+  render::Renderer r(*programs_, s, rs);
+  for (int f = 0; f < 16; ++f) r.renderFrame();
+  s.pose(0.5);  // the box from x = -0.5 to 0: 0.5 m, its width
+  r.posed();
+  r.renderFrame();
+  EXPECT_EQ(r.accumulatedFrames(), 17);
+  const std::vector<float> kept = r.readLinear();
+  render::RenderSettings fs = settings(48, false);
+  fs.jitter = false;
+  fs.revoxelize = true;
+  render::Renderer fresh(*programs_, s, fs);
+  fresh.renderFrame();
+  const std::vector<float> expected = fresh.readLinear();
+  size_t box = 0, withHistory = 0, floor = 0, ghosts = 0;
+  for (size_t i = 0; i < kept.size(); i += 4) {
+    if (expected[i] > 2.0f * expected[i + 1]) {  // the red box
+      ++box;
+      withHistory += kept[i + 3] > 1.5f ? 1 : 0;
+    } else if (expected[i + 1] > 0.0f) {  // grey floor
+      ++floor;
+      ghosts += kept[i] > 2.0f * kept[i + 1] ? 1 : 0;
+    }
+  }
+  ASSERT_GT(box, 40u);
+  ASSERT_GT(floor, 500u);
+  EXPECT_GT(withHistory, box * 7 / 10) << withHistory << " of " << box;
+  EXPECT_EQ(ghosts, 0u);
+  // A frame with no new pose has no motion: the next camera-still frame keeps
+  // accumulating on every pixel.
+  r.renderFrame();
+  const std::vector<float> next = r.readLinear();
+  size_t grew = 0, covered = 0;
+  for (size_t i = 3; i < next.size(); i += 4) {
+    if (expected[i - 3] + expected[i - 2] <= 0.0f) continue;
+    ++covered;
+    grew += next[i] > kept[i] ? 1 : 0;
+  }
+  EXPECT_EQ(grew, covered);
+}
+
 }  // namespace
 }  // namespace voxgi::test
