@@ -141,7 +141,8 @@ class Renderer {
   // The same for everything Scene::pose() moves: the animated vertices (as
   // geometryChanged), and moved lights, which also re-light the voxels (the octree's
   // inject runs again on the next frame) and restart accumulation. The camera needs
-  // nothing here: a frame from another camera restarts accumulation by itself.
+  // nothing here: a frame from another camera restarts accumulation, or reprojects,
+  // by itself.
   void posed();
   // The knobs of the current mode, then the tonemap's; setting one restarts
   // accumulation. Valid until the mode changes.
