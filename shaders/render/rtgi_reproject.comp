@@ -64,7 +64,7 @@ void main() {
   vec4 clip = previous * vec4(was, 1.0);
   vec3 sum = vec3(0.0);
   float count = 0.0, weight = 0.0;
-  bool edge = false, lampEdge = emits(p.w);
+  bool edge = false, lampEdge = false;
   if (clip.w > 0.0) {
     // Pixel q covers [q, q + 1): its centre is at q + 0.5.
     vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * vec2(size) - 0.5;
@@ -102,7 +102,7 @@ void main() {
   // grid: it is kept short, and the edge converges again from this frame's samples.
   // Along an emitter's edge, whose light outshines what surrounds it many times
   // over, none is kept.
-  if (edge) cap = lampEdge ? 0.0 : min(cap, rtgi.history.w);
+  if (edge) cap = lampEdge || emits(p.w) ? 0.0 : min(cap, rtgi.history.w);
   float n1 = min(count / weight, cap);
   imageStore(reprojected, px, n1 > 0.0 ? vec4(sum / weight, n1) : vec4(0.0));
 }
