@@ -38,6 +38,18 @@ vec2 triangleUv(uint tri, vec2 bc) {
 }
 #endif
 
+#ifdef VOXGI_BVH_COLORS
+// The vertex colour (COLOR_0) at barycentrics bc of triangle tri, from its corners'
+// colours (three a triangle, BVH order; scene side: render/gpu_bvh.h), an SSBO at the
+// binding VOXGI_BVH_COLOR_BINDING, which the including shader defines.
+layout(std430, binding = VOXGI_BVH_COLOR_BINDING) readonly buffer BvhColors { vec4 bvhCornerColors[]; };
+vec4 triangleColor(uint tri, vec2 bc) {
+  uint b = tri * 3u;
+  return (1.0 - bc.x - bc.y) * bvhCornerColors[b] + bc.x * bvhCornerColors[b + 1u] +
+         bc.y * bvhCornerColors[b + 2u];
+}
+#endif
+
 #ifdef VOXGI_BVH_ALPHA
 // With VOXGI_BVH_ALPHA, a candidate hit counts only where this returns true (the
 // including shader defines it: alpha masks, texture_shared.h's alphaStops).

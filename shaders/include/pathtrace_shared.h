@@ -21,6 +21,9 @@ VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop b
 // Textures (unless VOXGI_NO_TEXTURES): uvec4 per texture of the scene, x first
 // texel in kPtTexelTexUnit, y width, z height, w 1 if sRGB-encoded (colour).
 VOXGI_CONST uint kPtTextureBinding = 8u;
+// Vertex colours (VOXGI_BVH_COLORS): vec4 per triangle corner, three a triangle,
+// BVH order (COLOR_0, RGBA).
+VOXGI_CONST uint kPtColorBinding = 9u;
 VOXGI_CONST uint kPtParamsBinding = 1u;
 // Texture units: the BVH nodes and the triangles, read as RGBA32UI buffer textures
 // (a struct is sizeof / 16 texels; floats as their bit patterns). On llvmpipe a

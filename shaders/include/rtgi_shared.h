@@ -25,6 +25,9 @@ VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
 VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
 VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
 VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
+// Vertex colours at the hit (RTGI_BVH_COLORS: the scene has them, the plan reads
+// them): the BVH's corner colours (see kPtColorBinding) as an SSBO.
+VOXGI_CONST uint kRtgiBvhColorBinding = 21u;
 // Reprojection (a frame after the camera moved): the running mean as it was before
 // this frame (the accumulation target, read as a texture), the previous frame's
 // G-buffer position and normal, and the reprojected mean (rgba32f image) that

@@ -27,6 +27,14 @@ VOXGI_CONST int kMaterialIndexLocation = 0;
 VOXGI_CONST int kExposureLocation = 1;
 VOXGI_CONST int kTonemapLocation = 2;
 
+// Vertex attribute locations (scene::GpuScene's vertex array): position, normal
+// and uv from scene::Vertex; the vertex colour (COLOR_0, RGBA) from its own stream,
+// present only in scenes that have one (otherwise a constant white).
+VOXGI_CONST uint kColorAttribute = 3u;
+// The position in the previous frame (motion vectors for rtgi's reprojection):
+// scene::Vertex's, from a copy kept only while meshes move.
+VOXGI_CONST uint kPreviousPositionAttribute = 4u;
+
 // Material flags.
 VOXGI_CONST uint kMaterialHasTexture = 1u;
 VOXGI_CONST uint kMaterialDoubleSided = 2u;

@@ -1,6 +1,7 @@
 #version 450 core
 // rtgi primary visibility: the G-buffer (see rtgi_shared.h for the layout).
-// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION.
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
+// VOXGI_NO_COLORS.
 #include "scene_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -14,7 +15,10 @@ layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessText
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
-layout(location = 3) in vec3 vPreviousPosition;
+#ifndef VOXGI_NO_COLORS
+layout(location = 3) in vec4 vColor;
+#endif
+layout(location = 4) in vec3 vPreviousPosition;
 
 layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
@@ -27,6 +31,9 @@ void main() {
   vec4 base = m.baseColor;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+#endif
+#ifndef VOXGI_NO_COLORS
+  base *= 1.0 + vColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;

@@ -49,12 +49,19 @@ const float kInf = 1.0 / 0.0;
 #ifndef VOXGI_NO_TEXTURES
 #define VOXGI_BVH_UVS
 #endif
+#ifndef VOXGI_NO_COLORS
+#define VOXGI_BVH_COLORS
+#define VOXGI_BVH_COLOR_BINDING kPtColorBinding
+#endif
 #include "bvh_trace.glsl"
 
 #ifdef VOXGI_BVH_ALPHA
 // Alpha masks in traversal: a hit on a masked-out texel does not stop the ray.
 bool bvhHitStops(uint tri, vec2 bc) {
   GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+#ifndef VOXGI_NO_COLORS
+  m.baseColor *= triangleColor(tri, bc);
+#endif
 #ifndef VOXGI_NO_TEXTURES
   uvec4 t = (m.flags & kMaterialHasTexture) != 0u ? textures[m.texture] : uvec4(0u);
   return alphaStops(m, true, t, triangleUv(tri, bc));
@@ -121,6 +128,9 @@ vec3 radiance(vec3 o, vec3 d) {
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                     kMaterialHasMetallicRoughnessTexture)) != 0u)
       m = texturedMaterial(m, triangleUv(tri, bc));
+#endif
+#ifndef VOXGI_NO_COLORS
+    m.baseColor *= triangleColor(tri, bc);
 #endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));

@@ -1,7 +1,8 @@
 #version 450 core
 // Raster baseline: emission plus unshadowed direct light from punctual lights and
 // emissive surfaces, in linear HDR radiance. Effect-plan variants (scene/effects.h):
-// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION compile that code out.
+// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS compile that
+// code out.
 #include "scene_shared.h"
 #include "lighting.glsl"
 
@@ -18,6 +19,9 @@ layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessText
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
+#ifndef VOXGI_NO_COLORS
+layout(location = 3) in vec4 vColor;
+#endif
 
 layout(location = 0) out vec4 outRadiance;
 
@@ -26,6 +30,9 @@ void main() {
   vec4 base = m.baseColor;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, vUv);
+#endif
+#ifndef VOXGI_NO_COLORS
+  base *= 1.0 + vColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;

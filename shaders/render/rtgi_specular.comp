@@ -17,7 +17,7 @@
 // sees an emitter it hits; a glossy surface does not (its highlight comes from the
 // shadows stage). RTGI_BVH_TEXTURES (a textured BVH): the material's textures at the hit
 // (base colour, metallic-roughness, emission), sampled as the path tracer samples
-// them (bilinear, no mipmaps).
+// them (bilinear, no mipmaps). RTGI_BVH_COLORS: the vertex colours at the hit.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -46,6 +46,10 @@ layout(std430, binding = kRtgiBvhTextureBinding) readonly buffer Textures { uvec
 layout(binding = kRtgiBvhUvUnit) uniform usamplerBuffer uvTexels;
 layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #define VOXGI_BVH_UVS
+#endif
+#ifdef RTGI_BVH_COLORS
+#define VOXGI_BVH_COLORS
+#define VOXGI_BVH_COLOR_BINDING kRtgiBvhColorBinding
 #endif
 #include "bvh_trace.glsl"
 
@@ -162,6 +166,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                     kMaterialHasMetallicRoughnessTexture)) != 0u)
       m = texturedMaterial(m, triangleUv(tri, bc));
+#endif
+#ifdef RTGI_BVH_COLORS
+    m.baseColor *= triangleColor(tri, bc);
 #endif
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));

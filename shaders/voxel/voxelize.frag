@@ -3,7 +3,8 @@
 // so a fragment runs for every pixel where any of its 4 samples is covered: a
 // triangle thinner than a voxel still lands (the portable stand-in for conservative
 // rasterization, which llvmpipe lacks). What a fragment adds: voxel_fragment.glsl.
-// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION.
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
+// VOXGI_NO_COLORS.
 #include "scene_shared.h"
 #include "voxel_shared.h"
 
@@ -20,12 +21,18 @@ layout(location = 1) centroid in vec2 gUv;
 layout(location = 2) flat in int gAxis;
 layout(location = 3) flat in vec4 gPlane;
 layout(location = 4) flat in vec2 gDepth;
+#ifndef VOXGI_NO_COLORS
+layout(location = 5) centroid in vec4 gColor;
+#endif
 
 void main() {
   GpuMaterial m = materials[materialIndex];
   vec4 base = m.baseColor;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasTexture) != 0u) base *= texture(baseColorTexture, gUv);
+#endif
+#ifndef VOXGI_NO_COLORS
+  base *= 1.0 + gColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;

@@ -14,6 +14,10 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(location = 0) in vec3 vGrid[];
 layout(location = 1) in vec3 vNormal[];
 layout(location = 2) in vec2 vUv[];
+#ifndef VOXGI_NO_COLORS
+layout(location = 3) in vec4 vColor[];
+layout(location = 5) centroid out vec4 gColor;
+#endif
 
 layout(location = 0) centroid out vec3 gNormal;
 layout(location = 1) centroid out vec2 gUv;
@@ -33,6 +37,9 @@ void main() {
   for (int i = 0; i < 3; ++i) {
     gNormal = vNormal[i];
     gUv = vUv[i];
+#ifndef VOXGI_NO_COLORS
+    gColor = vColor[i];
+#endif
     gAxis = axis;
     gPlane = plane;
     gDepth = depth;

@@ -10,13 +10,25 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
+#ifndef VOXGI_NO_COLORS
+layout(location = kColorAttribute) in vec4 inColor;
+#endif
 
 layout(location = 0) out vec3 vGrid;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
+#ifndef VOXGI_NO_COLORS
+layout(location = 3) out vec4 vColor;
+#endif
 
 void main() {
   vGrid = voxelGridPosition(inPosition);
   vNormal = inNormal;
   vUv = inUv;
+#ifndef VOXGI_NO_COLORS
+  // Passed on as the offset from white: where every corner is white (a scene without
+  // colours reads the constant white) the interpolated zeros stay exact, and so
+  // does the base colour.
+  vColor = inColor - 1.0;
+#endif
 }

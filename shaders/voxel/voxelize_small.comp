@@ -16,7 +16,8 @@
 // appended to its group's range of the large-triangle indices and the group's
 // indirect command counts them (voxel_shared.h). So each triangle is decided once,
 // here.
-// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION; tests:
+// Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
+// VOXGI_NO_COLORS; tests:
 // VOXGI_COUNT_SMALL counts the triangles taken.
 #include "scene_shared.h"
 #include "voxel_shared.h"
@@ -36,6 +37,11 @@ layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 // The scene's vertices (scene::Vertex, 32 bytes: 2 texels) and indices.
 layout(binding = kVoxelVertexUnit) uniform samplerBuffer vertexData;
 layout(binding = kVoxelIndexUnit) uniform usamplerBuffer indexData;
+#ifndef VOXGI_NO_COLORS
+// The vertex colours (one RGBA32F texel a vertex), read where hasColors is 1.
+layout(binding = kVoxelColorUnit) uniform samplerBuffer colorData;
+layout(location = kVoxelHasColorsLocation) uniform uint hasColors;
+#endif
 
 #include "voxel_fragment.glsl"
 #include "voxel_triangle.glsl"
@@ -49,6 +55,7 @@ void main() {
 
   vec3 g[3], vn[3];
   vec2 vt[3];
+  vec4 vc[3];
   uint index[3];
   for (int i = 0; i < 3; ++i) {
     index[i] = texelFetch(indexData, int(firstIndex + 3u * t) + i).x;
@@ -58,6 +65,9 @@ void main() {
     g[i] = voxelGridPosition(a.xyz);
     vn[i] = vec3(a.w, b.xy);
     vt[i] = b.zw;
+#ifndef VOXGI_NO_COLORS
+    vc[i] = hasColors != 0u ? texelFetch(colorData, v) : vec4(1.0);
+#endif
   }
   vec3 n;
   int axis = voxelProjectionAxis(g[0], g[1], g[2], n);
@@ -180,6 +190,9 @@ void main() {
         emitted *= textureGrad(emissiveTexture, uv, duvdx, duvdy).rgb;
 #endif
     }
+#endif
+#ifndef VOXGI_NO_COLORS
+    if (hasColors != 0u) base *= b0 * vc[0] + b1 * vc[1] + b2 * vc[2];
 #endif
 #ifndef VOXGI_NO_ALPHA
     if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) continue;

@@ -86,6 +86,14 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
     glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
     textureTable_ = upload(table.data(), table.size() * sizeof(glm::uvec4));
   }
+  if (s.hasVertexColors()) {
+    std::vector<glm::vec4> colors(3 * order.size());
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t i = pt.firstIndex[order[slot]];
+      for (uint32_t k = 0; k < 3; ++k) colors[3 * slot + k] = s.colors[s.indices[i + k]];
+    }
+    colors_ = upload(colors.data(), colors.size() * sizeof(glm::vec4));
+  }
   emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   logDebug(strf("bvh: %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d emissive triangles",
                 bvh_.triangleCount(), nodes.size(), bvh_.depth(), bvh_.sahCost(), buildMs_,

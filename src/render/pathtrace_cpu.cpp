@@ -48,6 +48,7 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
       settings_(settings),
       pt_(buildPtScene(scene, ptReadsTextures(scene, settings.textures))),
       textured_(ptReadsTextures(scene, settings.textures)),
+      colored_(settings.colors && scene.hasVertexColors()),
       materials_(scene::GpuScene::packMaterials(scene)),
       lights_(scene::GpuScene::packLights(scene)),
       embree_(std::make_unique<Embree>()),
@@ -73,6 +74,12 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
     r.uv0 = a.uv;
     r.uv1 = b.uv;
     r.uv2 = c.uv;
+  }
+  if (colored_) {
+    cornerColors_.resize(3 * triangles_.size());
+    for (size_t t = 0; t < triangles_.size(); ++t)
+      for (size_t k = 0; k < 3; ++k)
+        cornerColors_[3 * t + k] = scene.colors[scene.indices[pt_.firstIndex[t] + k]];
   }
   const int threads =
       settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
@@ -134,14 +141,22 @@ void CpuPathtracer::alphaFilter(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
     const Triangle& t = self->triangles_[RTCHitN_primID(args->hit, args->N, i)];
-    const gpu::GpuMaterial& m = self->materials_[static_cast<size_t>(t.material)];
+    gpu::GpuMaterial m = self->materials_[static_cast<size_t>(t.material)];
     const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    if (self->colored_)
+      m.baseColor *= self->vertexColor(RTCHitN_primID(args->hit, args->N, i), u, v);
     const glm::vec2 uv = (1.0f - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
     const glm::uvec4 texture = self->textured_ && (m.flags & gpu::kMaterialHasTexture) != 0u
                                    ? self->textureTable_[m.texture]
                                    : glm::uvec4(0u);
     if (!gpu::alphaStops(tables, m, self->textured_, texture, uv)) args->valid[i] = 0;
   }
+}
+
+glm::vec4 CpuPathtracer::vertexColor(uint32_t t, float u, float v) const {
+  if (!colored_) return glm::vec4(1.0f);
+  const glm::vec4* c = cornerColors_.data() + 3 * static_cast<size_t>(t);
+  return (1.0f - u - v) * c[0] + u * c[1] + v * c[2];
 }
 
 int CpuPathtracer::threads() const {
@@ -221,7 +236,8 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
         textured_ ? texturedMaterial(tables, materials_[static_cast<size_t>(T.material)],
                                      (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2)
                   : materials_[static_cast<size_t>(T.material)];
-    const vec4 baseColor = m.baseColor;
+    const vec4 baseColor =
+        colored_ ? m.baseColor * vertexColor(hit.triangle, bc.x, bc.y) : m.baseColor;
     const vec3 p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
     vec3 ng = T.ng;
     const bool front = dot(ng, d) < 0.0f;

@@ -78,6 +78,8 @@ class CpuPathtracer final : public Pathtracer {
   bool intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const;
   bool occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const;
   glm::vec3 radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const;
+  // The vertex colour at barycentrics (u, v) of triangle t; white without colours.
+  glm::vec4 vertexColor(uint32_t t, float u, float v) const;
   void tracePass(int firstSample);
   // Embree's hit filter: drops hits where an alpha mask lets the ray through.
   static void alphaFilter(const ::RTCFilterFunctionNArguments* args);
@@ -87,7 +89,10 @@ class CpuPathtracer final : public Pathtracer {
   PtScene pt_;
   std::vector<Triangle> triangles_;
   bool textured_ = false;
-  bool masked_ = false;  // some material is alpha-masked (and the plan reads masks)
+  bool masked_ = false;   // some material is alpha-masked (and the plan reads masks)
+  bool colored_ = false;  // the scene has vertex colours (and the plan reads them)
+  // With colored_: per triangle, its corners' COLOR_0 (3 entries); else empty.
+  std::vector<glm::vec4> cornerColors_;
   std::vector<gpu::GpuMaterial> materials_;
   std::vector<gpu::GpuLight> lights_;
   std::vector<glm::uvec4> textureTable_;

@@ -16,6 +16,7 @@ std::vector<std::string> kernelDefines(const scene::Scene& s, const PathtraceSet
                                        bool textured) {
   std::vector<std::string> defines;
   if (!textured) defines.push_back("VOXGI_NO_TEXTURES");
+  if (!(settings.colors && s.hasVertexColors())) defines.push_back("VOXGI_NO_COLORS");
   if (ptReadsAlphaMasks(s, settings.alpha)) defines.push_back("VOXGI_BVH_ALPHA");
   return defines;
 }
@@ -98,6 +99,8 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTextureBinding, bvh.textureTable());
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, bvh.shading());
+  if (settings_.colors && bvh.colored())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtColorBinding, bvh.colors());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, bvh.emissive());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
   glBindImageTexture(gpu::kPtSumImage, sum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -50,6 +50,9 @@ struct PathtraceSettings {
   // Alpha masks (the effect plan's `alpha`): rays pass where a MASK material's
   // alpha is below its cutoff.
   bool alpha = true;
+  // Vertex colours (the effect plan's `colors`): COLOR_0 multiplies the base colour
+  // (and its alpha); off, or in a scene without them, none are read.
+  bool colors = true;
   PathtraceDevice device = PathtraceDevice::kAuto;
   // cpu: worker threads (0: one per core).
   int threads = 0;

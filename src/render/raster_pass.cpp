@@ -4,6 +4,7 @@ namespace voxgi::render {
 
 void drawSceneGeometry(const GpuScene& gs) {
   glBindVertexArray(gs.vertexArray());
+  gs.setDefaultColor();
   gs.bindSampler();
   const scene::Scene& s = gs.scene();
   for (const scene::Draw& d : s.draws) {

@@ -169,6 +169,7 @@ void Renderer::createPasses() {
   if (mode == Mode::kPathtrace && !pathtrace_) {
     PathtraceSettings ps = settings_.pathtrace;
     ps.textures = features.textures;
+    ps.colors = features.colors;
     ps.alpha = features.alpha;
     const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     ps.device = resolvePathtraceDevice(ps.device, glRenderer ? glRenderer : "");

@@ -48,6 +48,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   std::vector<std::string> defines = settings_.features.defines();
   defines.emplace_back("RTGI_BVH");
   if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
+  if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
@@ -275,6 +276,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding,
                          bvh_->textureTable());
       }
+      if (settings_.features.colors && bvh_->colored())
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
     }
     run("specular", specularProgram(gs));
     if (bvh_)

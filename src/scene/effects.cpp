@@ -9,7 +9,7 @@ namespace voxgi::scene {
 
 const std::vector<std::string>& effectNames() {
   static const std::vector<std::string> names = {"shadows",  "emission", "indirect", "specular",
-                                                 "textures", "alpha",    "animation"};
+                                                 "textures", "alpha",    "colors",   "animation"};
   return names;
 }
 
@@ -78,6 +78,7 @@ EffectPlan planEffects(const Scene& scene) {
   decide("specular", specular, "no mirror or glossy material");
   decide("textures", textured, "no textured material");
   decide("alpha", masked, "no alpha-masked material");
+  decide("colors", scene.hasVertexColors(), "no vertex colours");
   decide("animation", scene.animated(), "nothing animated");
   return plan;
 }
@@ -145,6 +146,7 @@ std::vector<std::string> ShaderFeatures::defines() const {
   if (!emission) d.push_back("VOXGI_NO_EMISSION");
   if (!textures) d.push_back("VOXGI_NO_TEXTURES");
   if (!alpha) d.push_back("VOXGI_NO_ALPHA");
+  if (!colors) d.push_back("VOXGI_NO_COLORS");
   return d;
 }
 
@@ -154,6 +156,7 @@ ShaderFeatures shaderFeatures(const EffectPlan& plan) {
   f.emission = plan.has("emission");
   f.textures = plan.has("textures");
   f.alpha = plan.has("alpha");
+  f.colors = plan.has("colors");
   return f;
 }
 

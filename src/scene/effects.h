@@ -9,6 +9,8 @@
 //   textures   texture sampling (base colour,      a textured material
 //              emissive, metallic-roughness)
 //   alpha      alpha-mask discard                  an alpha-masked material
+//   colors     vertex colours (COLOR_0) multiply   a drawn primitive with COLOR_0
+//              the base colour
 //   animation  the scene is re-posed per frame     an animated node
 // Only materials that are drawn count. A skipped effect costs nothing: its stage
 // is absent and its shader code is compiled out (ShaderFeatures). `--effects
@@ -66,6 +68,7 @@ struct ShaderFeatures {
   bool emission = true;
   bool textures = true;
   bool alpha = true;
+  bool colors = true;
   std::vector<std::string> defines() const;
 };
 ShaderFeatures shaderFeatures(const EffectPlan& plan);

@@ -802,7 +802,7 @@ class Loader {
                "components",
                a.bufferView, bv.byteStride, index, compSize));
     const std::string_view role(what);
-    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0") &&
+    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0" || role == "COLOR_0") &&
         (a.byteOffset % 4 || stride % 4))
       fail(
           strf("accessors[%d] (%s): elements of %zu bytes at offset %zu are not 4-byte aligned, "
@@ -1166,6 +1166,17 @@ class Loader {
         if (t.count != p.count) fail(where + ": TEXCOORD_0 and POSITION counts differ");
         hasUv = true;
       }
+      View col;
+      bool hasColor = false;
+      if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
+        col = accessor(it->second, "COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4},
+                       {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                        TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        if (col.count != p.count) fail(where + ": COLOR_0 and POSITION counts differ");
+        if (col.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !col.normalized)
+          fail(strf("accessors[%d] (COLOR_0): integer colours must be normalized", it->second));
+        hasColor = true;
+      }
       std::vector<uint32_t> idx;
       if (prim.indices != -1) {
         const View iv =
@@ -1219,6 +1230,12 @@ class Loader {
       const size_t base = scene_.vertices.size();
       scene_.vertices.resize(base + p.count);
       world_.resize(base + p.count);
+      if (hasColor || !scene_.colors.empty()) {
+        // White for the vertices before the first coloured primitive and for
+        // primitives without COLOR_0.
+        scene_.colors.resize(base + p.count, glm::vec4(1.0f));
+        if (hasColor) readColors(col, base, where);
+      }
       for (size_t i = 0; i < p.count; ++i) {
         Vertex& v = scene_.vertices[base + i];
         glm::vec3 lp(readComponent(p.data + i * p.stride, p.componentType, false),
@@ -1316,6 +1333,32 @@ class Loader {
     }
   }
 
+  // COLOR_0 into scene_.colors from `base` on: VEC3 (alpha 1) or VEC4; a value that
+  // is NaN, Inf or outside [0, 1] is clamped (NaN reads as 1).
+  void readColors(const View& c, size_t base, const std::string& where) {
+    const size_t cs = static_cast<size_t>(
+        tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(c.componentType)));
+    const int n = c.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+    size_t bad = 0;
+    for (size_t i = 0; i < c.count; ++i) {
+      glm::vec4 rgba(1.0f);
+      for (int k = 0; k < n; ++k) {
+        float x = readComponent(c.data + i * c.stride + static_cast<size_t>(k) * cs,
+                                c.componentType, c.normalized);
+        if (!(x >= 0.0f && x <= 1.0f)) {
+          ++bad;
+          x = std::isnan(x) ? 1.0f : std::clamp(x, 0.0f, 1.0f);
+        }
+        rgba[k] = x;
+      }
+      scene_.colors[base + i] = rgba;
+    }
+    if (bad && !colorWarned_) {
+      colorWarned_ = true;
+      warn_(strf("%s: %zu COLOR_0 components outside [0, 1] (clamped)", where.c_str(), bad));
+    }
+  }
+
   std::string path_;
   LoadOptions opt_;
   tinygltf::Model model_;
@@ -1323,6 +1366,7 @@ class Loader {
   int defaultMaterial_ = 0;
   std::map<std::pair<int, bool>, int> textureMap_;  // (glTF texture, sRGB) -> Scene::textures
   bool texCoordWarned_ = false;
+  bool colorWarned_ = false;
   std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
   std::vector<char> moving_;       // per node: it or an ancestor is animated
   size_t dropped_ = 0, repaired_ = 0;

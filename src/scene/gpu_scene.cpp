@@ -99,13 +99,14 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   vao_ = gl::createVertexArray();
   const GLuint vao = vao_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(Vertex));
-  // Attribute 3, the position in the previous frame (motion vectors): the same
+  // The position in the previous frame (motion vectors), from binding 2: the same
   // buffer unless meshes move.
-  glVertexArrayVertexBuffer(vao, 1, s.meshesAnimated() ? previousVertices_.id() : vertices_.id(), 0,
+  glVertexArrayVertexBuffer(vao, 2, s.meshesAnimated() ? previousVertices_.id() : vertices_.id(), 0,
                             sizeof(Vertex));
-  glEnableVertexArrayAttrib(vao, 3);
-  glVertexArrayAttribFormat(vao, 3, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-  glVertexArrayAttribBinding(vao, 3, 1);
+  glEnableVertexArrayAttrib(vao, gpu::kPreviousPositionAttribute);
+  glVertexArrayAttribFormat(vao, gpu::kPreviousPositionAttribute, 3, GL_FLOAT, GL_FALSE,
+                            offsetof(Vertex, position));
+  glVertexArrayAttribBinding(vao, gpu::kPreviousPositionAttribute, 2);
   glVertexArrayElementBuffer(vao, indices_.id());
   const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
                              offsetof(Vertex, uv)};
@@ -114,6 +115,16 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glEnableVertexArrayAttrib(vao, a);
     glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao, a, 0);
+  }
+  size_t cbytes = 0;
+  if (s.hasVertexColors()) {
+    // A stream of its own, bound only here: scenes without colours carry none.
+    cbytes = s.colors.size() * sizeof(glm::vec4);
+    colors_ = gl::createBuffer(static_cast<GLsizeiptr>(cbytes), s.colors.data());
+    glVertexArrayVertexBuffer(vao, 1, colors_.id(), 0, sizeof(glm::vec4));
+    glEnableVertexArrayAttrib(vao, gpu::kColorAttribute);
+    glVertexArrayAttribFormat(vao, gpu::kColorAttribute, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, gpu::kColorAttribute, 1);
   }
   const auto mats = packMaterials(s);
   const auto lights = packLights(s);
@@ -133,7 +144,7 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
                                  s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
-  bytes_ = static_cast<size_t>(vbytes + ibytes) + mats.size() * sizeof(gpu::GpuMaterial) +
+  bytes_ = static_cast<size_t>(vbytes + ibytes) + cbytes + mats.size() * sizeof(gpu::GpuMaterial) +
            lights.size() * sizeof(gpu::GpuLight) + emitters.size() * sizeof(gpu::GpuEmitter);
 
   for (const Texture& t : s.textures) {
@@ -152,6 +163,10 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+void GpuScene::setDefaultColor() const {
+  if (!scene_.hasVertexColors()) glVertexAttrib4f(gpu::kColorAttribute, 1.0f, 1.0f, 1.0f, 1.0f);
 }
 
 void GpuScene::bindMaterialTextures(const Material& m) const {

@@ -28,6 +28,12 @@ class GpuScene {
   // The vertex array's buffers: scene::Vertex per vertex, uint32 indices.
   GLuint vertexBuffer() const { return vertices_.id(); }
   GLuint indexBuffer() const { return indices_.id(); }
+  // COLOR_0 as RGBA floats per vertex (std430 vec4[]), 0 when the scene has none;
+  // on attribute gpu::kColorAttribute of the vertex array.
+  GLuint colorBuffer() const { return colors_.id(); }
+  // Where the scene has no colour stream, sets the constant value the vertex array
+  // gives gpu::kColorAttribute to white (context state, so set before each draw).
+  void setDefaultColor() const;
   GLuint materials() const { return materials_.id(); }
   GLuint lights() const { return lights_.id(); }
   GLuint emitters() const { return emitters_.id(); }
@@ -57,8 +63,9 @@ class GpuScene {
 
  private:
   const Scene& scene_;
-  gl::Buffer vertices_, indices_, materials_, lights_, emitters_, emitterCdf_;
-  // Animated meshes: the vertices as the last frame drew them (attribute 3).
+  gl::Buffer vertices_, indices_, colors_, materials_, lights_, emitters_, emitterCdf_;
+  // Animated meshes: the vertices as the last frame drew them (attribute
+  // kPreviousPositionAttribute).
   gl::Buffer previousVertices_;
   std::vector<gpu::GpuEmitter> emitterData_;
   gl::VertexArray vao_;

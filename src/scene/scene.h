@@ -154,6 +154,10 @@ struct Scene {
   // far from its file's origin keeps its float precision.
   glm::dvec3 origin{0.0};
   std::vector<Vertex> vertices;
+  // COLOR_0, linear RGBA, parallel to `vertices`; it multiplies the material's base
+  // colour. Empty when no primitive has vertex colours (the common case costs
+  // nothing); otherwise primitives without COLOR_0 get white.
+  std::vector<glm::vec4> colors;
   std::vector<uint32_t> indices;
   std::vector<Draw> draws;
   std::vector<Material> materials;
@@ -179,6 +183,7 @@ struct Scene {
   std::vector<std::string> notes;  // information the loader printed (a file without scenes)
 
   size_t triangleCount() const { return indices.size() / 3; }
+  bool hasVertexColors() const { return !colors.empty(); }
   // Something moves: a mesh, the camera or a light.
   bool animated() const { return meshesAnimated() || cameraMoves || lightsAnimated(); }
   bool meshesAnimated() const { return !animatedRanges.empty(); }

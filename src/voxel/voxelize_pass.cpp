@@ -224,6 +224,7 @@ void VoxelizePass::raster(const scene::GpuScene& gs) {
   glDisable(GL_SAMPLE_SHADING);
   glUseProgram(voxelize_.id());
   glBindVertexArray(gs.vertexArray());
+  gs.setDefaultColor();
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kVoxelParamsBinding, paramsBuffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
   bindSlots();
@@ -265,6 +266,8 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   const gl::Texture indexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
   if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RGBA32F, gs.vertexBuffer());
   if (!s.indices.empty()) glTextureBuffer(indexTexture.id(), GL_R32UI, gs.indexBuffer());
+  const gl::Texture colorTexture = gl::createTexture(GL_TEXTURE_BUFFER);
+  if (s.hasVertexColors()) glTextureBuffer(colorTexture.id(), GL_RGBA32F, gs.colorBuffer());
   // Where the triangles it passes on go: a buffer the size of the scene's indices.
   const size_t indexBytes = std::max<size_t>(s.indices.size(), 1) * 4;
   if (!largeIndices_ || largeIndexBytes_ != indexBytes) {
@@ -296,6 +299,9 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   bindSlots();
   glBindTextureUnit(gpu::kVoxelVertexUnit, vertexTexture.id());
   glBindTextureUnit(gpu::kVoxelIndexUnit, indexTexture.id());
+  glBindTextureUnit(gpu::kVoxelColorUnit, colorTexture.id());
+  if (settings_.features.colors)
+    glUniform1ui(gpu::kVoxelHasColorsLocation, s.hasVertexColors() ? 1u : 0u);
   gs.bindSampler();
   for (size_t i = 0; i < s.draws.size(); ++i) {
     const scene::Draw& d = s.draws[i];
@@ -312,6 +318,7 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   scene::GpuScene::unbindMaterialTextures();
   glBindTextureUnit(gpu::kVoxelVertexUnit, 0);
   glBindTextureUnit(gpu::kVoxelIndexUnit, 0);
+  glBindTextureUnit(gpu::kVoxelColorUnit, 0);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                   GL_ELEMENT_ARRAY_BARRIER_BIT);
 }

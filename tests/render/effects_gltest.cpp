@@ -236,7 +236,8 @@ TEST(EffectsCli, PrintedAndInStats) {
                             dir + "/s.json --effects -alpha,+textures");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output.rfind("effects: shadows, emission, indirect, specular, textures (skipped: "
-                           "alpha \u2014 --effects -alpha, animation \u2014 nothing animated)\n",
+                           "alpha \u2014 --effects -alpha, colors \u2014 no vertex colours, "
+                           "animation \u2014 nothing animated)\n",
                            0),
             0u)
       << r.output;

@@ -38,13 +38,16 @@ TEST(EffectPlan, CornellRoom) {
   // A ceiling panel (emissive), a mirror sphere, no textures, no masks, no animation.
   EXPECT_EQ(p.enabledList(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
-  EXPECT_EQ(skippedNames(p), (std::vector<std::string>{"textures", "alpha", "animation"}));
+  EXPECT_EQ(skippedNames(p),
+            (std::vector<std::string>{"textures", "alpha", "colors", "animation"}));
   EXPECT_EQ(p.skipped.at("textures"), "no textured material");
   EXPECT_EQ(p.skipped.at("alpha"), "no alpha-masked material");
+  EXPECT_EQ(p.skipped.at("colors"), "no vertex colours");
   EXPECT_EQ(p.skipped.at("animation"), "nothing animated");
   EXPECT_EQ(p.summary(),
             "shadows, emission, indirect, specular (skipped: textures \u2014 no textured "
-            "material, alpha \u2014 no alpha-masked material, animation \u2014 nothing animated)");
+            "material, alpha \u2014 no alpha-masked material, colors \u2014 no vertex colours, "
+            "animation \u2014 nothing animated)");
 }
 
 TEST(EffectPlan, DarkPlane) {
@@ -54,7 +57,8 @@ TEST(EffectPlan, DarkPlane) {
   const EffectPlan p = planEffects(s);
   EXPECT_EQ(p.enabledList(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
-  EXPECT_EQ(skippedNames(p), (std::vector<std::string>{"textures", "alpha", "animation"}));
+  EXPECT_EQ(skippedNames(p),
+            (std::vector<std::string>{"textures", "alpha", "colors", "animation"}));
 }
 
 TEST(EffectPlan, DiffuseSceneHasNoSpecularOrEmission) {
@@ -154,7 +158,7 @@ TEST(EffectPlan, BadOverridesAreOneLineErrors) {
   };
   EXPECT_EQ(message("+bloom"),
             "--effects: unknown effect 'bloom' (shadows, emission, indirect, specular, textures, "
-            "alpha, animation, all)");
+            "alpha, colors, animation, all)");
   EXPECT_EQ(message("specular"), "--effects: 'specular' needs a sign, +specular or -specular");
   EXPECT_EQ(message("+shadows,,-alpha"),
             "--effects: empty entry in '+shadows,,-alpha' (expected +name,-name)");
@@ -167,8 +171,20 @@ TEST(EffectPlan, ShaderDefines) {
   EXPECT_TRUE(ShaderFeatures{}.defines().empty());  // everything on: the plain shaders
   EXPECT_TRUE(shaderFeatures(allEffects()).defines().empty());
   const ShaderFeatures f = shaderFeatures(planEffects(diffuseScene()));
-  EXPECT_EQ(f.defines(),
-            (std::vector<std::string>{"VOXGI_NO_EMISSION", "VOXGI_NO_TEXTURES", "VOXGI_NO_ALPHA"}));
+  EXPECT_EQ(f.defines(), (std::vector<std::string>{"VOXGI_NO_EMISSION", "VOXGI_NO_TEXTURES",
+                                                   "VOXGI_NO_ALPHA", "VOXGI_NO_COLORS"}));
+}
+
+// Vertex colours: the `colors` effect exactly when the scene has a COLOR_0 stream.
+TEST(EffectPlan, VertexColors) {
+  Scene s = diffuseScene();
+  EXPECT_FALSE(planEffects(s).has("colors"));
+  s.colors.assign(s.vertices.size(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+  const EffectPlan p = planEffects(s);
+  EXPECT_TRUE(p.has("colors"));
+  EXPECT_TRUE(shaderFeatures(p).colors);
+  EXPECT_TRUE(planEffects(loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf"))
+                  .has("colors"));
 }
 
 TEST(EffectPlan, CommandLine) {

@@ -322,6 +322,28 @@ TEST(GltfLoaderSamples, EmissiveStrengthMultipliesEmissiveFactor) {
   EXPECT_EQ(found, 5);
 }
 
+// COLOR_0 (normalized unsigned bytes, tests/data/vertex_colors): red on the left
+// half, green on the right; the primitive without COLOR_0 reads white.
+TEST(GltfLoaderVertexColors, RedGreenQuad) {
+  const Scene s = loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf");
+  ASSERT_TRUE(s.hasVertexColors());
+  ASSERT_EQ(s.colors.size(), s.vertices.size());
+  ASSERT_EQ(s.vertices.size(), 12u);
+  for (size_t i = 0; i < s.vertices.size(); ++i) {
+    const glm::vec3 p = s.vertices[i].position + glm::vec3(s.origin);
+    const glm::vec4 c = s.colors[i];
+    const glm::vec4 want = p.z < -0.5f           ? glm::vec4(1.0f)
+                           : i < 4 || p.x < 0.0f ? glm::vec4(1, 0, 0, 1)
+                                                 : glm::vec4(0, 1, 0, 1);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(c[k], want[k]) << "vertex " << i << " component " << k;
+  }
+}
+
+// Scenes without COLOR_0 carry no colour stream.
+TEST(GltfLoaderVertexColors, NoneWithoutColor0) {
+  EXPECT_FALSE(loadGltf(darkPlane()).hasVertexColors());
+}
+
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 
 // The duck has a base-colour texture; the avocado a base-colour (sRGB) and a

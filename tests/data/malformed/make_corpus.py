@@ -716,6 +716,38 @@ def _():
     return to_json(g)
 
 
+def with_color(g, data, component_type, kind, count, normalized=None):
+    """Appends `data` as a COLOR_0 accessor (and its bufferView) to the quad `g`."""
+    buf = base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1])
+    offset = len(buf)
+    buf += pad4(data)
+    g["buffers"][0] = {"byteLength": len(buf), "uri": data_uri(buf)}
+    g["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": len(data),
+                             "target": ARRAY_BUFFER})
+    accessor = {"bufferView": len(g["bufferViews"]) - 1, "componentType": component_type,
+                "count": count, "type": kind}
+    if normalized is not None:
+        accessor["normalized"] = normalized
+    g["accessors"].append(accessor)
+    g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = len(g["accessors"]) - 1
+    return g
+
+
+@case("color0_wrong_type.gltf", "accessor 2 (COLOR_0): element type VEC2 is not allowed here")
+def _():
+    return to_json(with_color(scene(), floats([(1.0, 0.0)] * 4), FLOAT, "VEC2", 4))
+
+
+@case("color0_wrong_count.gltf", "COLOR_0 and POSITION counts differ")
+def _():
+    return to_json(with_color(scene(), floats([(1.0, 0.0, 0.0, 1.0)] * 3), FLOAT, "VEC4", 3))
+
+
+@case("color0_not_normalized.gltf", "accessors[2] (COLOR_0): integer colours must be normalized")
+def _():
+    return to_json(with_color(scene(), bytes([255, 0, 0, 255] * 4), UNSIGNED_BYTE, "VEC4", 4))
+
+
 # tinygltf refuses these two before voxgi's own checks, in its own words.
 @case("bytestride_not_multiple_of_4.gltf", "must be the multiple of 4 : 14")
 @edited
