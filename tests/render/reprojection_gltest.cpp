@@ -36,20 +36,13 @@ class ReprojectionTest : public GlProgramsTest {
     SceneBuilder b;
     const int white = b.addMaterial(glm::vec3(0.8f));
     const int black = b.addMaterial(glm::vec3(0.0f));
-    b.addTriangles({{-0.5f, -0.5f, 0.5f},
-                    {0.5f, -0.5f, 0.5f},
-                    {0.5f, 0.5f, 0.5f},
-                    {-0.5f, -0.5f, 0.5f},
-                    {0.5f, 0.5f, 0.5f},
-                    {-0.5f, 0.5f, 0.5f}},
-                   white);
-    b.addTriangles({{-3.0f, -3.0f, 0.0f},
-                    {3.0f, -3.0f, 0.0f},
-                    {3.0f, 3.0f, 0.0f},
-                    {-3.0f, -3.0f, 0.0f},
-                    {3.0f, 3.0f, 0.0f},
-                    {-3.0f, 3.0f, 0.0f}},
-                   black);
+    // A square of half-width h at depth z, facing +z: two triangles.
+    auto square = [&](float h, float z, int material) {
+      b.addTriangles({{-h, -h, z}, {h, -h, z}, {h, h, z}, {-h, -h, z}, {h, h, z}, {-h, h, z}},
+                     material);
+    };
+    square(0.5f, 0.5f, white);
+    square(3.0f, 0.0f, black);
     scene::Scene s = b.finish();
     scene::Light sun;
     sun.type = scene::LightType::kDirectional;
