@@ -1,11 +1,10 @@
 #version 450 core
-// rtgi stage "shadows": direct light at each pixel's surface with one shadow ray per
-// light through the octree. Punctual lights: their exact contribution x visibility.
-// Emissive surfaces, when there are few: their summed unshadowed contribution
-// (exact irradiance, GGX highlight) x the visibility of one random point on one of
-// them, drawn in proportion to its contribution (one shadow ray per pixel); with
-// many, one emitter drawn by power per pixel and frame (light importance
-// sampling), its contribution x visibility divided by its probability. Accumulation over frames turns the visibility samples into soft
+// rtgi stage "shadows": direct light at each pixel's surface (rtgi_direct_light.glsl:
+// punctual lights exactly, emitters through one shadow ray each frame), with shadow
+// rays against the exact triangles (RTGI_BVH: the BVH, rtgi_bvh.glsl), or through
+// the octree's voxels (without it: --voxel-rays, or an animated scene). Voxels are
+// coarser than the geometry: they shadow too much near contacts and at grazing
+// angles, which accumulation never removes; the triangles give the path tracer's
 // shadows. Mirrors take no highlight here: their reflected ray sees the light.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS traces no shadow ray (the
 // renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
@@ -21,18 +20,26 @@
 #include "octree_light.glsl"
 #define RTGI_PIXEL_LIST
 #include "rtgi_common.glsl"
+#ifdef RTGI_BVH
+#include "rtgi_bvh.glsl"
+#endif
 
 layout(local_size_x = kRtgiTraceGroup) in;
 
 layout(binding = kDirectImage, rgba16f) uniform writeonly image2D directOut;
 
-float lightVisible(vec3 o, vec3 l, float dist) {
+float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 #ifdef VOXGI_NO_SHADOWS
   return 1.0;
+#elif defined(RTGI_BVH)
+  return bvhVisible(o, l, dist, toEmitter, slack);
 #else
-  return octreeVisible(o, l, dist, 0.0, 0.0);
+  // Short of an emitter by its voxels, which would otherwise hide it.
+  return octreeVisible(o, l, dist, 0.0, toEmitter ? kSurfaceOffsetVoxels : 0.0);
 #endif
 }
+
+#include "rtgi_direct_light.glsl"
 
 void main() {
   ivec2 px;
@@ -43,62 +50,12 @@ void main() {
     seedPixel(px, 1u);
     Surface s = p.s;
     if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
+#ifdef RTGI_BVH
+    vec3 o = s.p + s.n * bvhEpsilon();
+#else
     vec3 o = rayOrigin(s);
-#ifdef RTGI_LIGHTS
-    int lightCount = int(rtgi.counts.x);
-    for (int k = 0; k < lightCount; ++k) {
-      vec3 c = punctualLight(lights[k], s);
-      if (all(equal(c, vec3(0.0)))) continue;
-      vec3 l;
-      float dist;
-      punctualDirection(lights[k], s.p, l, dist);
-      result += c * lightVisible(o, l, dist);
-    }
 #endif
-#ifndef VOXGI_NO_EMISSION
-    int emitterCount = int(rtgi.counts.y);
-#ifdef VOXGI_NO_SHADOWS
-    // Unshadowed: the exact sum of every emitter's contribution.
-    for (int k = 0; k < emitterCount; ++k) result += areaLight(emitters[k], s);
-    emitterCount = 0;
-#endif
-#if defined(RTGI_EMITTERS_EXACT)
-    {
-      // Few emitters: their exact unshadowed sum, times the visibility of one point
-      // on one of them, drawn in proportion to its share of the sum.
-      // One pass, no array: emitter k replaces the pick with probability
-      // w_k / (w_0 + ... + w_k), which leaves each picked in proportion to w_k; the
-      // one uniform number is rescaled after each decision, so it stays uniform.
-      vec3 sum = vec3(0.0);
-      float total = 0.0;
-      float u = rand01();
-      int pick = -1;
-      for (int k = 0; k < emitterCount; ++k) {
-        vec3 c = areaLight(emitters[k], s);
-        float w = dot(c, vec3(0.2126, 0.7152, 0.0722));
-        sum += c;
-        if (!(w > 0.0)) continue;
-        total += w;
-        float q = w / total;
-        if (u < q) {
-          pick = k;
-          u = u / q;
-        } else {
-          u = (u - q) / (1.0 - q);
-        }
-      }
-      if (pick >= 0) result += sum * emitterVisible(emitters[pick], o, 0.0);
-    }
-#elif defined(RTGI_EMITTERS_SAMPLED)
-    if (emitterCount > 0) {
-      float pmf;
-      GpuEmitter e = emitters[pickEmitter(rand01(), emitterCount, pmf)];
-      vec3 c = areaLight(e, s);
-      if (pmf > 0.0 && any(greaterThan(c, vec3(0.0))))
-        result += c * emitterVisible(e, o, 0.0) / pmf;
-    }
-#endif
-#endif
+    result = directLight(s, o);
   }
   imageStore(directOut, px, vec4(result, 1.0));
 }

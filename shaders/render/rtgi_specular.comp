@@ -8,16 +8,15 @@
 // Fresnel. Dielectrics rougher than kGlossyRoughness are skipped.
 //
 // RTGI_BVH (the effect plan has the specular effect and the Renderer built a BVH):
-// the reflected ray finds its hit on the exact triangles (bvh_trace.glsl) instead,
+// the reflected ray finds its hit on the exact triangles (rtgi_bvh.glsl) instead,
 // passes on through up to kMaxMirrorChain further mirrors, and is shaded there with
-// exact direct light, the rtgi_direct.comp estimators with shadow rays through the
-// BVH (RTGI_LIGHTS, RTGI_EMITTERS_EXACT / _SAMPLED as there), plus the voxels' light
-// along one cosine ray from the hit (the indirect stage's estimate), when the plan
-// has indirect light: voxels serve only as the light cache behind the hit. A mirror
-// sees an emitter it hits; a glossy surface does not (its highlight comes from the
-// shadows stage). RTGI_BVH_TEXTURES (a textured BVH): the material's textures at the hit
-// (base colour, metallic-roughness, emission), sampled as the path tracer samples
-// them (bilinear, no mipmaps). RTGI_BVH_COLORS: the vertex colours at the hit.
+// exact direct light (rtgi_direct_light.glsl, the shadows stage's estimators, with
+// shadow rays through the BVH) plus the voxels' light along one cosine ray from the
+// hit (the indirect stage's estimate), when the plan has indirect light: voxels
+// serve only as the light cache behind the hit. A mirror sees an emitter it hits; a
+// glossy surface does not (its highlight comes from the shadows stage).
+// RTGI_BVH_TEXTURES, _COLORS, _ALPHA: the material's textures, vertex colours and
+// alpha masks at the hit, as the path tracer reads them (rtgi_bvh.glsl).
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -33,118 +32,13 @@ layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
 
 #ifdef RTGI_BVH
-#include "pathtrace_shared.h"
-layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
-layout(binding = kRtgiBvhNodeUnit) uniform usamplerBuffer nodeTexels;
-layout(binding = kRtgiBvhTriangleUnit) uniform usamplerBuffer triangleTexels;
-layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
-uint loopBudget;  // see kPtLoopBudget
-const float kInf = 1.0 / 0.0;
+#include "rtgi_bvh.glsl"
 
-#ifdef RTGI_BVH_TEXTURES
-layout(std430, binding = kRtgiBvhTextureBinding) readonly buffer Textures { uvec4 textures[]; };
-layout(binding = kRtgiBvhUvUnit) uniform usamplerBuffer uvTexels;
-layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
-#define VOXGI_BVH_UVS
-#endif
-#ifdef RTGI_BVH_COLORS
-#define VOXGI_BVH_COLORS
-#define VOXGI_BVH_COLOR_BINDING kRtgiBvhColorBinding
-#endif
-#include "bvh_trace.glsl"
-
-#ifdef RTGI_BVH_TEXTURES
-// The path tracer's texture reads (texture_shared.h).
-#define VOXGI_TABLES_PARAM
-#define VOXGI_TABLES_ARG
-#define VOXGI_TEXEL(i) texelFetch(textureTexels, int(i)).x
-#define VOXGI_TEXTURE(i) textures[i]
-#include "texture_shared.h"
-#endif
-
-// Ray offset off a triangle: a thousandth of a voxel, scaled with the scene.
-float bvhEpsilon() { return 1e-3 * octreeVoxelSize(); }
-
-// 1 if nothing but emitters lies between p and the point `dist` away along unit l:
-// the emitter a shadow ray aims at does not shadow itself.
-float bvhVisible(vec3 p, vec3 l, float dist) {
-#ifdef VOXGI_NO_SHADOWS
-  return 1.0;
-#else
-  float t;
-  uint tri;
-  vec2 bc;
-  float tMax = min(dist, 3.0e38) * (1.0 - 1e-4);
-  if (!trace(p, l, tMax, false, t, tri, bc)) return 1.0;
-  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
-#ifdef RTGI_BVH_TEXTURES
-  // Where an emissive texture is black, the surface is no emitter: it shadows.
-  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) m = texturedMaterial(m, triangleUv(tri, bc));
-#endif
-  return m.emission.rgb != vec3(0.0) ? 1.0 : 0.0;
-#endif
+float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
+  return bvhVisible(o, l, dist, toEmitter, slack);
 }
 
-// Exact direct light reflected at s towards s.v, shadow rays from o (rtgi_direct.comp's
-// estimators, visibility through the BVH).
-vec3 directLight(Surface s, vec3 o) {
-  vec3 result = vec3(0.0);
-#ifdef RTGI_LIGHTS
-  int lightCount = int(rtgi.counts.x);
-  for (int k = 0; k < lightCount; ++k) {
-    vec3 c = punctualLight(lights[k], s);
-    if (all(equal(c, vec3(0.0)))) continue;
-    vec3 l;
-    float dist;
-    punctualDirection(lights[k], s.p, l, dist);
-    result += c * bvhVisible(o, l, dist);
-  }
-#endif
-#ifndef VOXGI_NO_EMISSION
-  int emitterCount = int(rtgi.counts.y);
-#if defined(RTGI_EMITTERS_EXACT)
-  {
-    vec3 sum = vec3(0.0);
-    float total = 0.0;
-    float u = rand01();
-    int pick = -1;
-    for (int k = 0; k < emitterCount; ++k) {
-      vec3 c = areaLight(emitters[k], s);
-      float w = dot(c, vec3(0.2126, 0.7152, 0.0722));
-      sum += c;
-      if (!(w > 0.0)) continue;
-      total += w;
-      float q = w / total;
-      if (u < q) {
-        pick = k;
-        u = u / q;
-      } else {
-        u = (u - q) / (1.0 - q);
-      }
-    }
-    if (pick >= 0) {
-      vec3 q = emitterPoint(emitters[pick], vec2(rand01(), rand01()));
-      vec3 d = q - o;
-      float dist = length(d);
-      result += sum * (dist > 0.0 ? bvhVisible(o, d / dist, dist) : 1.0);
-    }
-  }
-#elif defined(RTGI_EMITTERS_SAMPLED)
-  if (emitterCount > 0) {
-    float pmf;
-    GpuEmitter e = emitters[pickEmitter(rand01(), emitterCount, pmf)];
-    vec3 c = areaLight(e, s);
-    if (pmf > 0.0 && any(greaterThan(c, vec3(0.0)))) {
-      vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
-      vec3 d = q - o;
-      float dist = length(d);
-      result += c * (dist > 0.0 ? bvhVisible(o, d / dist, dist) : 1.0) / pmf;
-    }
-  }
-#endif
-#endif
-  return result;
-}
+#include "rtgi_direct_light.glsl"
 
 // Radiance arriving at o from unit direction dir: the nearest triangle's (after up to
 // kMaxMirrorChain mirrors) direct light, its voxel indirect light and, when

@@ -166,6 +166,11 @@ std::string renderHelp() {
          "                    light follows the view; a still camera accumulates on\n"
          "  --voxel-reflections  mirrors and glossy surfaces reflect the voxels they see\n"
          "                    (default: the exact triangles, through a BVH, lit exactly)\n"
+         "  --voxel-rays      shadow and indirect rays march the voxels, which stop them\n"
+         "                    too early near contacts (default: they hit the exact\n"
+         "                    triangles, through a BVH; the voxels give only the light\n"
+         "                    at an indirect ray's hit). A scene whose meshes move\n"
+         "                    always marches the voxels\n"
          "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces in the first\n"
          "                    estimate of the voxels' light (default 4; refinement adds more)\n"
@@ -333,6 +338,8 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->rtgi.sparseStart = true;
   } else if (a == "--voxel-reflections") {
     rs->rtgi.exactReflections = false;
+  } else if (a == "--voxel-rays") {
+    rs->rtgi.exactRays = false;
   } else if (a == "--reproject") {
     const std::string v = value();
     if (v != "on" && v != "off")

@@ -235,6 +235,10 @@ int runRender(const RenderOptions& o) {
     stats["interleave"] = renderer.rtgi()->settings().interleave;
     stats["reproject"] = renderer.rtgi()->settings().reproject;
     stats["history_cap"] = renderer.rtgi()->settings().historyCap;
+    stats["rays"] = renderer.rtgi()->raysHitTriangles() ? "triangles" : "voxels";
+    stats["reflections"] = !renderer.rtgi()->settings().specular ? "none"
+                           : renderer.rtgi()->tracesTriangles()  ? "triangles"
+                                                                 : "voxels";
     stats["traced_fraction"] = traced.empty() ? 1.0 : median(traced);
     if (o.render.targetFps > 0.0)
       stats["budget"] = {{"target_fps", o.render.targetFps},

@@ -158,11 +158,14 @@ void Renderer::createPasses() {
       budget_ = std::make_unique<FrameBudget>(1000.0 / settings_.targetFps, floor, 1.0, floor,
                                               FrameBudget::Gains{});
     }
-    // Reflections of the exact triangles need a BVH, built only when the plan has
-    // mirrors or glossy surfaces. An animated scene keeps the voxel reflections: its
-    // BVH would need a rebuild per pose.
+    // Reflections of the exact triangles need a BVH (when the plan has mirrors or
+    // glossy surfaces), and so do shadow and indirect rays on them. A scene whose
+    // meshes move keeps every ray on the voxels: its BVH would need a rebuild per
+    // pose (a moving camera or light leaves it as it is).
     std::shared_ptr<const GpuBvh> bvh;
-    if (rs.specular && rs.exactReflections && !scene_.animated()) bvh = sharedBvh();
+    const bool raysUseBvh = rs.exactRays && (rs.indirect || features.shadows);
+    if (((rs.specular && rs.exactReflections) || raysUseBvh) && !scene_.meshesAnimated())
+      bvh = sharedBvh();
     rtgi_ = std::make_unique<RtgiPass>(programs_, rs, std::move(bvh));
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});

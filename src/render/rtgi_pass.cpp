@@ -5,6 +5,7 @@
 
 #include "core/log.h"
 #include "octree_shared.h"
+#include "render/pathtrace_scene.h"
 #include "render/raster_pass.h"
 #include "scene_shared.h"
 
@@ -23,16 +24,48 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
 }
 
 void RtgiPass::buildOptionalStages() {
-  if (settings_.indirect && !indirect_)
+  // With a BVH the variants depend on the scene (indirectProgram, specularProgram).
+  if (settings_.indirect && !indirect_ && !raysHitTriangles())
     indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
-  // With a BVH the variant depends on the scene's lights (specularProgram).
-  if (settings_.specular && !specular_ && !bvh_)
+  if (settings_.specular && !specular_ && !tracesTriangles())
     specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
 }
 
-// The direct stage's variant for what the scene has (see rtgi_direct.comp).
+std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
+  std::vector<std::string> defines{"RTGI_BVH"};
+  if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
+  if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
+  if (ptReadsAlphaMasks(gs.scene(), settings_.features.alpha))
+    defines.emplace_back("RTGI_BVH_ALPHA");
+  return defines;
+}
+
+void RtgiPass::bindBvh(const GpuScene& gs) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  glBindTextureUnit(gpu::kRtgiBvhNodeUnit, bvh_->nodeTexels());
+  glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, bvh_->triangleTexels());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, bvh_->shading());
+  if (bvh_->textured()) {
+    glBindTextureUnit(gpu::kRtgiBvhUvUnit, bvh_->uvTexels());
+    glBindTextureUnit(gpu::kRtgiBvhTexelUnit, bvh_->textureTexels());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding, bvh_->textureTable());
+  }
+  if (settings_.features.colors && bvh_->colored())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
+}
+
+void RtgiPass::unbindBvh() const {
+  for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
+                   gpu::kRtgiBvhTexelUnit})
+    glBindTextureUnit(u, 0);
+}
+
+// The direct stage's variant for what the scene has (see rtgi_direct.comp), its
+// shadow rays through the BVH (RTGI_BVH) or the voxels.
 const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
   std::vector<std::string> defines = settings_.features.defines();
+  if (raysHitTriangles() && settings_.features.shadows)
+    for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
@@ -41,14 +74,18 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
   return programs_.get({{"render/rtgi_direct.comp"}, defines});
 }
 
+// The indirect stage's variant: the voxel march, or the triangles (RTGI_BVH).
+const gl::Program& RtgiPass::indirectProgram(const GpuScene& gs) {
+  if (!raysHitTriangles()) return *indirect_;
+  return programs_.get({{"render/rtgi_indirect.comp"}, bvhDefines(gs)});
+}
+
 // The specular stage's variant: the voxel march, or with a BVH (RTGI_BVH) the
 // triangles, shading the hit with the direct stage's scene variants.
 const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
-  if (!bvh_) return *specular_;
+  if (!tracesTriangles()) return *specular_;
   std::vector<std::string> defines = settings_.features.defines();
-  defines.emplace_back("RTGI_BVH");
-  if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
-  if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
+  for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
@@ -262,29 +299,11 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       glDispatchCompute(tx, ty, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
+  if (bvh_) bindBvh(gs);
   if (direct) run(shadows ? "shadows" : "direct", directProgram(gs));
-  if (settings_.indirect) run("indirect", *indirect_);
-  if (specular) {
-    if (bvh_) {
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-      glBindTextureUnit(gpu::kRtgiBvhNodeUnit, bvh_->nodeTexels());
-      glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, bvh_->triangleTexels());
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, bvh_->shading());
-      if (bvh_->textured()) {
-        glBindTextureUnit(gpu::kRtgiBvhUvUnit, bvh_->uvTexels());
-        glBindTextureUnit(gpu::kRtgiBvhTexelUnit, bvh_->textureTexels());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding,
-                         bvh_->textureTable());
-      }
-      if (settings_.features.colors && bvh_->colored())
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
-    }
-    run("specular", specularProgram(gs));
-    if (bvh_)
-      for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
-                       gpu::kRtgiBvhTexelUnit})
-        glBindTextureUnit(u, 0);
-  }
+  if (settings_.indirect) run("indirect", indirectProgram(gs));
+  if (specular) run("specular", specularProgram(gs));
+  if (bvh_) unbindBvh();
   // A sparse start: until every pixel has had its turn (n frames; a budget's list
   // includes the pattern), the variant that lends traced light to those still
   // waiting. It is a separate program because a SIMD software rasterizer would run

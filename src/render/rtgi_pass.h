@@ -60,6 +60,11 @@ class RtgiPass {
     // Reflections of the exact triangles (the Renderer then builds a BVH for the
     // specular stage); false: of the voxels, as before (no BVH).
     bool exactReflections = true;
+    // The shadow and indirect rays of the pixels find their hits on the exact
+    // triangles (the Renderer then builds a BVH); the voxels serve only as the light
+    // cache at an indirect ray's hit. false: the rays march the voxels, which stop
+    // them too early near contacts (the previous behaviour).
+    bool exactRays = true;
     // A camera move keeps the image: each pixel's history is reprojected onto the
     // surface it now shows (false: a move restarts accumulation).
     bool reproject = true;
@@ -70,8 +75,9 @@ class RtgiPass {
     uint32_t seed = 1;
   };
 
-  // `bvh`: the scene's triangles for the specular stage's rays; null: they march
-  // the voxels.
+  // `bvh`: the scene's triangles, for the specular stage's rays (with
+  // exactReflections) and the shadow and indirect rays (with exactRays); null: every
+  // ray marches the voxels.
   RtgiPass(gl::ProgramCache& programs, const Settings& settings,
            std::shared_ptr<const GpuBvh> bvh = nullptr);
   // Renders frame `frameIndex` of the accumulation (0 restarts it) into `accum`.
@@ -100,8 +106,12 @@ class RtgiPass {
   int maskWidth() const { return maskValid_ ? width_ : 0; }
   int maskHeight() const { return maskValid_ ? height_ : 0; }
   size_t targetBytes() const { return targetBytes_; }
-  // Whether the specular stage traces the exact triangles.
-  bool tracesTriangles() const { return bvh_ != nullptr; }
+  // Whether the specular stage runs and traces the exact triangles.
+  bool tracesTriangles() const {
+    return bvh_ != nullptr && settings_.specular && settings_.exactReflections;
+  }
+  // Whether the shadow and indirect rays do.
+  bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
 
  private:
   void resize(int width, int height);
@@ -116,6 +126,12 @@ class RtgiPass {
 
   const gl::Program& directProgram(const GpuScene& gs);
   const gl::Program& specularProgram(const GpuScene& gs);
+  const gl::Program& indirectProgram(const GpuScene& gs);
+  // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs.
+  std::vector<std::string> bvhDefines(const GpuScene& gs) const;
+  // The BVH's buffers, bound for the stages that trace it, or unbound (bvh_ set).
+  void bindBvh(const GpuScene& gs) const;
+  void unbindBvh() const;
   // The programs of the indirect and specular stages, built only when they run.
   void buildOptionalStages();
 

@@ -196,6 +196,10 @@ TEST(CliParse, ViewDefaultsAndOptions) {
   EXPECT_TRUE(parse({"render", "--sparse-start"}).render.render.rtgi.sparseStart);
   EXPECT_TRUE(parse({"render"}).render.render.rtgi.exactReflections);
   EXPECT_FALSE(parse({"render", "--voxel-reflections"}).render.render.rtgi.exactReflections);
+  EXPECT_TRUE(parse({"render"}).render.render.rtgi.exactRays);
+  EXPECT_FALSE(parse({"render", "--voxel-rays"}).render.render.rtgi.exactRays);
+  EXPECT_TRUE(parse({"render", "--voxel-rays"}).render.render.rtgi.exactReflections);
+  EXPECT_FALSE(parse({"view", "--voxel-rays"}).view.render.rtgi.exactRays);
   inv = parse({"view",         "s.glb",  "--size",           "320x200", "--frames",  "30",
                "--screenshot", "a.png",  "--screenshot-dir", "shots",   "--keys",    "10:2,5:+",
                "--stats",      "s.json", "--exposure",       "2",       "--tonemap", "aces",

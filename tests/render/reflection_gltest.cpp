@@ -110,7 +110,7 @@ class ReflectionTest : public GlProgramsTest {
     for (size_t i = 0; i < rgba.size(); i += 4)
       out.linear.pixels.insert(out.linear.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
     out.display = r.readDisplay();
-    out.bvh = r.bvh() != nullptr;
+    out.bvh = r.rtgi() != nullptr && r.rtgi()->tracesTriangles();
     return out;
   }
 };
@@ -212,10 +212,11 @@ TEST_F(ReflectionTest, TexturedHitsReadTheirBaseColour) {
   EXPECT_NEAR(m.meanLuminanceRatio, 1.0, 0.03);
 }
 
-// The effect plan decides: a scene without mirrors or glossy surfaces builds no BVH
-// in rtgi (nor any specular stage); one with a mirror does, and records its build as
-// the "bvh" start-up stage.
-TEST_F(ReflectionTest, OnlyAPlanWithMirrorsBuildsABvh) {
+// The effect plan decides: a scene without mirrors or glossy surfaces has no
+// specular stage; rtgi builds a BVH for its shadow and indirect rays (recording its
+// build as the "bvh" start-up stage), and with --voxel-rays none at all. One with a
+// mirror builds it for its reflections too.
+TEST_F(ReflectionTest, OnlyAPlanWithMirrorsReflectsTheBvh) {
   SceneBuilder b;
   const int grey = b.addMaterial(glm::vec3(0.6f));
   b.addBox({-1.0f, -1.1f, -1.0f}, {1.0f, -1.0f, 1.0f}, grey);
@@ -235,17 +236,32 @@ TEST_F(ReflectionTest, OnlyAPlanWithMirrorsBuildsABvh) {
   {
     render::Renderer r(*programs_, diffuse, rs);
     r.renderFrame();
-    EXPECT_EQ(r.bvh(), nullptr);
-    EXPECT_FALSE(startupHasBvh(r));
+    ASSERT_NE(r.bvh(), nullptr);
+    EXPECT_TRUE(startupHasBvh(r));
+    EXPECT_TRUE(r.rtgi()->raysHitTriangles());
+    EXPECT_FALSE(r.rtgi()->tracesTriangles());
   }
   const scene::Scene mirror = mirrorAndChecker();
   {
     render::Renderer r(*programs_, mirror, rs);
     r.renderFrame();
     ASSERT_NE(r.bvh(), nullptr);
-    EXPECT_TRUE(startupHasBvh(r));
     EXPECT_EQ(r.bvh()->bvh().triangleCount(), mirror.triangleCount());
     ASSERT_NE(r.rtgi(), nullptr);
+    EXPECT_TRUE(r.rtgi()->tracesTriangles());
+  }
+  rs.rtgi.exactRays = false;
+  {
+    render::Renderer r(*programs_, diffuse, rs);
+    r.renderFrame();
+    EXPECT_EQ(r.bvh(), nullptr);
+    EXPECT_FALSE(startupHasBvh(r));
+  }
+  {
+    render::Renderer r(*programs_, mirror, rs);
+    r.renderFrame();
+    ASSERT_NE(r.bvh(), nullptr);
+    EXPECT_FALSE(r.rtgi()->raysHitTriangles());
     EXPECT_TRUE(r.rtgi()->tracesTriangles());
   }
   rs.rtgi.exactReflections = false;

@@ -28,7 +28,8 @@
 namespace voxgi::test {
 namespace {
 
-std::vector<float> render(const std::string& path, render::Mode mode, uint32_t seed) {
+std::vector<float> render(const std::string& path, render::Mode mode, uint32_t seed,
+                          bool voxelRays) {
   const scene::Scene s = scene::loadGltf(path);
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::RenderSettings rs;
@@ -37,6 +38,7 @@ std::vector<float> render(const std::string& path, render::Mode mode, uint32_t s
   rs.spp = 16;
   rs.pathtrace.seed = seed;
   rs.rtgi.seed = seed;
+  rs.rtgi.exactRays = !voxelRays;
   rs.octree.seed = seed;
   rs.voxels = 64;
   render::Renderer r(programs, s, rs);
@@ -74,12 +76,16 @@ const Variant kVariants[] = {{"translated 1e4", glm::dvec3(1e4, -1e4, 1e4), 1.0}
                              {"scaled 1e-3", glm::dvec3(0.0), 1e-3},
                              {"scaled 1e3", glm::dvec3(0.0), 1e3}};
 
-void expectScaleInvariant(const std::string& source, render::Mode mode) {
-  const std::vector<float> original = render(source, mode, 1);
+// `voxelRays`: rtgi's rays march the voxels only (every ray in voxel units: the image
+// is the same to float rounding, bound 1e-3). Otherwise rtgi's rays hit the triangles
+// in world units, and rounding may send a ray elsewhere, as in the path tracer.
+void expectScaleInvariant(const std::string& source, render::Mode mode, bool voxelRays = false) {
+  const std::vector<float> original = render(source, mode, 1, voxelRays);
   ASSERT_TRUE(allFinite(original));
   ASSERT_GT(mean(original), 0.0);
-  const bool noisy = mode == render::Mode::kPathtrace;
-  const double noise = noisy ? relRmse(render(source, mode, 2), original) : 0.0;
+  const bool noisy =
+      mode == render::Mode::kPathtrace || (mode == render::Mode::kRtgi && !voxelRays);
+  const double noise = noisy ? relRmse(render(source, mode, 2, voxelRays), original) : 0.0;
   for (const Variant& v : kVariants) {
     SCOPED_TRACE(v.name);
     const std::string path = writeTransformedGltf(source, v.translation, v.scale);
@@ -88,7 +94,7 @@ void expectScaleInvariant(const std::string& source, render::Mode mode) {
     EXPECT_NEAR(b.bounds.diagonal() / a.bounds.diagonal(), v.scale, 1e-4 * v.scale);
     const glm::dvec3 shift = b.origin - (a.origin * v.scale + v.translation);
     EXPECT_LT(glm::length(shift), 1e-6 * (glm::length(v.translation) + v.scale));
-    const std::vector<float> moved = render(path, mode, 1);
+    const std::vector<float> moved = render(path, mode, 1, voxelRays);
     ASSERT_TRUE(allFinite(moved));
     const double diff = relRmse(moved, original);
     const double meanRatio = mean(moved) / mean(original);
@@ -105,10 +111,17 @@ TEST_F(ScaleInvarianceTest, CornellRoomPathtrace) {
   expectScaleInvariant(cornellRoom(), render::Mode::kPathtrace);
 }
 
-// rtgi: the grid is fitted to the scene and every ray is marched in voxel units, so
-// the voxels, the rays and the image are the same at any position and scale.
+// rtgi: the grid is fitted to the scene, and the rays hit the triangles with offsets
+// relative to the voxel size, so the image is the same at any position and scale up
+// to where rounding sends a ray elsewhere.
 TEST_F(ScaleInvarianceTest, CornellRoomRtgi) {
   expectScaleInvariant(cornellRoom(), render::Mode::kRtgi);
+}
+
+// With --voxel-rays every ray is marched in voxel units: the voxels, the rays and the
+// image are the same to float rounding.
+TEST_F(ScaleInvarianceTest, CornellRoomRtgiVoxelRays) {
+  expectScaleInvariant(cornellRoom(), render::Mode::kRtgi, true);
 }
 
 TEST_F(ScaleInvarianceTest, CornellRoomRaster) {

@@ -1,0 +1,89 @@
+// The scene's exact triangles for rtgi's rays (RTGI_BVH; render/gpu_bvh.h): the BVH's
+// bindings, its traversal (bvh_trace.glsl), the ray offset off a triangle and shadow
+// rays. RTGI_BVH_TEXTURES (a textured BVH): the material's textures at a hit, read as
+// the path tracer reads them (bilinear, no mipmaps). RTGI_BVH_COLORS: the vertex
+// colours at a hit. RTGI_BVH_ALPHA (the scene has alpha-masked materials): a hit on a
+// masked-out texel does not stop a ray, as in the path tracer. Include after
+// scene_shared.h and octree.glsl.
+#ifndef VOXGI_RTGI_BVH_GLSL
+#define VOXGI_RTGI_BVH_GLSL
+
+#include "pathtrace_shared.h"
+layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
+layout(binding = kRtgiBvhNodeUnit) uniform usamplerBuffer nodeTexels;
+layout(binding = kRtgiBvhTriangleUnit) uniform usamplerBuffer triangleTexels;
+layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
+uint loopBudget;  // see kPtLoopBudget
+const float kInf = 1.0 / 0.0;
+
+#ifdef RTGI_BVH_TEXTURES
+layout(std430, binding = kRtgiBvhTextureBinding) readonly buffer Textures { uvec4 textures[]; };
+layout(binding = kRtgiBvhUvUnit) uniform usamplerBuffer uvTexels;
+layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
+#define VOXGI_BVH_UVS
+#endif
+#ifdef RTGI_BVH_COLORS
+#define VOXGI_BVH_COLORS
+#define VOXGI_BVH_COLOR_BINDING kRtgiBvhColorBinding
+#endif
+#ifdef RTGI_BVH_ALPHA
+#define VOXGI_BVH_ALPHA
+#endif
+#include "bvh_trace.glsl"
+
+#if defined(RTGI_BVH_TEXTURES) || defined(RTGI_BVH_ALPHA)
+// The path tracer's texture reads (texture_shared.h).
+#define VOXGI_TABLES_PARAM
+#define VOXGI_TABLES_ARG
+#ifdef RTGI_BVH_TEXTURES
+#define VOXGI_TEXEL(i) texelFetch(textureTexels, int(i)).x
+#define VOXGI_TEXTURE(i) textures[i]
+#else
+#define VOXGI_TEXEL(i) 0u
+#endif
+#include "texture_shared.h"
+#endif
+
+#ifdef RTGI_BVH_ALPHA
+bool bvhHitStops(uint tri, vec2 bc) {
+  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+#ifdef RTGI_BVH_COLORS
+  m.baseColor *= triangleColor(tri, bc);
+#endif
+#ifdef RTGI_BVH_TEXTURES
+  uvec4 t = (m.flags & kMaterialHasTexture) != 0u ? textures[m.texture] : uvec4(0u);
+  return alphaStops(m, true, t, triangleUv(tri, bc));
+#else
+  return alphaStops(m, false, uvec4(0u), vec2(0.0));
+#endif
+}
+#endif
+
+// Ray offset off a triangle: a thousandth of a voxel, scaled with the scene.
+float bvhEpsilon() { return 1e-3 * octreeVoxelSize(); }
+
+// 1 if nothing lies between p and the point `dist` away along unit l. `toEmitter`:
+// that point was drawn on an emitter, which must not shadow itself: a hit on an
+// emitter no more than `slack` before the point counts as the light (a point on a
+// cluster's disk lies up to the disk's radius off its facets).
+float bvhVisible(vec3 p, vec3 l, float dist, bool toEmitter, float slack) {
+#ifdef VOXGI_NO_SHADOWS
+  return 1.0;
+#else
+  float t;
+  uint tri;
+  vec2 bc;
+  loopBudget = kPtLoopBudget;
+  float tMax = min(dist, 3.0e38) * (1.0 - 1e-4);
+  if (!trace(p, l, tMax, !toEmitter, t, tri, bc)) return 1.0;
+  if (!toEmitter || t < dist * (1.0 - 1e-3) - slack) return 0.0;
+  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+#ifdef RTGI_BVH_TEXTURES
+  // Where an emissive texture is black, the surface is no emitter: it shadows.
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) m = texturedMaterial(m, triangleUv(tri, bc));
+#endif
+  return m.emission.rgb != vec3(0.0) ? 1.0 : 0.0;
+#endif
+}
+
+#endif  // VOXGI_RTGI_BVH_GLSL
