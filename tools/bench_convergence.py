@@ -3,8 +3,7 @@
 For each view (cornell_room from its camera and from a second viewpoint, dark_plane),
 renders rtgi at 1, 4, 16, 64 and 256 accumulated frames with the current defaults,
 one row with the previous design's settings as the anchor of the same run
-(--bounces 2 --refine-rays 0 --no-jitter: two bounces frozen at start-up, pixel
-centres), and the path tracer at 1, 4, 16 and 64 spp. Each image is measured against
+(--voxel-rays: shadow and indirect rays marching the voxels), and the path tracer at 1, 4, 16 and 64 spp. Each image is measured against
 the view's path-traced reference (FLIP on sRGB 8-bit, RMSE and mean luminance ratio
 from `voxgi compare`). Time to the image is the render's total_ms: every frame
 accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
@@ -36,7 +35,7 @@ VIEWS = [
 ]
 FRAMES = [1, 4, 16, 64, 256]
 SPP = [1, 4, 16, 64]
-ANCHOR = ["--bounces", "2", "--refine-rays", "0", "--no-jitter"]
+ANCHOR = ["--voxel-rays"]
 
 
 def voxgi():
