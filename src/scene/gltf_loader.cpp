@@ -1088,6 +1088,7 @@ class Loader {
     if (img.image.empty() || img.width <= 0 || img.height <= 0)
       fail(strf("image %d: missing or unreadable image '%s'", source, img.uri.c_str()));
     Texture t;
+    if (tex.sampler != -1) readSampler(tex.sampler, &t);
     t.name = img.uri.empty() ? img.name : img.uri;
     t.width = img.width;
     t.height = img.height;
@@ -1097,6 +1098,37 @@ class Loader {
     const int id = static_cast<int>(scene_.textures.size() - 1);
     textureMap_[{index, srgb}] = id;
     return id;
+  }
+
+  // Sampler `index`'s wrap modes and filters into `t`; a field the sampler leaves
+  // out keeps the default (repeat; linear, trilinear).
+  void readSampler(int index, Texture* t) const {
+    const auto& s = model_.samplers[static_cast<size_t>(index)];
+    const std::string at = strf("samplers[%d]", index);
+    auto wrap = [&](int w, const char* field) {
+      if (w != kWrapRepeat && w != kWrapClampToEdge && w != kWrapMirroredRepeat)
+        fail(
+            strf("%s.%s %d: not REPEAT (10497), CLAMP_TO_EDGE (33071) or MIRRORED_REPEAT "
+                 "(33648)",
+                 at.c_str(), field, w));
+      return w;
+    };
+    t->wrapS = wrap(s.wrapS, "wrapS");
+    t->wrapT = wrap(s.wrapT, "wrapT");
+    if (s.magFilter != -1) {
+      if (s.magFilter != kFilterNearest && s.magFilter != kFilterLinear)
+        fail(strf("%s.magFilter %d: not NEAREST (9728) or LINEAR (9729)", at.c_str(), s.magFilter));
+      t->magFilter = s.magFilter;
+    }
+    if (s.minFilter != -1) {
+      if (s.minFilter != kFilterNearest && s.minFilter != kFilterLinear &&
+          (s.minFilter < kFilterNearestMipmapNearest || s.minFilter > kFilterLinearMipmapLinear))
+        fail(
+            strf("%s.minFilter %d: not NEAREST, LINEAR or one of their MIPMAP variants "
+                 "(9728, 9729, 9984-9987)",
+                 at.c_str(), s.minFilter));
+      t->minFilter = s.minFilter;
+    }
   }
 
   void traverse() {

@@ -411,6 +411,33 @@ TEST(GltfLoaderAccessors, SparseVertexSubstituted) {
   EXPECT_EQ(s.vertices[2].position + glm::vec3(s.origin), glm::vec3(1.0f, 1.0f, 0.0f));
 }
 
+// --- samplers (tests/data/samplers) ------------------------------------------------
+
+TEST(GltfLoaderSamplers, WrapAndFilterAsTheFileStates) {
+  const std::string dir = test::testDataDir() + "/samplers";
+  const Scene s = loadGltf(dir + "/wrap_clamp_mirror_nearest.gltf");
+  ASSERT_EQ(s.textures.size(), 1u);
+  const Texture& t = s.textures[0];
+  EXPECT_EQ(t.wrapS, kWrapClampToEdge);
+  EXPECT_EQ(t.wrapT, kWrapMirroredRepeat);
+  EXPECT_EQ(t.magFilter, kFilterNearest);
+  EXPECT_EQ(t.minFilter, kFilterNearest);
+  EXPECT_TRUE(t.srgb);  // emissive: colour
+  EXPECT_EQ(t.tableFlags(), 1u | 2u | (1u << 2) | (2u << 4));
+  const Texture& linear = loadGltf(dir + "/wrap_repeat_clamp_linear.gltf").textures[0];
+  EXPECT_EQ(linear.wrapS, kWrapRepeat);
+  EXPECT_EQ(linear.wrapT, kWrapClampToEdge);
+  EXPECT_EQ(linear.magFilter, kFilterLinear);
+  EXPECT_EQ(linear.minFilter, kFilterLinear);
+  // No sampler: repeat, bilinear, trilinear.
+  const Texture& d = loadGltf(dir + "/no_sampler.gltf").textures[0];
+  EXPECT_EQ(d.wrapS, kWrapRepeat);
+  EXPECT_EQ(d.wrapT, kWrapRepeat);
+  EXPECT_EQ(d.magFilter, kFilterLinear);
+  EXPECT_EQ(d.minFilter, kFilterLinearMipmapLinear);
+  EXPECT_EQ(d.tableFlags(), 1u);
+}
+
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 
 // The duck has a base-colour texture; the avocado a base-colour (sRGB) and a

@@ -468,6 +468,28 @@ def _(g):
     g["accessors"][0]["normalized"] = True
 
 
+# Samplers of a texture a material reads.
+@case("sampler_bad_wrap.gltf", "samplers[0].wrapT 10498: not REPEAT")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"wrapT": 10498}]
+    return to_json(g)
+
+
+@case("sampler_bad_mag_filter.gltf", "samplers[0].magFilter 9984: not NEAREST (9728) or LINEAR (9729)")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"magFilter": 9984}]
+    return to_json(g)
+
+
+@case("sampler_bad_min_filter.gltf", "samplers[0].minFilter 9730")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"minFilter": 9730}]
+    return to_json(g)
+
+
 @case("normal_count_mismatch.gltf", "counts differ")
 def _():
     g = scene(normals=True)
