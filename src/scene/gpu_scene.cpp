@@ -158,7 +158,9 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     // The whole mip chain, whatever the sampler: a minification filter without
     // mipmaps reads level 0 only.
     glGenerateTextureMipmap(tex.id());
-    bytes_ += t.rgba8.size() * 4 / 3;
+    for (int l = 0; l < levels; ++l)
+      textureBytes_ += static_cast<size_t>(std::max(t.width >> l, 1)) *
+                       static_cast<size_t>(std::max(t.height >> l, 1)) * 4;
     textures_.push_back(std::move(tex));
     // The file's sampler (glTF's values are the GL enums).
     gl::Sampler sampler = gl::createSampler();
@@ -168,6 +170,7 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_T, t.wrapT);
     samplers_.push_back(std::move(sampler));
   }
+  bytes_ += textureBytes_;
   sampler_ = gl::createSampler();
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);

@@ -60,6 +60,8 @@ class GpuScene {
   void bindMaterialTextures(const Material& m) const;
   static void unbindMaterialTextures();
   size_t bytes() const { return bytes_; }
+  // Of bytes(): the textures, every mip level (RGBA8 or sRGB8_ALPHA8, 4 bytes a texel).
+  size_t textureBytes() const { return textureBytes_; }
 
   static std::vector<gpu::GpuMaterial> packMaterials(const Scene& s);
   static std::vector<gpu::GpuLight> packLights(const Scene& s);
@@ -79,7 +81,7 @@ class GpuScene {
   std::vector<gl::Sampler> samplers_;  // per texture
   gl::Sampler sampler_;
   int lightCount_ = 0, emitterCount_ = 0;
-  size_t bytes_ = 0;
+  size_t bytes_ = 0, textureBytes_ = 0;
 };
 
 }  // namespace voxgi::scene
