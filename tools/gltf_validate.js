@@ -11,7 +11,7 @@
 //   - a sample (not in tests/data/malformed, or in its valid/ folder) with no such
 //     error loads: exit 0.
 // Corpus files the validator passes may still be refused: those are voxgi's own
-// limits (sparse accessors, texture size, float range), listed as "voxgi only".
+// limits (texture size, float range, sampler values), listed as "voxgi only".
 'use strict';
 
 const fs = require('fs');

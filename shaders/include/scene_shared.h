@@ -42,6 +42,17 @@ VOXGI_CONST uint kMaterialAlphaMask = 4u;
 VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
 VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
 
+// The texture table's flags (the w of each entry; render/pathtrace_scene.h, read by
+// texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap
+// mode per axis (scene::Texture::tableFlags).
+VOXGI_CONST uint kTextureSrgb = 1u;
+VOXGI_CONST uint kTextureNearest = 2u;  // glTF magFilter NEAREST: the texel under uv
+VOXGI_CONST uint kTextureWrapSShift = 2u;
+VOXGI_CONST uint kTextureWrapTShift = 4u;
+VOXGI_CONST uint kTextureRepeat = 0u;
+VOXGI_CONST uint kTextureClampToEdge = 1u;
+VOXGI_CONST uint kTextureMirroredRepeat = 2u;
+
 // Light types (KHR_lights_punctual).
 VOXGI_CONST uint kLightDirectional = 0u;
 VOXGI_CONST uint kLightPoint = 1u;

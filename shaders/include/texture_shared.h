@@ -36,11 +36,13 @@ struct PtTables {
 #endif
 
 // --- textures -----------------------------------------------------------------------
-// One texel of texture t = (first texel, width, height, sRGB), linear: colour
-// textures (t.w 1) are decoded from sRGB, data textures read as they are.
+// A texture's table entry t = (first texel, width, height, flags): kTextureSrgb,
+// kTextureNearest and each axis's wrap mode (scene_shared.h).
+// One texel of texture t, linear: colour textures (kTextureSrgb) are decoded from
+// sRGB, data textures read as they are.
 VOXGI_FN vec4 srgbTexel(VOXGI_TABLES_PARAM uvec4 t, ivec2 p) {
   vec4 c = unpackUnorm4x8(VOXGI_TEXEL(t.x + uint(p.y) * t.y + uint(p.x)));
-  if (t.w == 0u) return c;
+  if ((t.w & kTextureSrgb) == 0u) return c;
   vec3 rgb = vec3(c);
   vec3 lo = rgb / 12.92f;
   vec3 hi = pow((rgb + 0.055f) / 1.055f, vec3(2.4f));
@@ -48,17 +50,47 @@ VOXGI_FN vec4 srgbTexel(VOXGI_TABLES_PARAM uvec4 t, ivec2 p) {
               c.b <= 0.04045f ? lo.b : hi.b, c.a);
 }
 
-// Texture t at uv, bilinear over linear (decoded) texels, repeating as the raster
-// sampler does. No mipmaps: paths jittered over the pixel average the footprint.
+// One texture coordinate brought into the range its wrap mode repeats over: [0, 1)
+// for REPEAT, [0, 2) for MIRRORED_REPEAT (a period is the texture and its mirror
+// image), [0, 1] for CLAMP_TO_EDGE. Keeps the precision of large coordinates.
+VOXGI_FN float wrapCoordinate(float u, uint mode) {
+  if (mode == kTextureClampToEdge) return clamp(u, 0.0f, 1.0f);
+  if (mode == kTextureMirroredRepeat) return 2.0f * fract(0.5f * u);
+  return fract(u);
+}
+
+// Texel index i of an axis of n texels under `mode`, as GL wraps it; i is in
+// [-1, 2n], what sampleTexture makes of a wrapped coordinate.
+VOXGI_FN int wrapTexel(int i, int n, uint mode) {
+  if (mode == kTextureClampToEdge) return clamp(i, 0, n - 1);
+  if (mode == kTextureMirroredRepeat) {
+    int m = i < 0 ? i + 2 * n : (i >= 2 * n ? i - 2 * n : i);
+    return m >= n ? 2 * n - 1 - m : m;
+  }
+  return i < 0 ? i + n : (i >= n ? i - n : i);
+}
+
+// Texture t at uv over linear (decoded) texels, wrapped per axis as the file's
+// sampler says (as the raster's GL sampler does); bilinear, or the nearest texel
+// when its magnification filter is NEAREST. No mipmaps: paths jittered over the
+// pixel average the footprint.
 VOXGI_FN vec4 sampleTexture(VOXGI_TABLES_PARAM uvec4 t, vec2 uv) {
   ivec2 size = ivec2(int(t.y), int(t.z));
   if (isnan(uv.x) || isinf(uv.x)) uv.x = 0.0f;
   if (isnan(uv.y) || isinf(uv.y)) uv.y = 0.0f;
-  vec2 x = fract(uv) * vec2(size) - 0.5f;  // in [-0.5, size - 0.5)
+  uint ws = (t.w >> kTextureWrapSShift) & 3u;
+  uint wt = (t.w >> kTextureWrapTShift) & 3u;
+  // In texel units, texel centres at integers: [-0.5, size - 0.5) for REPEAT.
+  vec2 x = vec2(wrapCoordinate(uv.x, ws), wrapCoordinate(uv.y, wt)) * vec2(size) - 0.5f;
+  if ((t.w & kTextureNearest) != 0u) {
+    ivec2 p = ivec2(floor(x + 0.5f));
+    return srgbTexel(VOXGI_TABLES_ARG t,
+                     ivec2(wrapTexel(p.x, size.x, ws), wrapTexel(p.y, size.y, wt)));
+  }
   vec2 f = x - floor(x);
-  ivec2 i0 = ivec2(floor(x));  // -1 .. size - 1
-  ivec2 a = ivec2(i0.x < 0 ? i0.x + size.x : i0.x, i0.y < 0 ? i0.y + size.y : i0.y);
-  ivec2 b = ivec2(a.x + 1 >= size.x ? 0 : a.x + 1, a.y + 1 >= size.y ? 0 : a.y + 1);
+  ivec2 i0 = ivec2(floor(x));
+  ivec2 a = ivec2(wrapTexel(i0.x, size.x, ws), wrapTexel(i0.y, size.y, wt));
+  ivec2 b = ivec2(wrapTexel(i0.x + 1, size.x, ws), wrapTexel(i0.y + 1, size.y, wt));
   return mix(
       mix(srgbTexel(VOXGI_TABLES_ARG t, a), srgbTexel(VOXGI_TABLES_ARG t, ivec2(b.x, a.y)), f.x),
       mix(srgbTexel(VOXGI_TABLES_ARG t, ivec2(a.x, b.y)), srgbTexel(VOXGI_TABLES_ARG t, b), f.x),

@@ -274,6 +274,10 @@ int runRender(const RenderOptions& o) {
   }
   stats["scene_warnings"] = scene.warnings;
   stats["gpu_scene_bytes"] = gs.bytes();
+  const render::Renderer::TextureMemory tm = renderer.textureMemory();
+  stats["texture_bytes"] = {
+      {"gpu", tm.gpu()}, {"gl_textures", tm.glTextures},   {"bvh_texels", tm.bvhTexels},
+      {"cpu", tm.cpu()}, {"scene_images", tm.sceneImages}, {"cpu_pathtracer", tm.cpuPathtracer}};
   if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
     const voxel::VoxelGridStats& vs = grid->stats();
     stats["voxels"] = {

@@ -510,6 +510,9 @@ void Viewer::drawPanel() {
   }
   if (ImGui::CollapsingHeader("Memory")) {
     ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
+    const render::Renderer::TextureMemory tm = renderer_->textureMemory();
+    ImGui::Text("textures: %s on the GPU, %s on the CPU", mib(tm.gpu()).c_str(),
+                mib(tm.cpu()).c_str());
     ImGui::Text("render targets: %s", mib(renderer_->targetBytes()).c_str());
     if (const voxel::VoxelizePass* grid = renderer_->voxelGrid()) {
       const voxel::VoxelGridStats& v = grid->stats();
@@ -580,6 +583,8 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["effects"] = {{"enabled", renderer_->effects().enabledList()},
                       {"skipped", renderer_->effects().skipped}};
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
+  stats["texture_bytes"] = {{"gpu", renderer_->textureMemory().gpu()},
+                            {"cpu", renderer_->textureMemory().cpu()}};
   stats["animated"] = scene_->animated();
   if (scene_->animated()) {
     stats["animation_time"] = animationTime_;

@@ -85,6 +85,7 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
     textureTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
     glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
     textureTable_ = upload(table.data(), table.size() * sizeof(glm::uvec4));
+    textureBytes_ = pixels.size() * 4 + table.size() * sizeof(glm::uvec4);
   }
   if (s.hasVertexColors()) {
     std::vector<glm::vec4> colors(3 * order.size());

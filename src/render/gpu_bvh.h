@@ -38,6 +38,8 @@ class GpuBvh {
   GLuint colors() const { return colors_.id(); }
   int emissiveTriangles() const { return emissiveCount_; }
   size_t gpuBytes() const { return gpuBytes_; }
+  // Of gpuBytes(): the textures' texels and their table (0 unless textured()).
+  size_t textureBytes() const { return textureBytes_; }
 
   // Node and triangle texels (RGBA32UI buffer textures), the shading SSBO (one
   // GpuPtShading per triangle, BVH order), the emissive triangles (GpuPtEmissive,
@@ -56,7 +58,7 @@ class GpuBvh {
   double buildMs_ = 0.0;
   bool textured_ = false;
   int emissiveCount_ = 0;
-  size_t gpuBytes_ = 0;
+  size_t gpuBytes_ = 0, textureBytes_ = 0;
   gl::Buffer nodes_, triangles_, shading_, emissive_;
   gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
   gl::Buffer uvs_, texels_, textureTable_, colors_;

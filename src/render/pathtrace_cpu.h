@@ -48,6 +48,9 @@ class CpuPathtracer final : public Pathtracer {
   double bvhBuildMs() const override { return bvhMs_; }
   size_t bvhNodes() const override { return 0; }  // Embree does not report it
   PathtraceDevice device() const override { return PathtraceDevice::kCpu; }
+  size_t hostTextureBytes() const override {
+    return texels_.size() * sizeof(uint32_t) + textureTable_.size() * sizeof(glm::uvec4);
+  }
   int threads() const;
 
   // The mean of all samples so far, RGBA, rows bottom first (as the GL texture).

@@ -131,7 +131,7 @@ void buildPtTextures(const scene::Scene& s, std::vector<glm::uvec4>* table,
   texels->clear();
   for (const scene::Texture& t : s.textures) {
     table->push_back(
-        glm::uvec4(static_cast<uint32_t>(texels->size()), t.width, t.height, t.srgb ? 1u : 0u));
+        glm::uvec4(static_cast<uint32_t>(texels->size()), t.width, t.height, t.tableFlags()));
     const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
     VOXGI_CHECK_EQ(t.rgba8.size(), n * 4);
     const size_t first = texels->size();

@@ -46,7 +46,8 @@ bool ptReadsTextures(const scene::Scene& scene, bool allowed);
 bool ptReadsAlphaMasks(const scene::Scene& scene, bool allowed);
 
 // Every texture's RGBA8 texels, one uint each, rows top first, in one array;
-// table[i] = (first texel of texture i, width, height, 1 if sRGB-encoded).
+// table[i] = (first texel of texture i, width, height, its flags: sRGB, wrap modes,
+// nearest magnification; scene::Texture::tableFlags).
 void buildPtTextures(const scene::Scene& scene, std::vector<glm::uvec4>* table,
                      std::vector<uint32_t>* texels);
 

@@ -84,6 +84,9 @@ class Pathtracer {
   virtual double bvhBuildMs() const = 0;
   virtual size_t bvhNodes() const = 0;
   virtual PathtraceDevice device() const = 0;
+  // Texels this device keeps in host memory for its texture reads (the CPU
+  // device's copy; 0 on the GL device, whose texels are in the shared GpuBvh).
+  virtual size_t hostTextureBytes() const { return 0; }
 };
 
 }  // namespace voxgi::render

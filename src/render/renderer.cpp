@@ -294,6 +294,15 @@ size_t Renderer::targetBytes() const {
          (16 + 4 + 4);
 }
 
+Renderer::TextureMemory Renderer::textureMemory() const {
+  TextureMemory m;
+  m.glTextures = gpuScene_.textureBytes();
+  if (bvh_) m.bvhTexels = bvh_->textureBytes();
+  for (const scene::Texture& t : scene_.textures) m.sceneImages += t.rgba8.size();
+  if (pathtrace_) m.cpuPathtracer = pathtrace_->hostTextureBytes();
+  return m;
+}
+
 void Renderer::warmUp() {
   if (settings_.mode != Mode::kPathtrace) {
     renderFrame();

@@ -131,6 +131,17 @@ class Renderer {
   // mode needs one (rtgi only with the specular effect in the plan).
   const GpuBvh* bvh() const { return bvh_.get(); }
 
+  // Decoded texture data. On the GPU: the scene's GL textures with their mip chains,
+  // and the texels the BVH's texture reads use (path tracer on GL, rtgi's
+  // reflections), when built. On the CPU: the scene's decoded images (kept for
+  // re-uploads and emitter measurement) and the CPU path tracer's copy, when built.
+  struct TextureMemory {
+    size_t glTextures = 0, bvhTexels = 0, sceneImages = 0, cpuPathtracer = 0;
+    size_t gpu() const { return glTextures + bvhTexels; }
+    size_t cpu() const { return sceneImages + cpuPathtracer; }
+  };
+  TextureMemory textureMemory() const;
+
   // Re-creates the targets at width x height (checked as in the constructor).
   void resize(int width, int height);
   void setMode(Mode mode);

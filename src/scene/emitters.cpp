@@ -46,7 +46,14 @@ void measureEmissiveTextures(Scene* scene) {
     std::memcpy(texels.data(), tex.rgba8.data(), n * 4);
     const gpu::PtTables tables{nullptr, texels.data(), nullptr};
     const glm::uvec4 entry(0u, static_cast<uint32_t>(w), static_cast<uint32_t>(h),
-                           tex.srgb ? 1u : 0u);
+                           tex.tableFlags());
+    const uint32_t wrapS = (entry.w >> gpu::kTextureWrapSShift) & 3u;
+    const uint32_t wrapT = (entry.w >> gpu::kTextureWrapTShift) & 3u;
+    // Any texel index to the texel the sampler reads there (wrapTexel takes [-1, 2n]).
+    auto wrap = [](int i, int extent, uint32_t mode) {
+      if (mode != gpu::kTextureClampToEdge) i = ((i % (2 * extent)) + 2 * extent) % (2 * extent);
+      return gpu::wrapTexel(i, extent, mode);
+    };
     // Each byte value decoded as the shared texel read decodes it.
     std::array<float, 256> decoded;
     for (uint32_t v = 0; v < 256; ++v) {
@@ -60,7 +67,7 @@ void measureEmissiveTextures(Scene* scene) {
       // Corners in texel space: texel (i, j) has its centre at (i, j).
       glm::vec2 q[3];
       for (int k = 0; k < 3; ++k) q[k] = scene->vertices[idx[k]].uv * glm::vec2(w, h) - 0.5f;
-      // The texels whose centres lie in the triangle (repeating as the sampler does).
+      // The texels whose centres lie in the triangle (wrapped as the sampler wraps them).
       const glm::vec2 lo = glm::min(q[0], glm::min(q[1], q[2]));
       const glm::vec2 hi = glm::max(q[0], glm::max(q[1], q[2]));
       const float area2 =
@@ -83,7 +90,7 @@ void measureEmissiveTextures(Scene* scene) {
               inside = sign * (e.x * r.y - e.y * r.x) >= 0.0f;
             }
             if (!inside) continue;
-            const int tx = ((x % w) + w) % w, ty = ((y % h) + h) % h;
+            const int tx = wrap(x, w, wrapS), ty = wrap(y, h, wrapT);
             const uint8_t* c = &tex.rgba8[(static_cast<size_t>(ty) * static_cast<size_t>(w) +
                                            static_cast<size_t>(tx)) *
                                           4];

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <set>
 #include <string_view>
 
@@ -29,8 +30,12 @@ namespace fs = std::filesystem;
 constexpr uint64_t kMaxFileBytes = 0xffffffffu;
 constexpr int kMaxJsonDepth = 256;
 
-const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
-                                                  "KHR_materials_emissive_strength"};
+const std::set<std::string> kSupportedRequired = {
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_mesh_quantization"};
+
+// Accessors without a bufferView (zeros) or with a sparse part are copied out dense:
+// a small file must not ask for gigabytes.
+constexpr size_t kMaxDenseBytes = size_t{256} << 20;
 
 std::string firstLine(const std::string& s) {
   size_t b = s.find_first_not_of(" \n\r\t");
@@ -115,6 +120,25 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
   image->image.assign(data, data + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
   stbi_image_free(data);
   return true;
+}
+
+const char* componentName(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return "UNSIGNED_INT";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "FLOAT";
+    default:
+      return "unknown";
+  }
 }
 
 const char* typeName(int type) {
@@ -739,51 +763,136 @@ class Loader {
     int componentType = 0;
     int type = 0;
     bool normalized = false;
+    // An accessor of zeros or with a sparse part: the dense copy `data` points into.
+    std::shared_ptr<const std::vector<unsigned char>> dense;
   };
 
   View accessor(int index, const char* what, std::initializer_list<int> types,
                 std::initializer_list<int> componentTypes) const {
     checkIndex(index, model_.accessors.size(), strf("%s: accessor", what), "accessor", "accessors");
     const auto& a = model_.accessors[static_cast<size_t>(index)];
-    if (a.sparse.isSparse)
-      fail(strf("accessor %d (%s): sparse accessors are not supported", index, what));
     if (std::find(types.begin(), types.end(), a.type) == types.end())
       fail(strf("accessor %d (%s): element type %s is not allowed here", index, what,
                 typeName(a.type)));
     if (std::find(componentTypes.begin(), componentTypes.end(), a.componentType) ==
         componentTypes.end())
       fail(strf("accessor %d (%s): wrong component type %d", index, what, a.componentType));
-    if (a.bufferView == -1)
-      fail(strf("accessors[%d] (%s): no bufferView (accessors of zeros are not supported)", index,
-                what));
-    checkIndex(a.bufferView, model_.bufferViews.size(), strf("accessors[%d].bufferView", index),
-               "bufferView", "bufferViews");
+    if (a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                         a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+      fail(strf("accessors[%d] (%s): normalized %s components: only 8- and 16-bit integers can be",
+                index, what, componentName(a.componentType)));
+    if (a.bufferView != -1)
+      checkIndex(a.bufferView, model_.bufferViews.size(), strf("accessors[%d].bufferView", index),
+                 "bufferView", "bufferViews");
     if (a.count == 0 || a.count > (size_t{1} << 31))
       fail(strf("accessor %d (%s): count %zu out of range", index, what, a.count));
-    const auto& bv = model_.bufferViews[static_cast<size_t>(a.bufferView)];
     const int compSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
     const int nComp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
     if (compSize <= 0 || nComp <= 0) fail(strf("accessor %d (%s): invalid type", index, what));
     const size_t elem = static_cast<size_t>(compSize) * static_cast<size_t>(nComp);
-    const size_t stride = bv.byteStride ? bv.byteStride : elem;
-    if (stride < elem)
-      fail(strf("accessor %d (%s): byteStride %zu is smaller than an element (%zu)", index, what,
-                stride, elem));
-    const size_t need = a.byteOffset + stride * (a.count - 1) + elem;
-    if (a.byteOffset > bv.byteLength || need > bv.byteLength)
-      fail(strf("accessor %d (%s): needs %zu bytes, bufferView %d has %zu", index, what, need,
-                a.bufferView, bv.byteLength));
-    checkAlignment(index, what, a, bv, compSize, stride);
-    const auto& buf = model_.buffers[static_cast<size_t>(bv.buffer)];
     View v;
-    v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
     v.count = a.count;
-    v.stride = stride;
     v.componentType = a.componentType;
     v.type = a.type;
     v.normalized = a.normalized;
+    if (a.bufferView != -1) {
+      const auto& bv = model_.bufferViews[static_cast<size_t>(a.bufferView)];
+      const size_t stride = bv.byteStride ? bv.byteStride : elem;
+      if (stride < elem)
+        fail(strf("accessor %d (%s): byteStride %zu is smaller than an element (%zu)", index, what,
+                  stride, elem));
+      const size_t need = a.byteOffset + stride * (a.count - 1) + elem;
+      if (a.byteOffset > bv.byteLength || need > bv.byteLength)
+        fail(strf("accessor %d (%s): needs %zu bytes, bufferView %d has %zu", index, what, need,
+                  a.bufferView, bv.byteLength));
+      checkAlignment(index, what, a, bv, compSize, stride);
+      const auto& buf = model_.buffers[static_cast<size_t>(bv.buffer)];
+      v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
+      v.stride = stride;
+    }
+    if (a.bufferView == -1 || a.sparse.isSparse) densify(index, what, a, elem, compSize, &v);
     checkBounds(index, what, a, v, nComp, compSize);
     return v;
+  }
+
+  // glTF 2.0's accessors without a bufferView hold zeros; a sparse part then
+  // replaces the elements it lists. Either way `v` becomes a tightly packed copy:
+  // the base (the bufferView's elements, or zeros) with the sparse values put in.
+  void densify(int index, const char* what, const tinygltf::Accessor& a, size_t elem, int compSize,
+               View* v) const {
+    if (a.count > kMaxDenseBytes / elem)
+      fail(
+          strf("accessors[%d] (%s): %zu elements without a bufferView or with a sparse part: "
+               "over the %zu MiB limit of such accessors here",
+               index, what, a.count, kMaxDenseBytes >> 20));
+    auto dense = std::make_shared<std::vector<unsigned char>>(a.count * elem, 0);
+    if (v->data)
+      for (size_t i = 0; i < a.count; ++i)
+        std::memcpy(dense->data() + i * elem, v->data + i * v->stride, elem);
+    if (a.sparse.isSparse) substituteSparse(index, a, elem, compSize, dense->data());
+    v->data = dense->data();
+    v->stride = elem;
+    v->dense = std::move(dense);
+  }
+
+  // A sparse part: `count` strictly increasing element indices (unsigned 8, 16 or
+  // 32 bits) and as many elements, each written over the base at its index.
+  void substituteSparse(int index, const tinygltf::Accessor& a, size_t elem, int compSize,
+                        unsigned char* dense) const {
+    const auto& sp = a.sparse;
+    const std::string at = strf("accessors[%d].sparse", index);
+    if (sp.count < 1 || static_cast<size_t>(sp.count) > a.count)
+      fail(strf("%s.count %d: must be from 1 to the accessor's count %zu", at.c_str(), sp.count,
+                a.count));
+    const int it = sp.indices.componentType;
+    if (it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(strf("%s.indices.componentType %d: not UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
+                at.c_str(), it));
+    const auto n = static_cast<size_t>(sp.count);
+    const auto isz =
+        static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(it)));
+    const unsigned char* indices =
+        sparseBytes(at + ".indices", sp.indices.bufferView, sp.indices.byteOffset, n * isz, isz);
+    const unsigned char* values =
+        sparseBytes(at + ".values", sp.values.bufferView, sp.values.byteOffset, n * elem,
+                    static_cast<size_t>(compSize));
+    uint32_t previous = 0;
+    for (size_t k = 0; k < n; ++k) {
+      const auto i = static_cast<uint32_t>(rawComponent(indices + k * isz, it));
+      if (i >= a.count)
+        fail(strf("%s.indices[%zu] %u: out of range (the accessor has %zu elements)", at.c_str(), k,
+                  i, a.count));
+      if (k > 0 && i <= previous)
+        fail(
+            strf("%s.indices[%zu] %u: not greater than the index before it (%u); sparse indices "
+                 "must strictly increase",
+                 at.c_str(), k, i, previous));
+      previous = i;
+      std::memcpy(dense + static_cast<size_t>(i) * elem, values + k * elem, elem);
+    }
+  }
+
+  // `bytes` bytes of sparse indices or values (`at` names them) from `offset` in
+  // bufferView `view`, whose components are `align` bytes.
+  const unsigned char* sparseBytes(const std::string& at, int view, int offset, size_t bytes,
+                                   size_t align) const {
+    checkIndex(view, model_.bufferViews.size(), at + ".bufferView", "bufferView", "bufferViews");
+    const auto& bv = model_.bufferViews[static_cast<size_t>(view)];
+    if (bv.byteStride != 0)
+      fail(strf("%s.bufferView %d: has a byteStride (%zu), which sparse data must not have",
+                at.c_str(), view, bv.byteStride));
+    if (offset < 0 || static_cast<size_t>(offset) % align ||
+        (bv.byteOffset + static_cast<size_t>(offset)) % align)
+      fail(
+          strf("%s.byteOffset %d (in bufferView %d at %zu): not a multiple of the %zu-byte "
+               "component size",
+               at.c_str(), offset, view, bv.byteOffset, align));
+    const auto off = static_cast<size_t>(offset);
+    if (off > bv.byteLength || bytes > bv.byteLength - off)
+      fail(strf("%s: needs %zu bytes from byte %d, bufferView %d has %zu", at.c_str(), bytes,
+                offset, view, bv.byteLength));
+    return model_.buffers[static_cast<size_t>(bv.buffer)].data.data() + bv.byteOffset + off;
   }
 
   // The spec's alignment rules: components on their own size; vertex attribute
@@ -890,6 +999,18 @@ class Loader {
         std::memcpy(&u, p, 2);
         return normalized ? static_cast<float>(u) / 65535.0f : static_cast<float>(u);
       }
+      // Signed normalized: c / (2^(b-1) - 1), the most negative value clamped to -1
+      // (glTF 2.0, "Animations"; KHR_mesh_quantization).
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        const auto c = static_cast<float>(static_cast<int8_t>(*p));
+        return normalized ? std::max(c / 127.0f, -1.0f) : c;
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t i;
+        std::memcpy(&i, p, 2);
+        const auto c = static_cast<float>(i);
+        return normalized ? std::max(c / 32767.0f, -1.0f) : c;
+      }
       default:
         return 0.0f;
     }
@@ -967,6 +1088,7 @@ class Loader {
     if (img.image.empty() || img.width <= 0 || img.height <= 0)
       fail(strf("image %d: missing or unreadable image '%s'", source, img.uri.c_str()));
     Texture t;
+    if (tex.sampler != -1) readSampler(tex.sampler, &t);
     t.name = img.uri.empty() ? img.name : img.uri;
     t.width = img.width;
     t.height = img.height;
@@ -976,6 +1098,37 @@ class Loader {
     const int id = static_cast<int>(scene_.textures.size() - 1);
     textureMap_[{index, srgb}] = id;
     return id;
+  }
+
+  // Sampler `index`'s wrap modes and filters into `t`; a field the sampler leaves
+  // out keeps the default (repeat; linear, trilinear).
+  void readSampler(int index, Texture* t) const {
+    const auto& s = model_.samplers[static_cast<size_t>(index)];
+    const std::string at = strf("samplers[%d]", index);
+    auto wrap = [&](int w, const char* field) {
+      if (w != kWrapRepeat && w != kWrapClampToEdge && w != kWrapMirroredRepeat)
+        fail(
+            strf("%s.%s %d: not REPEAT (10497), CLAMP_TO_EDGE (33071) or MIRRORED_REPEAT "
+                 "(33648)",
+                 at.c_str(), field, w));
+      return w;
+    };
+    t->wrapS = wrap(s.wrapS, "wrapS");
+    t->wrapT = wrap(s.wrapT, "wrapT");
+    if (s.magFilter != -1) {
+      if (s.magFilter != kFilterNearest && s.magFilter != kFilterLinear)
+        fail(strf("%s.magFilter %d: not NEAREST (9728) or LINEAR (9729)", at.c_str(), s.magFilter));
+      t->magFilter = s.magFilter;
+    }
+    if (s.minFilter != -1) {
+      if (s.minFilter != kFilterNearest && s.minFilter != kFilterLinear &&
+          (s.minFilter < kFilterNearestMipmapNearest || s.minFilter > kFilterLinearMipmapLinear))
+        fail(
+            strf("%s.minFilter %d: not NEAREST, LINEAR or one of their MIPMAP variants "
+                 "(9728, 9729, 9984-9987)",
+                 at.c_str(), s.minFilter));
+      t->minFilter = s.minFilter;
+    }
   }
 
   void traverse() {
@@ -1150,19 +1303,16 @@ class Loader {
       }
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(where + ": no POSITION attribute");
-      const View p =
-          accessor(pos->second, "POSITION", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+      const View p = vertexAttribute(pos->second, "POSITION");
       View n, t;
       bool hasNormals = false, hasUv = false;
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-        n = accessor(it->second, "NORMAL", {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        n = vertexAttribute(it->second, "NORMAL");
         if (n.count != p.count) fail(where + ": NORMAL and POSITION counts differ");
         hasNormals = true;
       }
       if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        t = accessor(it->second, "TEXCOORD_0", {TINYGLTF_TYPE_VEC2},
-                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        t = vertexAttribute(it->second, "TEXCOORD_0");
         if (t.count != p.count) fail(where + ": TEXCOORD_0 and POSITION counts differ");
         hasUv = true;
       }
@@ -1238,19 +1388,14 @@ class Loader {
       }
       for (size_t i = 0; i < p.count; ++i) {
         Vertex& v = scene_.vertices[base + i];
-        glm::vec3 lp(readComponent(p.data + i * p.stride, p.componentType, false),
-                     readComponent(p.data + i * p.stride + 4, p.componentType, false),
-                     readComponent(p.data + i * p.stride + 8, p.componentType, false));
+        const glm::vec3 lp = readVec3(p, i);
         if (!finite(lp)) fail(strf("%s: vertex %zu has a NaN or Inf position", where.c_str(), i));
         world_[base + i] = glm::dvec3(world * glm::dvec4(glm::dvec3(lp), 1.0));
         if (!finite(glm::vec3(world_[base + i])))
           fail(strf("%s: vertex %zu overflows after the node transform", where.c_str(), i));
         v.normal = glm::vec3(0.0f);
         if (hasNormals) {
-          glm::vec3 ln(readComponent(n.data + i * n.stride, n.componentType, false),
-                       readComponent(n.data + i * n.stride + 4, n.componentType, false),
-                       readComponent(n.data + i * n.stride + 8, n.componentType, false));
-          v.normal = normalMatrix * ln;
+          v.normal = normalMatrix * readVec3(n, i);
         }
         v.uv = glm::vec2(0.0f);
         if (hasUv) {
@@ -1331,6 +1476,58 @@ class Loader {
       scene_.draws.push_back(d);
       drawWhere_.push_back(where);
     }
+  }
+
+  // POSITION, NORMAL or TEXCOORD_0 with the component types glTF 2.0 allows (float;
+  // normalized unsigned byte or short for TEXCOORD_0) and, when the file uses
+  // KHR_mesh_quantization, those of the extension's table: POSITION and TEXCOORD_0
+  // 8- or 16-bit integers, signed or not, normalized or not; NORMAL normalized
+  // signed 8- or 16-bit integers. Read as floats (readComponent).
+  View vertexAttribute(int index, const char* role) const {
+    const std::string_view r(role);
+    checkIndex(index, model_.accessors.size(), strf("%s: accessor", role), "accessor", "accessors");
+    // The component type before the layout: a quantized attribute's elements are
+    // laid out differently from a float one's.
+    const auto& a = model_.accessors[static_cast<size_t>(index)];
+    const int c = a.componentType;
+    const bool integer =
+        c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+        c == TINYGLTF_COMPONENT_TYPE_SHORT || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (integer) {
+      const bool core = r == "TEXCOORD_0" && a.normalized &&
+                        (c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                         c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+      if (!core && !usesExtension("KHR_mesh_quantization"))
+        fail(
+            strf("accessors[%d] (%s): %s%s components need KHR_mesh_quantization, which the "
+                 "file does not list in extensionsUsed",
+                 index, role, a.normalized ? "normalized " : "", componentName(c)));
+      if (r == "NORMAL" && !(a.normalized && (c == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                                              c == TINYGLTF_COMPONENT_TYPE_SHORT)))
+        fail(
+            strf("accessors[%d] (NORMAL): %s%s components: KHR_mesh_quantization allows "
+                 "normals of normalized BYTE or SHORT only",
+                 index, a.normalized ? "normalized " : "", componentName(c)));
+    }
+    return accessor(index, role, {r == "TEXCOORD_0" ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3},
+                    {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
+                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+  }
+
+  bool usesExtension(const char* name) const {
+    const auto& used = model_.extensionsUsed;
+    return std::find(used.begin(), used.end(), name) != used.end();
+  }
+
+  // Element i of a VEC3 accessor as floats.
+  static glm::vec3 readVec3(const View& v, size_t i) {
+    const auto cs = static_cast<size_t>(
+        tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(v.componentType)));
+    const unsigned char* q = v.data + i * v.stride;
+    return glm::vec3(readComponent(q, v.componentType, v.normalized),
+                     readComponent(q + cs, v.componentType, v.normalized),
+                     readComponent(q + 2 * cs, v.componentType, v.normalized));
   }
 
   // COLOR_0 into scene_.colors from `base` on: VEC3 (alpha 1) or VEC4; a value that

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace voxgi::scene {
 
@@ -154,10 +155,22 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glTextureStorage2D(tex.id(), levels, t.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t.width, t.height);
     glTextureSubImage2D(tex.id(), 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE,
                         t.rgba8.data());
+    // The whole mip chain, whatever the sampler: a minification filter without
+    // mipmaps reads level 0 only.
     glGenerateTextureMipmap(tex.id());
-    bytes_ += t.rgba8.size() * 4 / 3;
+    for (int l = 0; l < levels; ++l)
+      textureBytes_ += static_cast<size_t>(std::max(t.width >> l, 1)) *
+                       static_cast<size_t>(std::max(t.height >> l, 1)) * 4;
     textures_.push_back(std::move(tex));
+    // The file's sampler (glTF's values are the GL enums).
+    gl::Sampler sampler = gl::createSampler();
+    glSamplerParameteri(sampler.id(), GL_TEXTURE_MIN_FILTER, t.minFilter);
+    glSamplerParameteri(sampler.id(), GL_TEXTURE_MAG_FILTER, t.magFilter);
+    glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_S, t.wrapS);
+    glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_T, t.wrapT);
+    samplers_.push_back(std::move(sampler));
   }
+  bytes_ += textureBytes_;
   sampler_ = gl::createSampler();
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -170,9 +183,14 @@ void GpuScene::setDefaultColor() const {
 }
 
 void GpuScene::bindMaterialTextures(const Material& m) const {
-  glBindTextureUnit(gpu::kBaseColorUnit, texture(m.baseColorTexture));
-  glBindTextureUnit(gpu::kEmissiveUnit, texture(m.emissiveTexture));
-  glBindTextureUnit(gpu::kMetallicRoughnessUnit, texture(m.metallicRoughnessTexture));
+  const std::pair<GLuint, int> slots[] = {
+      {gpu::kBaseColorUnit, m.baseColorTexture},
+      {gpu::kEmissiveUnit, m.emissiveTexture},
+      {gpu::kMetallicRoughnessUnit, m.metallicRoughnessTexture}};
+  for (const auto& [unit, index] : slots) {
+    glBindTextureUnit(unit, texture(index));
+    glBindSampler(unit, sampler(index));
+  }
 }
 
 void GpuScene::bindSampler() const {

@@ -1,5 +1,6 @@
 // The scene uploaded once: vertex/index buffers and a vertex array, material,
-// light and emitter SSBOs, textures (mipmapped; sRGB for colour, linear for data).
+// light and emitter SSBOs, textures (mipmapped; sRGB for colour, linear for data),
+// each with a GL sampler of its glTF sampler's wrap modes and filters.
 #ifndef VOXGI_SCENE_GPU_SCENE_H
 #define VOXGI_SCENE_GPU_SCENE_H
 
@@ -47,13 +48,20 @@ class GpuScene {
   GLuint texture(int index) const {
     return index >= 0 ? textures_[static_cast<size_t>(index)].id() : 0;
   }
-  GLuint sampler() const { return sampler_.id(); }
-  // The sampler on every material texture unit (kBaseColorUnit, kEmissiveUnit,
-  // kMetallicRoughnessUnit); m's textures on them (0 where it has none); both undone.
+  // Texture `index`'s sampler (the file's wrap modes and filters); the default
+  // sampler (repeat, trilinear) for -1.
+  GLuint sampler(int index = -1) const {
+    return index >= 0 ? samplers_[static_cast<size_t>(index)].id() : sampler_.id();
+  }
+  // The default sampler on every material texture unit (kBaseColorUnit,
+  // kEmissiveUnit, kMetallicRoughnessUnit); m's textures on them with their own
+  // samplers (0 and the default where it has none); both undone.
   void bindSampler() const;
   void bindMaterialTextures(const Material& m) const;
   static void unbindMaterialTextures();
   size_t bytes() const { return bytes_; }
+  // Of bytes(): the textures, every mip level (RGBA8 or sRGB8_ALPHA8, 4 bytes a texel).
+  size_t textureBytes() const { return textureBytes_; }
 
   static std::vector<gpu::GpuMaterial> packMaterials(const Scene& s);
   static std::vector<gpu::GpuLight> packLights(const Scene& s);
@@ -70,9 +78,10 @@ class GpuScene {
   std::vector<gpu::GpuEmitter> emitterData_;
   gl::VertexArray vao_;
   std::vector<gl::Texture> textures_;
+  std::vector<gl::Sampler> samplers_;  // per texture
   gl::Sampler sampler_;
   int lightCount_ = 0, emitterCount_ = 0;
-  size_t bytes_ = 0;
+  size_t bytes_ = 0, textureBytes_ = 0;
 };
 
 }  // namespace voxgi::scene

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/log.h"
+#include "scene_shared.h"
 
 namespace voxgi::scene {
 
@@ -206,6 +207,17 @@ void Scene::pose(double seconds) {
     camera.up = direction(glm::dvec3(m[1]), camera.up);
     if (!bounds.empty()) fitClipPlanes();
   }
+}
+
+uint32_t Texture::tableFlags() const {
+  auto wrap = [](int w) {
+    return w == kWrapClampToEdge      ? gpu::kTextureClampToEdge
+           : w == kWrapMirroredRepeat ? gpu::kTextureMirroredRepeat
+                                      : gpu::kTextureRepeat;
+  };
+  return (srgb ? gpu::kTextureSrgb : 0u) |
+         (magFilter == kFilterNearest ? gpu::kTextureNearest : 0u) |
+         (wrap(wrapS) << gpu::kTextureWrapSShift) | (wrap(wrapT) << gpu::kTextureWrapTShift);
 }
 
 }  // namespace voxgi::scene

@@ -43,11 +43,30 @@ struct Material {
   }
 };
 
+// glTF sampler values, which are the OpenGL enums of the same names.
+constexpr int kWrapRepeat = 10497;
+constexpr int kWrapClampToEdge = 33071;
+constexpr int kWrapMirroredRepeat = 33648;
+constexpr int kFilterNearest = 9728;
+constexpr int kFilterLinear = 9729;
+constexpr int kFilterNearestMipmapNearest = 9984;
+constexpr int kFilterLinearMipmapNearest = 9985;
+constexpr int kFilterNearestMipmapLinear = 9986;
+constexpr int kFilterLinearMipmapLinear = 9987;
+
 struct Texture {
   std::string name;
   int width = 0, height = 0;
   std::vector<uint8_t> rgba8;  // 4 channels, rows top first
   bool srgb = true;            // colour (base colour, emission); false: data (metallic-roughness)
+  // The texture's glTF sampler. Without one, or where it leaves a field out: repeat,
+  // bilinear magnification and trilinear minification.
+  int wrapS = kWrapRepeat, wrapT = kWrapRepeat;  // kWrap*
+  int magFilter = kFilterLinear;                 // kFilterNearest or kFilterLinear
+  int minFilter = kFilterLinearMipmapLinear;     // any kFilter*
+  // The texture table's flags for the shared texture reads (texture_shared.h): sRGB,
+  // each axis's wrap mode, nearest magnification (kTexture* in scene_shared.h).
+  uint32_t tableFlags() const;
 };
 
 enum class LightType { kDirectional, kPoint, kSpot };

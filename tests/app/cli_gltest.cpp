@@ -82,6 +82,36 @@ TEST(Cli, VoxelGridBeyondMemoryIsRefused) {
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
+// The stats count decoded texture memory: the GL texture with its mip chain (a 2 x 2
+// RGBA8 image: 4 + 1 texels of 4 bytes), the texels of the BVH's reads on the GL
+// path tracer (4 texels and a 16-byte table entry), the scene's decoded image and
+// the CPU path tracer's copy.
+TEST(Cli, TextureMemoryInStats) {
+  const std::string dir = scratchDir();
+  const std::string scene = testDataDir() + "/samplers/wrap_clamp_clamp_nearest.gltf";
+  struct Expected {
+    const char* args;
+    int gpu, bvh, cpu, cpuPathtracer;
+  };
+  for (const Expected& e : {Expected{"--mode raster", 20, 0, 16, 0},
+                            Expected{"--mode pathtrace --pt-device gl --spp 1", 52, 32, 16, 0},
+                            Expected{"--mode pathtrace --pt-device cpu --spp 1", 20, 0, 48, 32}}) {
+    SCOPED_TRACE(e.args);
+    const auto r = runCommand(
+        voxgi("render " + scene + " " + e.args + " --size 8x8 --stats " + dir + "/s.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(dir + "/s.json");
+    const auto stats = nlohmann::json::parse(in);
+    const auto& t = stats["texture_bytes"];
+    EXPECT_EQ(t["gl_textures"], 20);
+    EXPECT_EQ(t["bvh_texels"], e.bvh);
+    EXPECT_EQ(t["gpu"], e.gpu);
+    EXPECT_EQ(t["scene_images"], 16);
+    EXPECT_EQ(t["cpu_pathtracer"], e.cpuPathtracer);
+    EXPECT_EQ(t["cpu"], e.cpu);
+  }
+}
+
 TEST(Cli, PointsModeReportsVoxels) {
   const std::string dir = scratchDir();
   const auto r = runCommand(

@@ -60,7 +60,10 @@ VOXGI_FN void twinCase(VOXGI_TABLES_PARAM vec4 in0, vec4 in1, vec4 in2, vec4 in3
   PunctualSample ps = samplePunctual(light, p);
   o7 = vec4(ps.radiance, min(ps.dist, 1e6f));
 
-  o8 = sampleTexture(VOXGI_TABLES_ARG texture, u * 3.0f - 1.0f);
+  // Every combination of the table's flags (sRGB, nearest, each axis's wrap mode),
+  // drawn from the seed; uv in [-1, 2) reaches outside the texture.
+  uvec4 wrapped = uvec4(texture.x, texture.y, texture.z, texture.w | ((seed >> 3u) & 63u));
+  o8 = sampleTexture(VOXGI_TABLES_ARG wrapped, u * 3.0f - 1.0f);
 
   o9 = vec4(luminance(base), powerHeuristic(pdf, r1), emissionMisWeight(pdf, r0, r1 + 0.5f, u.x),
             smithG1(max(dot(n, wo), 0.0f), b.alpha) + ggxD(u.y, b.alpha) * 1e-3f +

@@ -87,7 +87,8 @@ TEST_F(GlTest, SharedShadingAgreesBetweenGlslAndCpp) {
     s.lights.push_back(l);
   }
   const std::vector<gpu::GpuLight> lights = scene::GpuScene::packLights(s);
-  // A 5 x 3 texture of random sRGB texels.
+  // A 5 x 3 texture of random texels; each case reads it with other flags (sRGB,
+  // filter, wrap modes: shading_twin.h).
   std::vector<uint32_t> texels;
   for (int i = 0; i < 15; ++i) texels.push_back(static_cast<uint32_t>(rng()));
   const glm::uvec4 texture(0u, 5u, 3u, 0u);

@@ -344,6 +344,100 @@ TEST(GltfLoaderVertexColors, NoneWithoutColor0) {
   EXPECT_FALSE(loadGltf(darkPlane()).hasVertexColors());
 }
 
+// --- accessors: KHR_mesh_quantization and sparse (tests/data/accessors) ---------------
+
+std::string accessorsDir() {
+  return test::testDataDir() + "/accessors";
+}
+
+// Two loads hold the same triangles: positions (in the file's frame), normals and
+// UVs per vertex within `tolerance`, and the same indices.
+void expectSameVertices(const Scene& a, const Scene& b, float tolerance) {
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
+  EXPECT_EQ(a.indices, b.indices);
+  for (size_t i = 0; i < a.vertices.size(); ++i) {
+    SCOPED_TRACE("vertex " + std::to_string(i));
+    const Vertex& u = a.vertices[i];
+    const Vertex& v = b.vertices[i];
+    const glm::vec3 pu = u.position + glm::vec3(a.origin), pv = v.position + glm::vec3(b.origin);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(pu[k], pv[k], tolerance);
+      EXPECT_NEAR(u.normal[k], v.normal[k], tolerance);
+    }
+    EXPECT_NEAR(u.uv.x, v.uv.x, tolerance);
+    EXPECT_NEAR(u.uv.y, v.uv.y, tolerance);
+  }
+}
+
+// Every component type of KHR_mesh_quantization's table (POSITION 8/16-bit signed
+// and unsigned, normalized or not, under dequantizing node transforms; normalized
+// BYTE and SHORT normals; TEXCOORD_0 of all four integer types) reads as the float
+// twin's values, which make_accessors.py dequantized on its own.
+TEST(GltfLoaderAccessors, QuantizedMatchesFloatTwin) {
+  const Scene q = loadGltf(accessorsDir() + "/quantized.gltf");
+  const Scene f = loadGltf(accessorsDir() + "/quantized_float.gltf");
+  EXPECT_TRUE(q.warnings.empty()) << joined(q.warnings);
+  EXPECT_EQ(q.triangleCount(), 7u);
+  expectSameVertices(q, f, 2e-6f);
+  // Spot checks against the numbers of the generator: the wall spans 2 x 2 (SHORT
+  // +-100 under scale 0.01) and repeats the checker twice (UNSIGNED_BYTE 0..2).
+  const glm::vec3 corner = q.vertices[2].position + glm::vec3(q.origin);
+  EXPECT_NEAR(corner.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(corner.y, 1.0f, 1e-6f);
+  EXPECT_EQ(q.vertices[0].uv, glm::vec2(0.0f, 2.0f));
+  // The tile's normalized SHORT UVs reach -1 and 1 exactly.
+  EXPECT_EQ(q.vertices[4].uv, glm::vec2(-1.0f, 1.0f));
+}
+
+// Sparse accessors: POSITION's base with four vertices replaced (UNSIGNED_BYTE
+// indices), TEXCOORD_0's with two (UNSIGNED_SHORT), NORMAL of zeros (no bufferView)
+// with every vertex given (UNSIGNED_INT): the same vertices as the dense twin.
+TEST(GltfLoaderAccessors, SparseMatchesDenseTwin) {
+  const Scene sp = loadGltf(accessorsDir() + "/sparse.gltf");
+  const Scene dense = loadGltf(accessorsDir() + "/sparse_float.gltf");
+  EXPECT_TRUE(sp.warnings.empty()) << joined(sp.warnings);  // no normal was repaired
+  EXPECT_EQ(sp.triangleCount(), 4u);
+  expectSameVertices(sp, dense, 0.0f);
+  // The second quad moved from x = 10 to beside the first: the bounds end near x = 1.08.
+  EXPECT_LT(sp.bounds.extent().x, 2.1f);
+  EXPECT_EQ(sp.vertices[1].uv, glm::vec2(2.0f, 1.0f));
+}
+
+// The corpus's base scene with a sparse part: vertex 1 at (2, 0, 0).
+TEST(GltfLoaderAccessors, SparseVertexSubstituted) {
+  const Scene s = loadGltf(malformedDir() + "/valid/sparse_accessor.gltf");
+  ASSERT_EQ(s.vertices.size(), 4u);
+  EXPECT_EQ(s.vertices[1].position + glm::vec3(s.origin), glm::vec3(2.0f, 0.0f, 0.0f));
+  EXPECT_EQ(s.vertices[2].position + glm::vec3(s.origin), glm::vec3(1.0f, 1.0f, 0.0f));
+}
+
+// --- samplers (tests/data/samplers) ------------------------------------------------
+
+TEST(GltfLoaderSamplers, WrapAndFilterAsTheFileStates) {
+  const std::string dir = test::testDataDir() + "/samplers";
+  const Scene s = loadGltf(dir + "/wrap_clamp_mirror_nearest.gltf");
+  ASSERT_EQ(s.textures.size(), 1u);
+  const Texture& t = s.textures[0];
+  EXPECT_EQ(t.wrapS, kWrapClampToEdge);
+  EXPECT_EQ(t.wrapT, kWrapMirroredRepeat);
+  EXPECT_EQ(t.magFilter, kFilterNearest);
+  EXPECT_EQ(t.minFilter, kFilterNearest);
+  EXPECT_TRUE(t.srgb);  // emissive: colour
+  EXPECT_EQ(t.tableFlags(), 1u | 2u | (1u << 2) | (2u << 4));
+  const Texture& linear = loadGltf(dir + "/wrap_repeat_clamp_linear.gltf").textures[0];
+  EXPECT_EQ(linear.wrapS, kWrapRepeat);
+  EXPECT_EQ(linear.wrapT, kWrapClampToEdge);
+  EXPECT_EQ(linear.magFilter, kFilterLinear);
+  EXPECT_EQ(linear.minFilter, kFilterLinear);
+  // No sampler: repeat, bilinear, trilinear.
+  const Texture& d = loadGltf(dir + "/no_sampler.gltf").textures[0];
+  EXPECT_EQ(d.wrapS, kWrapRepeat);
+  EXPECT_EQ(d.wrapT, kWrapRepeat);
+  EXPECT_EQ(d.magFilter, kFilterLinear);
+  EXPECT_EQ(d.minFilter, kFilterLinearMipmapLinear);
+  EXPECT_EQ(d.tableFlags(), 1u);
+}
+
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 
 // The duck has a base-colour texture; the avocado a base-colour (sRGB) and a
@@ -576,7 +670,8 @@ TEST(GltfLoaderCorpus, ValidBaseScenesLoad) {
                                                    {"textured.gltf", 2},
                                                    {"quad.glb", 2},
                                                    {"no_scenes.gltf", 6},
-                                                   {"unread_texture_points_nowhere.gltf", 2}};
+                                                   {"unread_texture_points_nowhere.gltf", 2},
+                                                   {"sparse_accessor.gltf", 2}};
   for (const auto& [name, count] : triangles) {
     SCOPED_TRACE(name);
     const Scene s = loadGltf(dir + "/" + name);

@@ -27,6 +27,7 @@ VALID_DIR = os.path.join(HERE, "valid")
 FLOAT = 5126
 UNSIGNED_BYTE = 5121
 UNSIGNED_SHORT = 5123
+UNSIGNED_INT = 5125
 ARRAY_BUFFER = 34962
 ELEMENT_ARRAY_BUFFER = 34963
 
@@ -310,7 +311,7 @@ def _(g):
     del g["accessors"][0]["min"], g["accessors"][0]["max"]
 
 
-@case("position_ubyte.gltf", "wrong component type 5121")
+@case("position_ubyte.gltf", "accessors[0] (POSITION): normalized UNSIGNED_BYTE components need KHR_mesh_quantization")
 @edited
 def _(g):
     g["accessors"][0]["componentType"] = UNSIGNED_BYTE
@@ -330,20 +331,162 @@ def _(g):
     g["meshes"][0]["primitives"][0]["attributes"] = {"TEXCOORD_0": 0}
 
 
-@case("sparse_accessor.gltf", "sparse")
-def _():
+def sparse_scene(indices=(1,), values=((2.0, 0.0, 0.0),), itype=UNSIGNED_SHORT, count=None):
+    """The quad whose POSITION has a sparse part: `indices` (componentType
+    `itype`) replaced by `values`, in a second buffer; count defaults to theirs."""
     g = scene()
-    # One substituted vertex: index 1 -> (2, 0, 0). Sparse data goes in a second buffer.
-    sparse = pad4(struct.pack("<H", 1)) + floats([(2.0, 0.0, 0.0)])
-    g["buffers"].append({"byteLength": len(sparse), "uri": data_uri(sparse)})
-    g["bufferViews"].append({"buffer": 1, "byteOffset": 0, "byteLength": 2})
-    g["bufferViews"].append({"buffer": 1, "byteOffset": 4, "byteLength": 12})
+    fmt = {UNSIGNED_BYTE: "B", UNSIGNED_SHORT: "H", UNSIGNED_INT: "I", FLOAT: "f"}[itype]
+    packed = struct.pack("<%d%s" % (len(indices), fmt), *indices)
+    data = pad4(packed) + floats(values)
+    g["buffers"].append({"byteLength": len(data), "uri": data_uri(data)})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": 0, "byteLength": len(packed)})
+    g["bufferViews"].append({"buffer": 1, "byteOffset": len(pad4(packed)), "byteLength": 12 * len(values)})
     g["accessors"][0]["sparse"] = {
-        "count": 1,
-        "indices": {"bufferView": 2, "componentType": UNSIGNED_SHORT},
+        "count": len(indices) if count is None else count,
+        "indices": {"bufferView": 2, "componentType": itype},
         "values": {"bufferView": 3},
     }
-    g["accessors"][0]["max"] = [2.0, 1.0, 0.0]
+    final = list(QUAD_POSITIONS)
+    for i, v in zip(indices, values):
+        if 0 <= int(i) < len(final):
+            final[int(i)] = v
+    lo, hi = finite_bounds(final)
+    g["accessors"][0]["min"], g["accessors"][0]["max"] = lo, hi
+    return g
+
+
+# Sparse accessors: each rule of glTF 2.0's accessor.sparse.
+@case("sparse_index_out_of_range.gltf", "accessors[0].sparse.indices[1] 4: out of range")
+def _():
+    return to_json(sparse_scene(indices=(1, 4), values=((2.0, 0.0, 0.0), (3.0, 0.0, 0.0))))
+
+
+@case("sparse_indices_not_increasing.gltf", "sparse indices must strictly increase")
+def _():
+    return to_json(sparse_scene(indices=(2, 1), values=((2.0, 0.0, 0.0), (3.0, 0.0, 0.0))))
+
+
+@case("sparse_indices_repeated.gltf", "sparse indices must strictly increase")
+def _():
+    return to_json(sparse_scene(indices=(1, 1), values=((2.0, 0.0, 0.0), (3.0, 0.0, 0.0))))
+
+
+@case("sparse_count_above_count.gltf", "accessors[0].sparse.count 5: must be from 1 to the accessor's count 4")
+def _():
+    values = [(float(i), 2.0, 0.0) for i in range(5)]
+    return to_json(sparse_scene(indices=range(5), values=values))
+
+
+@case("sparse_count_zero.gltf", "accessors[0].sparse.count 0")
+def _():
+    return to_json(sparse_scene(count=0))
+
+
+@case("sparse_count_beyond_data.gltf", "accessors[0].sparse.indices: needs 4 bytes")
+def _():
+    return to_json(sparse_scene(count=2))
+
+
+@case("sparse_indices_float.gltf", "accessors[0].sparse.indices.componentType 5126")
+def _():
+    return to_json(sparse_scene(indices=(1.0,), itype=FLOAT))
+
+
+@case("sparse_values_beyond_bufferview.gltf", "accessors[0].sparse.values: needs 12 bytes")
+def _():
+    g = sparse_scene()
+    g["bufferViews"][3]["byteLength"] = 8
+    return to_json(g)
+
+
+@case("sparse_indices_bytestride.gltf", "sparse data must not have")
+def _():
+    g = sparse_scene()
+    g["bufferViews"][2]["byteStride"] = 4
+    g["bufferViews"][2]["byteLength"] = 4
+    return to_json(g)
+
+
+@case("sparse_indices_bad_bufferview.gltf", "accessors[0].sparse.indices.bufferView 7 points nowhere")
+def _():
+    g = sparse_scene()
+    g["accessors"][0]["sparse"]["indices"]["bufferView"] = 7
+    return to_json(g)
+
+
+# KHR_mesh_quantization: its component types only with the extension, and
+# normals only normalized signed.
+def quantized_scene(attribute, ctype, normalized, extension=True):
+    """The quad with `attribute` (NORMAL or TEXCOORD_0) of `ctype` components."""
+    g = scene(normals=attribute == "NORMAL", uvs=attribute == "TEXCOORD_0")
+    acc = g["accessors"][2]
+    values = QUAD_NORMALS if attribute == "NORMAL" else QUAD_UVS
+    fmt = {5120: "b", UNSIGNED_BYTE: "B", 5122: "h", UNSIGNED_SHORT: "H"}[ctype]
+    size = struct.calcsize(fmt)
+    n = len(values[0])
+    stride = -(-n * size // 4) * 4
+    one = {1: 127, 2: 32767}[size] if fmt in "bh" else {1: 255, 2: 65535}[size]
+    data = b"".join(pad4(struct.pack("<%d%s" % (n, fmt), *[int(round(x * one)) for x in v])) for v in values)
+    g["buffers"].append({"byteLength": len(data), "uri": data_uri(data)})
+    view = {"buffer": 1, "byteOffset": 0, "byteLength": len(data)}
+    if stride != n * size:
+        view["byteStride"] = stride
+    g["bufferViews"].append(view)
+    acc["bufferView"] = len(g["bufferViews"]) - 1
+    acc["componentType"] = ctype
+    if normalized:
+        acc["normalized"] = True
+    if extension:
+        g["extensionsUsed"] = ["KHR_mesh_quantization"]
+        g["extensionsRequired"] = ["KHR_mesh_quantization"]
+    return g
+
+
+@case("quantized_without_extension.gltf", "accessors[2] (NORMAL): normalized BYTE components need KHR_mesh_quantization")
+def _():
+    return to_json(quantized_scene("NORMAL", 5120, True, extension=False))
+
+
+@case("quantized_normal_not_normalized.gltf", "accessors[2] (NORMAL): BYTE components: KHR_mesh_quantization allows normals of normalized BYTE or SHORT only")
+def _():
+    return to_json(quantized_scene("NORMAL", 5120, False))
+
+
+@case("quantized_normal_unsigned.gltf", "KHR_mesh_quantization allows normals of normalized BYTE or SHORT only")
+def _():
+    return to_json(quantized_scene("NORMAL", UNSIGNED_SHORT, True))
+
+
+@case("texcoord_not_normalized.gltf", "accessors[2] (TEXCOORD_0): UNSIGNED_BYTE components need KHR_mesh_quantization")
+def _():
+    return to_json(quantized_scene("TEXCOORD_0", UNSIGNED_BYTE, False, extension=False))
+
+
+@case("float_normalized.gltf", "normalized FLOAT components")
+@edited
+def _(g):
+    g["accessors"][0]["normalized"] = True
+
+
+# Samplers of a texture a material reads.
+@case("sampler_bad_wrap.gltf", "samplers[0].wrapT 10498: not REPEAT")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"wrapT": 10498}]
+    return to_json(g)
+
+
+@case("sampler_bad_mag_filter.gltf", "samplers[0].magFilter 9984: not NEAREST (9728) or LINEAR (9729)")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"magFilter": 9984}]
+    return to_json(g)
+
+
+@case("sampler_bad_min_filter.gltf", "samplers[0].minFilter 9730")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["samplers"] = [{"minFilter": 9730}]
     return to_json(g)
 
 
@@ -878,6 +1021,8 @@ VALID = {
     "quad.glb": lambda: glb(*glb_scene()),
     "no_scenes.gltf": lambda: no_scenes(),
     "unread_texture_points_nowhere.gltf": lambda: unread_texture_points_nowhere(),
+    # Vertex 1 moved to (2, 0, 0) by a sparse part.
+    "sparse_accessor.gltf": lambda: to_json(sparse_scene()),
 }
 
 
