@@ -351,7 +351,7 @@ class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
   const Scene s = loadGltf(sample(GetParam()));
   const bool avocado = std::string(GetParam()).find("avocado") != std::string::npos;
-  ASSERT_EQ(s.textures.size(), avocado ? 2u : 1u);
+  ASSERT_EQ(s.textures.size(), avocado ? 3u : 1u);
   for (const Texture& t : s.textures) {
     EXPECT_GT(t.width, 0);
     EXPECT_GT(t.height, 0);
@@ -364,9 +364,57 @@ TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
   if (avocado) {
     ASSERT_EQ(m.metallicRoughnessTexture, 1);
     EXPECT_FALSE(s.textures[1].srgb);
+    // And a normal map (linear), with the file's tangents.
+    ASSERT_EQ(m.normalTexture, 2);
+    EXPECT_FALSE(s.textures[2].srgb);
+    EXPECT_TRUE(s.hasNormalMaps());
+    EXPECT_EQ(s.tangents.size(), s.vertices.size());
   } else {
     EXPECT_EQ(m.metallicRoughnessTexture, -1);
+    EXPECT_EQ(m.normalTexture, -1);
+    EXPECT_FALSE(s.hasNormalMaps());
   }
+}
+
+// tests/data/normal_maps (make_normal_maps.py): the normal texture and its scale,
+// the file's TANGENT, and tangents generated where the file has none.
+TEST(GltfLoaderNormalMaps, TangentsFromTheFile) {
+  const Scene s = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf");
+  ASSERT_TRUE(s.hasNormalMaps());
+  ASSERT_EQ(s.tangents.size(), s.vertices.size());
+  const Material& m = s.materials[0];
+  ASSERT_EQ(m.normalTexture, 0);
+  EXPECT_FALSE(s.textures[0].srgb);
+  EXPECT_EQ(m.normalScale, 1.0f);
+  for (const glm::vec4& t : s.tangents) EXPECT_EQ(t, glm::vec4(1, 0, 0, 1));
+  EXPECT_EQ(loadGltf(test::testDataDir() + "/normal_maps/tilted_quad_scale.gltf")
+                .materials[0]
+                .normalScale,
+            0.5f);
+}
+
+TEST(GltfLoaderNormalMaps, GeneratedTangentsMatchTheFile) {
+  const Scene file = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf");
+  const Scene gen = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad_generated.gltf");
+  ASSERT_EQ(gen.tangents.size(), file.tangents.size());
+  for (size_t i = 0; i < gen.tangents.size(); ++i)
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(gen.tangents[i][k], file.tangents[i][k], 1e-6f);
+  // Mirrored UVs: the tangent turns round and the handedness flips.
+  const Scene mirrored = loadGltf(test::testDataDir() + "/normal_maps/mirrored_quad.gltf");
+  ASSERT_EQ(mirrored.tangents.size(), 4u);
+  for (const glm::vec4& t : mirrored.tangents) {
+    EXPECT_NEAR(t.x, -1.0f, 1e-6f);
+    EXPECT_NEAR(t.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+    EXPECT_EQ(t.w, -1.0f);
+  }
+}
+
+// Scenes without normal maps carry no tangent stream.
+TEST(GltfLoaderNormalMaps, NoneWithoutNormalTexture) {
+  EXPECT_FALSE(loadGltf(darkPlane()).hasNormalMaps());
+  EXPECT_FALSE(
+      loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf").hasNormalMaps());
 }
 
 INSTANTIATE_TEST_SUITE_P(
