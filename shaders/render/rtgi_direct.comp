@@ -43,7 +43,7 @@ void main() {
     seedPixel(px, 1u);
     Surface s = p.s;
     if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
-    vec3 o = rayOrigin(s);
+    vec3 o = surfaceRayOrigin(px, s);
 #ifdef RTGI_LIGHTS
     int lightCount = int(rtgi.counts.x);
     for (int k = 0; k < lightCount; ++k) {
@@ -52,6 +52,7 @@ void main() {
       vec3 l;
       float dist;
       punctualDirection(lights[k], s.p, l, dist);
+      if (belowSurface(px, l)) continue;  // light under the surface (a normal map's leak)
       result += c * lightVisible(o, l, dist);
     }
 #endif

@@ -27,8 +27,10 @@ void main() {
   if (p.covered && any(greaterThan(p.s.diffuse, vec3(0.0)))) {
     seedPixel(px, 2u);
     vec3 dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
-    MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(p.s), dir, 3.0e38), 0.0, kRaySteps);
-    if (h.hit && !seenFromBehind(material[h.node].y, dir))
+    // A ray below the surface itself (a normal map tilts n) brings nothing: no leaks.
+    bool above = !belowSurface(px, dir);
+    MarchHit h = octreeTrace(octreeWorldRay(surfaceRayOrigin(px, p.s), dir, 3.0e38), 0.0, kRaySteps);
+    if (above && h.hit && !seenFromBehind(material[h.node].y, dir))
       result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
   }
   imageStore(indirectOut, px, vec4(result, 1.0));

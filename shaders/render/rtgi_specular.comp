@@ -51,6 +51,10 @@ layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #define VOXGI_BVH_COLORS
 #define VOXGI_BVH_COLOR_BINDING kRtgiBvhColorBinding
 #endif
+#ifdef RTGI_BVH_TANGENTS
+#define VOXGI_BVH_TANGENTS
+#define VOXGI_BVH_TANGENT_BINDING kRtgiBvhTangentBinding
+#endif
 #include "bvh_trace.glsl"
 
 #ifdef RTGI_BVH_TEXTURES
@@ -183,6 +187,14 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
       ns = -ns;
     }
     if (dot(ns, -dir) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;
+#ifdef RTGI_BVH_TANGENTS
+    if ((m.flags & kMaterialHasNormalTexture) != 0u) {
+      // The normal map and the back-facing rule, as the path tracer does.
+      vec4 tangent = triangleTangent(tri, bc);
+      if (!front) tangent.w = -tangent.w;
+      ns = bendShadingNormal(mappedNormal(m, ns, tangent, triangleUv(tri, bc)), -dir);
+    }
+#endif
     float metallic = m.params.x;
     float roughness = clamp(m.params.y, 0.0, 1.0);
     vec3 base = m.baseColor.rgb;

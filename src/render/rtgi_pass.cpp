@@ -49,6 +49,8 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   defines.emplace_back("RTGI_BVH");
   if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
   if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
+  if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
+    defines.emplace_back("RTGI_BVH_TANGENTS");
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
@@ -278,6 +280,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       }
       if (settings_.features.colors && bvh_->colored())
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
+      if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTangentBinding, bvh_->tangents());
     }
     run("specular", specularProgram(gs));
     if (bvh_)
