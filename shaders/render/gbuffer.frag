@@ -3,6 +3,7 @@
 // Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
 // VOXGI_NO_COLORS, VOXGI_NO_NORMALMAPS.
 #include "scene_shared.h"
+#include "normal_map_shared.h"  // outside #if: its #line markers must stay
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
@@ -20,7 +21,6 @@ layout(location = 3) in vec4 vColor;
 #endif
 layout(location = 4) in vec3 vPreviousPosition;
 #ifndef VOXGI_NO_NORMALMAPS
-#include "normal_map_shared.h"
 layout(binding = kNormalUnit) uniform sampler2D normalTexture;
 layout(location = 5) in vec4 vTangent;
 #endif

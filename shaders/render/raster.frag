@@ -4,6 +4,7 @@
 // VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
 // VOXGI_NO_NORMALMAPS compile that code out.
 #include "scene_shared.h"
+#include "normal_map_shared.h"  // outside #if: its #line markers must stay
 #include "lighting.glsl"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -23,7 +24,6 @@ layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vColor;
 #endif
 #ifndef VOXGI_NO_NORMALMAPS
-#include "normal_map_shared.h"
 layout(binding = kNormalUnit) uniform sampler2D normalTexture;
 layout(location = 5) in vec4 vTangent;
 #endif
