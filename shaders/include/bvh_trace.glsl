@@ -50,6 +50,18 @@ vec4 triangleColor(uint tri, vec2 bc) {
 }
 #endif
 
+#ifdef VOXGI_BVH_TANGENTS
+// The tangent (xyz, w handedness) at barycentrics bc of triangle tri, from its
+// corners' tangents (three a triangle, BVH order; scene side: render/gpu_bvh.h), an
+// SSBO at the binding VOXGI_BVH_TANGENT_BINDING, which the including shader defines.
+layout(std430, binding = VOXGI_BVH_TANGENT_BINDING) readonly buffer BvhTangents { vec4 bvhCornerTangents[]; };
+vec4 triangleTangent(uint tri, vec2 bc) {
+  uint b = tri * 3u;
+  return (1.0 - bc.x - bc.y) * bvhCornerTangents[b] + bc.x * bvhCornerTangents[b + 1u] +
+         bc.y * bvhCornerTangents[b + 2u];
+}
+#endif
+
 #ifdef VOXGI_BVH_ALPHA
 // With VOXGI_BVH_ALPHA, a candidate hit counts only where this returns true (the
 // including shader defines it: alpha masks, texture_shared.h's alphaStops).

@@ -24,6 +24,9 @@ VOXGI_CONST uint kPtTextureBinding = 8u;
 // Vertex colours (VOXGI_BVH_COLORS): vec4 per triangle corner, three a triangle,
 // BVH order (COLOR_0, RGBA).
 VOXGI_CONST uint kPtColorBinding = 9u;
+// Tangents for normal maps (VOXGI_BVH_TANGENTS): vec4 per triangle corner (xyz, w
+// handedness), three a triangle, BVH order.
+VOXGI_CONST uint kPtTangentBinding = 10u;
 VOXGI_CONST uint kPtParamsBinding = 1u;
 // Texture units: the BVH nodes and the triangles, read as RGBA32UI buffer textures
 // (a struct is sizeof / 16 texels; floats as their bit patterns). On llvmpipe a

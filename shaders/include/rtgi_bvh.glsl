@@ -2,7 +2,8 @@
 // bindings, its traversal (bvh_trace.glsl), the ray offset off a triangle and shadow
 // rays. RTGI_BVH_TEXTURES (a textured BVH): the material's textures at a hit, read as
 // the path tracer reads them (bilinear, no mipmaps). RTGI_BVH_COLORS: the vertex
-// colours at a hit. RTGI_BVH_ALPHA (the scene has alpha-masked materials): a hit on a
+// colours at a hit. RTGI_BVH_TANGENTS: the tangents at a hit (normal maps).
+// RTGI_BVH_ALPHA (the scene has alpha-masked materials): a hit on a
 // masked-out texel does not stop a ray, as in the path tracer. Include after
 // scene_shared.h and octree.glsl.
 #ifndef VOXGI_RTGI_BVH_GLSL
@@ -25,6 +26,10 @@ layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #ifdef RTGI_BVH_COLORS
 #define VOXGI_BVH_COLORS
 #define VOXGI_BVH_COLOR_BINDING kRtgiBvhColorBinding
+#endif
+#ifdef RTGI_BVH_TANGENTS
+#define VOXGI_BVH_TANGENTS
+#define VOXGI_BVH_TANGENT_BINDING kRtgiBvhTangentBinding
 #endif
 #ifdef RTGI_BVH_ALPHA
 #define VOXGI_BVH_ALPHA

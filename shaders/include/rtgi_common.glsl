@@ -5,6 +5,7 @@
 #define VOXGI_RTGI_COMMON_GLSL
 
 #include "rtgi_shared.h"
+#include "normal_map_shared.h"
 
 layout(std140, binding = kRtgiParamsBinding) uniform RtgiBlock { RtgiParams rtgi; };
 layout(binding = kGPositionUnit) uniform sampler2D gPosition;
@@ -39,6 +40,22 @@ Pixel loadPixel(ivec2 px) {
   return p;
 }
 
+// The surface's own normal at px where the G-buffer packed it (scenes with normal
+// maps: normal_map_shared.h), else 0.
+vec3 surfaceNormal(ivec2 px) {
+  float code = texelFetch(gEmission, px, 0).w;
+  return code != 0.0 ? unpackSurfaceNormal(code) : vec3(0.0);
+}
+
+// Whether direction d leaves the surface at px from below its own normal, which the
+// G-buffer packs in scenes with normal maps (normal_map_shared.h): light and rays
+// there do not count, whatever the mapped normal says (the leak rule). Always false
+// where nothing is packed.
+bool belowSurface(ivec2 px, vec3 d) {
+  float code = texelFetch(gEmission, px, 0).w;
+  return code != 0.0 && dot(d, unpackSurfaceNormal(code)) <= 0.0;
+}
+
 // A stream per pixel, per frame and per stage: a hash of the pixel alone would
 // repeat the same samples every frame, and accumulation would converge to a biased
 // image.
@@ -51,6 +68,17 @@ void seedPixel(ivec2 px, uint stage) {
 // Where rays leave the surface: off it along the normal, past the voxels the surface
 // touches (surfaceRayOffset).
 vec3 rayOrigin(Surface s) { return s.p + s.n * (surfaceRayOffset(s.n) * octreeVoxelSize()); }
+
+// Where rays leave the surface at px: rayOrigin, but off the surface's own normal
+// where the G-buffer packed it (a mapped normal lying almost in the surface would
+// start the ray inside the surface's voxels, which then shadow it).
+vec3 surfaceRayOrigin(ivec2 px, Surface s) {
+  float code = texelFetch(gEmission, px, 0).w;
+  if (code == 0.0) return rayOrigin(s);
+  Surface g = s;
+  g.n = unpackSurfaceNormal(code);
+  return rayOrigin(g);
+}
 
 // Interleaving: with N > 1 a pixel traces new rays on every N-th frame only, the
 // pixels of each 4x4 block taking turns in a 4x4 ordered (Bayer) order, so each

@@ -24,7 +24,9 @@ float emitterSlack(GpuEmitter e) {
   return uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
 }
 
-vec3 directLight(Surface s, vec3 o) {
+// `ng`: the surface's own normal where a normal map tilts s.n, else 0: light from
+// below it does not count (the leak rule, normal_map_shared.h).
+vec3 directLight(Surface s, vec3 o, vec3 ng) {
   vec3 result = vec3(0.0);
 #ifdef RTGI_LIGHTS
   int lightCount = int(rtgi.counts.x);
@@ -34,6 +36,7 @@ vec3 directLight(Surface s, vec3 o) {
     vec3 l;
     float dist;
     punctualDirection(lights[k], s.p, l, dist);
+    if (dot(l, ng) < 0.0) continue;
     result += c * shadowRay(o, l, dist, false, 0.0);
   }
 #endif
@@ -72,7 +75,8 @@ vec3 directLight(Surface s, vec3 o) {
       vec3 d = q - o;
       float dist = length(d);
       float slack = emitterSlack(emitters[pick]);
-      result += sum * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, slack) : 1.0);
+      if (dot(d, ng) >= 0.0)
+        result += sum * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, slack) : 1.0);
     }
   }
 #elif defined(RTGI_EMITTERS_SAMPLED)
@@ -84,7 +88,8 @@ vec3 directLight(Surface s, vec3 o) {
       vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
       vec3 d = q - o;
       float dist = length(d);
-      result += c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
+      if (dot(d, ng) >= 0.0)
+        result += c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
     }
   }
 #endif

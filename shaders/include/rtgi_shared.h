@@ -13,7 +13,9 @@ VOXGI_CONST uint kRtgiParamsBinding = 3u;  // uniform block
 VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 + material where covered
 VOXGI_CONST uint kGNormalUnit = 5u;    // rgba16f: shading normal (towards the viewer), w roughness
 VOXGI_CONST uint kGAlbedoUnit = 6u;    // rgba8: base colour, w metallic
-VOXGI_CONST uint kGEmissionUnit = 7u;  // rgba16f: emitted radiance
+// rgba16f: emitted radiance; w the surface's own normal in scenes with normal maps
+// (packSurfaceNormal of normal_map_shared.h), else 0.
+VOXGI_CONST uint kGEmissionUnit = 7u;
 // The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): nodes and triangles as
 // buffer textures, and the per-triangle shading data (GpuPtShading) as an SSBO.
 VOXGI_CONST uint kRtgiBvhNodeUnit = 0u;
@@ -28,6 +30,9 @@ VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
 // Vertex colours at the hit (RTGI_BVH_COLORS: the scene has them, the plan reads
 // them): the BVH's corner colours (see kPtColorBinding) as an SSBO.
 VOXGI_CONST uint kRtgiBvhColorBinding = 21u;
+// Tangents at the hit (RTGI_BVH_TANGENTS: the scene has normal maps, the plan reads
+// them): the BVH's corner tangents (see kPtTangentBinding) as an SSBO.
+VOXGI_CONST uint kRtgiBvhTangentBinding = 22u;
 // Reprojection (a frame after the camera moved): the running mean as it was before
 // this frame (the accumulation target, read as a texture), the previous frame's
 // G-buffer position and normal, and the reprojected mean (rgba32f image) that

@@ -20,6 +20,7 @@ VOXGI_CONST uint kBaseColorUnit = 0u;
 // Past every unit the passes that draw the scene bind for their own use.
 VOXGI_CONST uint kEmissiveUnit = 9u;
 VOXGI_CONST uint kMetallicRoughnessUnit = 10u;
+VOXGI_CONST uint kNormalUnit = 11u;   // normalTexture (linear)
 VOXGI_CONST uint kHdrInputUnit = 0u;  // tonemap input
 
 // Uniform locations.
@@ -34,6 +35,9 @@ VOXGI_CONST uint kColorAttribute = 3u;
 // The position in the previous frame (motion vectors for rtgi's reprojection):
 // scene::Vertex's, from a copy kept only while meshes move.
 VOXGI_CONST uint kPreviousPositionAttribute = 4u;
+// The tangent for normal maps (xyz, w handedness; scene::Scene::tangents), a stream
+// of its own present only in scenes with normal maps.
+VOXGI_CONST uint kTangentAttribute = 5u;
 
 // Material flags.
 VOXGI_CONST uint kMaterialHasTexture = 1u;
@@ -41,6 +45,7 @@ VOXGI_CONST uint kMaterialDoubleSided = 2u;
 VOXGI_CONST uint kMaterialAlphaMask = 4u;
 VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
 VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
+VOXGI_CONST uint kMaterialHasNormalTexture = 32u;  // params.w scale, emission.w the texture
 
 // The texture table's flags (the w of each entry; render/pathtrace_scene.h, read by
 // texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap
@@ -69,8 +74,8 @@ VOXGI_CONST int kTonemapMask = 2;  // the rtgi work mask: red channel as grey, n
 
 struct GpuMaterial {
   vec4 baseColor;  // linear rgba
-  vec4 emission;   // rgb radiance, a: unused
-  vec4 params;     // x metallic, y roughness, z alpha cutoff, w unused
+  vec4 emission;   // rgb radiance, a: the normal texture (bits; kMaterialHasNormalTexture)
+  vec4 params;     // x metallic, y roughness, z alpha cutoff, w normalTexture.scale
   uint flags;
   uint texture;  // base-colour texture: index into Scene::textures (with kMaterialHasTexture)
   uint emissiveTexture;           // with kMaterialHasEmissiveTexture

@@ -13,6 +13,7 @@
 #ifndef VOXGI_TEXTURE_SHARED_H
 #define VOXGI_TEXTURE_SHARED_H
 
+#include "normal_map_shared.h"
 #include "pathtrace_shared.h"
 #include "scene_shared.h"
 #include "shared_fn.h"
@@ -128,6 +129,14 @@ VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv)
     m.emission = vec4(vec3(m.emission) * vec3(e), m.emission.w);
   }
   return m;
+}
+
+// The shading normal of material m at uv: unit n perturbed by its normal map in the
+// frame of `tangent` (normal_map_shared.h); n itself without a normal map.
+VOXGI_FN vec3 mappedNormal(VOXGI_TABLES_PARAM GpuMaterial m, vec3 n, vec4 tangent, vec2 uv) {
+  if ((m.flags & kMaterialHasNormalTexture) == 0u) return n;
+  vec4 texel = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(floatBitsToUint(m.emission.w)), uv);
+  return perturbNormal(n, tangent, vec3(texel), m.params.w);
 }
 #endif
 

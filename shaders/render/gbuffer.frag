@@ -1,8 +1,9 @@
 #version 450 core
 // rtgi primary visibility: the G-buffer (see rtgi_shared.h for the layout).
 // Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
-// VOXGI_NO_COLORS.
+// VOXGI_NO_COLORS, VOXGI_NO_NORMALMAPS.
 #include "scene_shared.h"
+#include "normal_map_shared.h"  // outside #if: its #line markers must stay
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
@@ -19,6 +20,10 @@ layout(location = 2) in vec2 vUv;
 layout(location = 3) in vec4 vColor;
 #endif
 layout(location = 4) in vec3 vPreviousPosition;
+#ifndef VOXGI_NO_NORMALMAPS
+layout(binding = kNormalUnit) uniform sampler2D normalTexture;
+layout(location = 5) in vec4 vTangent;
+#endif
 
 layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
@@ -54,6 +59,18 @@ void main() {
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
   // Two-sided surfaces are shaded on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) n = -n;
+#ifndef VOXGI_NO_NORMALMAPS
+  // The shading normal the G-buffer stores: the normal map's, bent back towards the
+  // viewer where it faces away (the back-facing rule of normal_map_shared.h).
+  float packedSurfaceNormal = 0.0;  // none: the shading normal is the surface's
+  if ((m.flags & kMaterialHasNormalTexture) != 0u) {
+    packedSurfaceNormal = packSurfaceNormal(n);  // for rtgi's leak rule
+    vec4 tangent = vTangent;
+    if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
+    n = perturbNormal(n, tangent, texture(normalTexture, vUv).rgb, m.params.w);
+    n = bendShadingNormal(n, normalize(frame.cameraPosition.xyz - vPosition));
+  }
+#endif
   outPosition = vec4(vPosition, 1.0 + float(materialIndex));
   outMotion = vec4(vPreviousPosition - vPosition, 0.0);
   outNormal = vec4(n, roughness);
@@ -62,5 +79,8 @@ void main() {
   outEmission = vec4(0.0);
 #else
   outEmission = vec4(emission, 0.0);
+#endif
+#ifndef VOXGI_NO_NORMALMAPS
+  outEmission.w = packedSurfaceNormal;
 #endif
 }

@@ -53,6 +53,11 @@ const float kInf = 1.0 / 0.0;
 #define VOXGI_BVH_COLORS
 #define VOXGI_BVH_COLOR_BINDING kPtColorBinding
 #endif
+#if !defined(VOXGI_NO_NORMALMAPS) && !defined(VOXGI_NO_TEXTURES)
+#define VOXGI_PT_NORMALMAPS
+#define VOXGI_BVH_TANGENTS
+#define VOXGI_BVH_TANGENT_BINDING kPtTangentBinding
+#endif
 #include "bvh_trace.glsl"
 
 #ifdef VOXGI_BVH_ALPHA
@@ -151,6 +156,15 @@ vec3 radiance(vec3 o, vec3 d) {
     }
     vec3 wo = -d;
     if (dot(ns, wo) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;  // shading normal past the silhouette
+#ifdef VOXGI_PT_NORMALMAPS
+    if ((m.flags & kMaterialHasNormalTexture) != 0u) {
+      // The normal map, then the back-facing rule (normal_map_shared.h); light
+      // below ng is rejected below as for any shading normal.
+      vec4 tangent = triangleTangent(tri, bc);
+      if (!front) tangent.w = -tangent.w;
+      ns = bendShadingNormal(mappedNormal(m, ns, tangent, triangleUv(tri, bc)), wo);
+    }
+#endif
     Bsdf b = makeBsdf(m.baseColor.rgb, m.params.x, m.params.y, dot(ns, wo));
     if (b.kind != kBsdfGgx && b.base == vec3(0.0)) break;  // black: reflects nothing (the lights of the reference scenes)
 

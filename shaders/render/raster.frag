@@ -1,9 +1,10 @@
 #version 450 core
 // Raster baseline: emission plus unshadowed direct light from punctual lights and
 // emissive surfaces, in linear HDR radiance. Effect-plan variants (scene/effects.h):
-// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS compile that
-// code out.
+// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
+// VOXGI_NO_NORMALMAPS compile that code out.
 #include "scene_shared.h"
+#include "normal_map_shared.h"  // outside #if: its #line markers must stay
 #include "lighting.glsl"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -21,6 +22,10 @@ layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor;
+#endif
+#ifndef VOXGI_NO_NORMALMAPS
+layout(binding = kNormalUnit) uniform sampler2D normalTexture;
+layout(location = 5) in vec4 vTangent;
 #endif
 
 layout(location = 0) out vec4 outRadiance;
@@ -56,6 +61,18 @@ void main() {
   s.n = normalize(vNormal);
   // Two-sided surfaces are lit on the side the viewer sees.
   if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) s.n = -s.n;
+#ifndef VOXGI_NO_NORMALMAPS
+  // The vertex normal stays the surface's side: lights below it do not reach the
+  // point whatever the mapped normal says (no light leaks; normal_map_shared.h).
+  vec3 surfaceNormal = s.n;
+  bool mapped = (m.flags & kMaterialHasNormalTexture) != 0u;
+  if (mapped) {
+    vec4 tangent = vTangent;
+    if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
+    s.n = perturbNormal(s.n, tangent, texture(normalTexture, vUv).rgb, m.params.w);
+    s.n = bendShadingNormal(s.n, s.v);  // the back-facing rule
+  }
+#endif
   s.diffuse = base.rgb * (1.0 - metallic);
   s.f0 = mix(vec3(0.04), base.rgb, metallic);
   s.alpha = roughness * roughness;
@@ -67,7 +84,19 @@ void main() {
   vec3 radiance = emission;
 #endif
   int lightCount = int(frame.counts.x);
+#ifndef VOXGI_NO_NORMALMAPS
+  for (int i = 0; i < lightCount; ++i) {
+    if (mapped) {
+      GpuLight light = lights[i];
+      vec3 l = uint(light.positionType.w) == kLightDirectional ? -light.directionRange.xyz
+                                                               : light.positionType.xyz - s.p;
+      if (dot(l, surfaceNormal) <= 0.0) continue;
+    }
+    radiance += punctualLight(lights[i], s);
+  }
+#else
   for (int i = 0; i < lightCount; ++i) radiance += punctualLight(lights[i], s);
+#endif
 #ifndef VOXGI_NO_EMISSION
   int emitterCount = int(frame.counts.y);
   for (int i = 0; i < emitterCount; ++i) radiance += areaLight(emitters[i], s);

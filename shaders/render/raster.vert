@@ -1,6 +1,7 @@
 #version 450 core
 // Raster baseline (and the rtgi G-buffer), vertex stage: world space -> clip space.
-// VOXGI_NO_COLORS compiles the vertex colour out (scene/effects.h).
+// VOXGI_NO_COLORS and VOXGI_NO_NORMALMAPS compile the vertex colour and the tangent
+// out (scene/effects.h).
 #include "scene_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -12,6 +13,9 @@ layout(location = 2) in vec2 inUv;
 layout(location = kColorAttribute) in vec4 inColor;
 #endif
 layout(location = kPreviousPositionAttribute) in vec3 inPreviousPosition;  // the last frame's (animated meshes)
+#ifndef VOXGI_NO_NORMALMAPS
+layout(location = kTangentAttribute) in vec4 inTangent;  // xyz, w handedness
+#endif
 
 layout(location = 0) out vec3 vPosition;
 layout(location = 1) out vec3 vNormal;
@@ -20,6 +24,9 @@ layout(location = 2) out vec2 vUv;
 layout(location = 3) out vec4 vColor;
 #endif
 layout(location = 4) out vec3 vPreviousPosition;
+#ifndef VOXGI_NO_NORMALMAPS
+layout(location = 5) out vec4 vTangent;
+#endif
 
 void main() {
   mat4 viewProj = mat4(frame.viewProj[0], frame.viewProj[1], frame.viewProj[2], frame.viewProj[3]);
@@ -33,5 +40,8 @@ void main() {
   vColor = inColor - 1.0;
 #endif
   vPreviousPosition = inPreviousPosition;
+#ifndef VOXGI_NO_NORMALMAPS
+  vTangent = inTangent;
+#endif
   gl_Position = viewProj * vec4(inPosition, 1.0);
 }

@@ -50,12 +50,14 @@ void main() {
     seedPixel(px, 1u);
     Surface s = p.s;
     if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
+    // The surface's own normal where a normal map tilts s.n (else 0: no test).
+    vec3 ng = surfaceNormal(px);
 #ifdef RTGI_BVH
-    vec3 o = s.p + s.n * bvhEpsilon();
+    vec3 o = s.p + (ng != vec3(0.0) ? ng : s.n) * bvhEpsilon();
 #else
-    vec3 o = rayOrigin(s);
+    vec3 o = surfaceRayOrigin(px, s);
 #endif
-    result = directLight(s, o);
+    result = directLight(s, o, ng);
   }
   imageStore(directOut, px, vec4(result, 1.0));
 }

@@ -61,18 +61,23 @@ void main() {
   if (p.covered && any(greaterThan(p.s.diffuse, vec3(0.0)))) {
     seedPixel(px, 2u);
     vec3 dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
+    // A ray below the surface itself (a normal map tilts n) brings nothing: no leaks.
+    vec3 ng = surfaceNormal(px);
+    if (dot(dir, ng) >= 0.0) {
 #ifdef RTGI_BVH
-    vec3 o = p.s.p + p.s.n * bvhEpsilon();
-    float t;
-    uint tri;
-    vec2 bc;
-    loopBudget = kPtLoopBudget;
-    if (trace(o, dir, kInf, false, t, tri, bc)) result = p.s.diffuse * voxelLightAt(o, dir, t);
+      vec3 o = p.s.p + (ng != vec3(0.0) ? ng : p.s.n) * bvhEpsilon();
+      float t;
+      uint tri;
+      vec2 bc;
+      loopBudget = kPtLoopBudget;
+      if (trace(o, dir, kInf, false, t, tri, bc)) result = p.s.diffuse * voxelLightAt(o, dir, t);
 #else
-    MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(p.s), dir, 3.0e38), 0.0, kRaySteps);
-    if (h.hit && !seenFromBehind(material[h.node].y, dir))
-      result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
+      MarchHit h =
+          octreeTrace(octreeWorldRay(surfaceRayOrigin(px, p.s), dir, 3.0e38), 0.0, kRaySteps);
+      if (h.hit && !seenFromBehind(material[h.node].y, dir))
+        result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
 #endif
+    }
   }
   imageStore(indirectOut, px, vec4(result, 1.0));
 }

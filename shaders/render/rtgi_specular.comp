@@ -77,6 +77,15 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
       ns = -ns;
     }
     if (dot(ns, -dir) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;
+    vec3 ngFlat = ns;
+#ifdef RTGI_BVH_TANGENTS
+    if ((m.flags & kMaterialHasNormalTexture) != 0u) {
+      // The normal map and the back-facing rule, as the path tracer does.
+      vec4 tangent = triangleTangent(tri, bc);
+      if (!front) tangent.w = -tangent.w;
+      ns = bendShadingNormal(mappedNormal(m, ns, tangent, triangleUv(tri, bc)), -dir);
+    }
+#endif
     float metallic = m.params.x;
     float roughness = clamp(m.params.y, 0.0, 1.0);
     vec3 base = m.baseColor.rgb;
@@ -98,7 +107,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     s.f0 = f0;
     s.alpha = roughness * roughness;
     s.specular = isLambertian(metallic, roughness) ? 0.0 : 1.0;
-    result += throughput * directLight(s, p + ng * eps);
+    // The leak rule where a normal map tilts ns: nothing from below ng.
+    vec3 below = ns != ngFlat ? ng : vec3(0.0);
+    result += throughput * directLight(s, p + ng * eps, below);
     if ((rtgi.counts.z & kRtgiHasIndirect) != 0u && any(greaterThan(s.diffuse, vec3(0.0)))) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
       MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(s), d, 3.0e38), 0.0, kRaySteps);

@@ -95,6 +95,14 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
     }
     colors_ = upload(colors.data(), colors.size() * sizeof(glm::vec4));
   }
+  if (s.hasNormalMaps()) {
+    std::vector<glm::vec4> tangents(3 * order.size());
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t i = pt.firstIndex[order[slot]];
+      for (uint32_t k = 0; k < 3; ++k) tangents[3 * slot + k] = s.tangents[s.indices[i + k]];
+    }
+    tangents_ = upload(tangents.data(), tangents.size() * sizeof(glm::vec4));
+  }
   emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
   logDebug(strf("bvh: %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d emissive triangles",
                 bvh_.triangleCount(), nodes.size(), bvh_.depth(), bvh_.sahCost(), buildMs_,

@@ -11,7 +11,7 @@
 // Costs at start-up: the binned SAH build (buildMs(); cornell_room's 3.5k triangles
 // take a few ms) and 64 + 48 + 48 bytes per triangle of GPU memory (nodes, triangles,
 // shading), plus 32 bytes per triangle and the texels when textured, and 48 bytes per
-// triangle when the scene has vertex colours.
+// triangle when the scene has vertex colours, 48 more when it has normal maps.
 #ifndef VOXGI_RENDER_GPU_BVH_H
 #define VOXGI_RENDER_GPU_BVH_H
 
@@ -36,6 +36,10 @@ class GpuBvh {
   // three a triangle, BVH order; 48 bytes a triangle); 0 otherwise.
   bool colored() const { return colors_.id() != 0; }
   GLuint colors() const { return colors_.id(); }
+  // The scene has normal maps: tangents() holds the tangents (vec4 per triangle
+  // corner, xyz and handedness, three a triangle, BVH order); 0 otherwise.
+  bool tangentsUploaded() const { return tangents_.id() != 0; }
+  GLuint tangents() const { return tangents_.id(); }
   int emissiveTriangles() const { return emissiveCount_; }
   size_t gpuBytes() const { return gpuBytes_; }
   // Of gpuBytes(): the textures' texels and their table (0 unless textured()).
@@ -61,7 +65,7 @@ class GpuBvh {
   size_t gpuBytes_ = 0, textureBytes_ = 0;
   gl::Buffer nodes_, triangles_, shading_, emissive_;
   gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
-  gl::Buffer uvs_, texels_, textureTable_, colors_;
+  gl::Buffer uvs_, texels_, textureTable_, colors_, tangents_;
   gl::Texture uvTexels_, textureTexels_;
 };
 

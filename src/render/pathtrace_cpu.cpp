@@ -49,6 +49,8 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
       pt_(buildPtScene(scene, ptReadsTextures(scene, settings.textures))),
       textured_(ptReadsTextures(scene, settings.textures)),
       colored_(settings.colors && scene.hasVertexColors()),
+      normalMapped_(settings.normalMaps && scene.hasNormalMaps() &&
+                    ptReadsTextures(scene, settings.textures)),
       materials_(scene::GpuScene::packMaterials(scene)),
       lights_(scene::GpuScene::packLights(scene)),
       embree_(std::make_unique<Embree>()),
@@ -80,6 +82,12 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
     for (size_t t = 0; t < triangles_.size(); ++t)
       for (size_t k = 0; k < 3; ++k)
         cornerColors_[3 * t + k] = scene.colors[scene.indices[pt_.firstIndex[t] + k]];
+  }
+  if (normalMapped_) {
+    cornerTangents_.resize(3 * triangles_.size());
+    for (size_t t = 0; t < triangles_.size(); ++t)
+      for (size_t k = 0; k < 3; ++k)
+        cornerTangents_[3 * t + k] = scene.tangents[scene.indices[pt_.firstIndex[t] + k]];
   }
   const int threads =
       settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
@@ -259,6 +267,17 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
     }
     const vec3 wo = -d;
     if (dot(ns, wo) <= 0.0f || !(dot(ns, ns) > 0.5f)) ns = ng;  // past the silhouette
+    if (normalMapped_ && (m.flags & kMaterialHasNormalTexture) != 0u) {
+      // The normal map, then the back-facing rule (normal_map_shared.h), as the GL
+      // device does; light below ng is rejected below.
+      const vec4* c = cornerTangents_.data() + 3 * static_cast<size_t>(hit.triangle);
+      vec4 tangent = (1.0f - bc.x - bc.y) * c[0] + bc.x * c[1] + bc.y * c[2];
+      if (!front) tangent.w = -tangent.w;
+      ns = bendShadingNormal(
+          mappedNormal(tables, m, ns, tangent,
+                       (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2),
+          wo);
+    }
     const Bsdf bsdf = makeBsdf(vec3(baseColor), m.params.x, m.params.y, dot(ns, wo));
     if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) break;  // reflects nothing
 

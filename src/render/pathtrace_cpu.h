@@ -92,8 +92,11 @@ class CpuPathtracer final : public Pathtracer {
   PtScene pt_;
   std::vector<Triangle> triangles_;
   bool textured_ = false;
-  bool masked_ = false;   // some material is alpha-masked (and the plan reads masks)
-  bool colored_ = false;  // the scene has vertex colours (and the plan reads them)
+  bool masked_ = false;        // some material is alpha-masked (and the plan reads masks)
+  bool colored_ = false;       // the scene has vertex colours (and the plan reads them)
+  bool normalMapped_ = false;  // the scene has normal maps (and the plan reads them)
+  // With normalMapped_: per triangle, its corners' tangents (3 entries); else empty.
+  std::vector<glm::vec4> cornerTangents_;
   // With colored_: per triangle, its corners' COLOR_0 (3 entries); else empty.
   std::vector<glm::vec4> cornerColors_;
   std::vector<gpu::GpuMaterial> materials_;

@@ -17,6 +17,8 @@ std::vector<std::string> kernelDefines(const scene::Scene& s, const PathtraceSet
   std::vector<std::string> defines;
   if (!textured) defines.push_back("VOXGI_NO_TEXTURES");
   if (!(settings.colors && s.hasVertexColors())) defines.push_back("VOXGI_NO_COLORS");
+  if (!(settings.normalMaps && s.hasNormalMaps() && textured))
+    defines.push_back("VOXGI_NO_NORMALMAPS");
   if (ptReadsAlphaMasks(s, settings.alpha)) defines.push_back("VOXGI_BVH_ALPHA");
   return defines;
 }
@@ -101,6 +103,8 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, bvh.shading());
   if (settings_.colors && bvh.colored())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtColorBinding, bvh.colors());
+  if (settings_.normalMaps && bvh.textured() && bvh.tangentsUploaded())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTangentBinding, bvh.tangents());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, bvh.emissive());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
   glBindImageTexture(gpu::kPtSumImage, sum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -111,7 +111,8 @@ bool ptReadsTextures(const scene::Scene& s, bool allowed) {
   if (!allowed) return false;
   for (const scene::Draw& d : s.draws) {
     const scene::Material& m = s.materials[static_cast<size_t>(d.material)];
-    for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture})
+    for (int t :
+         {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture, m.normalTexture})
       if (t >= 0 && static_cast<size_t>(t) < s.textures.size()) return true;
   }
   return false;

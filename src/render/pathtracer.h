@@ -53,6 +53,9 @@ struct PathtraceSettings {
   // Vertex colours (the effect plan's `colors`): COLOR_0 multiplies the base colour
   // (and its alpha); off, or in a scene without them, none are read.
   bool colors = true;
+  // Normal maps (the effect plan's `normalmaps`): the normal texture bends the
+  // shading normal; off, or in a scene without them, the vertex normal shades.
+  bool normalMaps = true;
   PathtraceDevice device = PathtraceDevice::kAuto;
   // cpu: worker threads (0: one per core).
   int threads = 0;

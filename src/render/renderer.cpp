@@ -173,6 +173,7 @@ void Renderer::createPasses() {
     PathtraceSettings ps = settings_.pathtrace;
     ps.textures = features.textures;
     ps.colors = features.colors;
+    ps.normalMaps = features.normalMaps;
     ps.alpha = features.alpha;
     const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     ps.device = resolvePathtraceDevice(ps.device, glRenderer ? glRenderer : "");

@@ -35,6 +35,8 @@ std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
   std::vector<std::string> defines{"RTGI_BVH"};
   if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
   if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
+  if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
+    defines.emplace_back("RTGI_BVH_TANGENTS");
   if (ptReadsAlphaMasks(gs.scene(), settings_.features.alpha))
     defines.emplace_back("RTGI_BVH_ALPHA");
   return defines;
@@ -52,6 +54,8 @@ void RtgiPass::bindBvh(const GpuScene& gs) const {
   }
   if (settings_.features.colors && bvh_->colored())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
+  if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTangentBinding, bvh_->tangents());
 }
 
 void RtgiPass::unbindBvh() const {

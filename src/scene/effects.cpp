@@ -8,8 +8,9 @@
 namespace voxgi::scene {
 
 const std::vector<std::string>& effectNames() {
-  static const std::vector<std::string> names = {"shadows",  "emission", "indirect", "specular",
-                                                 "textures", "alpha",    "colors",   "animation"};
+  static const std::vector<std::string> names = {"shadows",  "emission",   "indirect",
+                                                 "specular", "textures",   "alpha",
+                                                 "colors",   "normalmaps", "animation"};
   return names;
 }
 
@@ -60,7 +61,8 @@ EffectPlan planEffects(const Scene& scene) {
     const Material& m = scene.materials[i];
     emissive = emissive || m.isEmissive();
     specular = specular || isSpecular(m);
-    for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture})
+    for (int t :
+         {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture, m.normalTexture})
       textured = textured || (t >= 0 && static_cast<size_t>(t) < scene.textures.size());
     masked = masked || m.alphaMode == AlphaMode::kMask;
   }
@@ -79,6 +81,7 @@ EffectPlan planEffects(const Scene& scene) {
   decide("textures", textured, "no textured material");
   decide("alpha", masked, "no alpha-masked material");
   decide("colors", scene.hasVertexColors(), "no vertex colours");
+  decide("normalmaps", scene.hasNormalMaps(), "no normal-mapped material");
   decide("animation", scene.animated(), "nothing animated");
   return plan;
 }
@@ -147,6 +150,7 @@ std::vector<std::string> ShaderFeatures::defines() const {
   if (!textures) d.push_back("VOXGI_NO_TEXTURES");
   if (!alpha) d.push_back("VOXGI_NO_ALPHA");
   if (!colors) d.push_back("VOXGI_NO_COLORS");
+  if (!normalMaps) d.push_back("VOXGI_NO_NORMALMAPS");
   return d;
 }
 
@@ -157,6 +161,8 @@ ShaderFeatures shaderFeatures(const EffectPlan& plan) {
   f.textures = plan.has("textures");
   f.alpha = plan.has("alpha");
   f.colors = plan.has("colors");
+  // Normal maps are textures: without the textures effect none is read.
+  f.normalMaps = plan.has("normalmaps") && plan.has("textures");
   return f;
 }
 

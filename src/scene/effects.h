@@ -11,6 +11,8 @@
 //   alpha      alpha-mask discard                  an alpha-masked material
 //   colors     vertex colours (COLOR_0) multiply   a drawn primitive with COLOR_0
 //              the base colour
+//   normalmaps tangent-space normal maps bend      a drawn normal-mapped material
+//              the shading normal (needs textures)
 //   animation  the scene is re-posed per frame     an animated node
 // Only materials that are drawn count. A skipped effect costs nothing: its stage
 // is absent and its shader code is compiled out (ShaderFeatures). `--effects
@@ -69,6 +71,7 @@ struct ShaderFeatures {
   bool textures = true;
   bool alpha = true;
   bool colors = true;
+  bool normalMaps = true;
   std::vector<std::string> defines() const;
 };
 ShaderFeatures shaderFeatures(const EffectPlan& plan);

@@ -20,6 +20,7 @@
 
 #include "core/log.h"
 #include "scene/emitters.h"
+#include "scene/tangents.h"
 
 namespace voxgi::scene {
 namespace {
@@ -594,6 +595,11 @@ class Loader {
       if (m.emissiveTexture.index != -1)
         checkIndex(m.emissiveTexture.index, model_.textures.size(), at + ".emissiveTexture.index",
                    "texture", "textures");
+      if (m.normalTexture.index != -1) {
+        checkIndex(m.normalTexture.index, model_.textures.size(), at + ".normalTexture.index",
+                   "texture", "textures");
+        checkRange(m.normalTexture.scale, -kHuge, kHuge, at + ".normalTexture.scale");
+      }
     }
   }
 
@@ -911,7 +917,8 @@ class Loader {
                "components",
                a.bufferView, bv.byteStride, index, compSize));
     const std::string_view role(what);
-    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0" || role == "COLOR_0") &&
+    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0" || role == "COLOR_0" ||
+         role == "TANGENT") &&
         (a.byteOffset % 4 || stride % 4))
       fail(
           strf("accessors[%d] (%s): elements of %zu bytes at offset %zu are not 4-byte aligned, "
@@ -1057,6 +1064,11 @@ class Loader {
       if (m.emissiveTexture.index != -1 && mat.isEmissive())
         mat.emissiveTexture = texture(m.emissiveTexture.index, true, m.emissiveTexture.texCoord,
                                       what + ": emissiveTexture");
+      if (m.normalTexture.index != -1) {
+        mat.normalTexture = texture(m.normalTexture.index, false, m.normalTexture.texCoord,
+                                    what + ": normalTexture");
+        mat.normalScale = toFloat(m.normalTexture.scale, what + ": normalTexture.scale");
+      }
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -1327,6 +1339,22 @@ class Loader {
           fail(strf("accessors[%d] (COLOR_0): integer colours must be normalized", it->second));
         hasColor = true;
       }
+      View tan;
+      bool hasTangent = false;
+      if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
+        tan =
+            accessor(it->second, "TANGENT", {TINYGLTF_TYPE_VEC4}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        if (tan.count != p.count) fail(where + ": TANGENT and POSITION counts differ");
+        for (size_t i = 0; i < tan.count; ++i)
+          for (size_t k = 0; k < 4; ++k)
+            if (!std::isfinite(
+                    readComponent(tan.data + i * tan.stride + 4 * k, tan.componentType, false)))
+              fail(strf("accessors[%d] (TANGENT): element %zu is NaN or Inf", it->second, i));
+        hasTangent = true;
+      }
+      const bool normalMapped =
+          prim.material >= 0 && static_cast<size_t>(prim.material) < model_.materials.size() &&
+          scene_.materials[static_cast<size_t>(prim.material)].normalTexture >= 0;
       std::vector<uint32_t> idx;
       if (prim.indices != -1) {
         const View iv =
@@ -1446,6 +1474,12 @@ class Loader {
         repaired_ += repaired;
         repairedIn_.push_back(where);
       }
+      if (normalMapped || !scene_.tangents.empty()) {
+        // (1, 0, 0, 1) before the first normal-mapped primitive and for primitives
+        // without a normal map: never read.
+        scene_.tangents.resize(base + p.count, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+        if (normalMapped) readTangents(tan, hasTangent, kept, base, world, mirrored);
+      }
       if (kept.empty()) continue;
       if (moving_[static_cast<size_t>(nodeIndex)]) {
         // Kept in the node's own space, to be re-posed (Scene::pose).
@@ -1457,6 +1491,13 @@ class Loader {
         for (size_t i = 0; i < p.count; ++i) {
           r.localPositions.push_back(glm::dvec3(inverse * glm::dvec4(world_[base + i], 1.0)));
           r.localNormals.push_back(toLocal * scene_.vertices[base + i].normal);
+        }
+        if (!scene_.tangents.empty()) {
+          const glm::mat3 inverse3 = glm::mat3(glm::inverse(glm::dmat3(world)));
+          for (size_t i = 0; i < p.count; ++i) {
+            const glm::vec4 wt = scene_.tangents[base + i];
+            r.localTangents.push_back(glm::vec4(inverse3 * glm::vec3(wt), mirrored ? -wt.w : wt.w));
+          }
         }
         scene_.animatedRanges.push_back(std::move(r));
       }
@@ -1528,6 +1569,44 @@ class Loader {
     return glm::vec3(readComponent(q, v.componentType, v.normalized),
                      readComponent(q + cs, v.componentType, v.normalized),
                      readComponent(q + 2 * cs, v.componentType, v.normalized));
+  }
+
+  // Tangents of a normal-mapped primitive into scene_.tangents from `base` on: the
+  // file's TANGENT through the node transform (a mirroring transform flips the
+  // handedness), or, without one, generated with MikkTSpace (scene/tangents.h) over
+  // the primitive's triangles `kept` in world space. A zero tangent or one parallel
+  // to its normal gets any perpendicular vector; w is read by its sign.
+  void readTangents(const View& t, bool fromFile, const std::vector<uint32_t>& kept, size_t base,
+                    const glm::dmat4& world, bool mirrored) {
+    const size_t count = t.count ? t.count : scene_.vertices.size() - base;
+    if (!fromFile) {
+      std::vector<glm::vec3> pos(count), nrm(count);
+      std::vector<glm::vec2> uv(count);
+      for (size_t i = 0; i < count; ++i) {
+        pos[i] = glm::vec3(world_[base + i] - world_[base]);
+        nrm[i] = scene_.vertices[base + i].normal;
+        // glTF's v runs down the image, MikkTSpace's up (the bitangent of a glTF
+        // tangent points up the image, as exporters write it): v enters flipped.
+        uv[i] = glm::vec2(scene_.vertices[base + i].uv.x, -scene_.vertices[base + i].uv.y);
+      }
+      const std::vector<glm::vec4> gen = generateTangents(pos, nrm, uv, kept);
+      std::copy(gen.begin(), gen.end(), scene_.tangents.begin() + static_cast<ptrdiff_t>(base));
+      return;
+    }
+    const glm::mat3 m = glm::mat3(world);
+    for (size_t i = 0; i < count; ++i) {
+      glm::vec4 lt;
+      for (int k = 0; k < 4; ++k)
+        lt[k] = readComponent(t.data + i * t.stride + 4 * static_cast<size_t>(k), t.componentType,
+                              false);
+      const glm::vec3 n = scene_.vertices[base + i].normal;
+      glm::vec3 wt = m * glm::vec3(lt);
+      wt -= n * glm::dot(n, wt);
+      const float len = glm::length(wt);
+      wt = len > 1e-6f && std::isfinite(len) ? wt / len : anyPerpendicular(n);
+      const float w = (lt.w < 0.0f) != mirrored ? -1.0f : 1.0f;
+      scene_.tangents[base + i] = glm::vec4(wt, w);
+    }
   }
 
   // COLOR_0 into scene_.colors from `base` on: VEC3 (alpha 1) or VEC4; a value that

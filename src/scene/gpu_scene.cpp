@@ -1,6 +1,7 @@
 #include "scene/gpu_scene.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <utility>
 
@@ -13,11 +14,16 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
     g.baseColor = m.baseColor;
     g.emission = glm::vec4(m.emission, 0.0f);
     g.params = glm::vec4(m.metallic, m.roughness, m.alphaCutoff, 0.0f);
+    if (m.normalTexture >= 0) {
+      g.emission.w = std::bit_cast<float>(static_cast<uint32_t>(m.normalTexture));
+      g.params.w = m.normalScale;
+    }
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
               (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u) |
               (m.emissiveTexture >= 0 ? gpu::kMaterialHasEmissiveTexture : 0u) |
-              (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u);
+              (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u) |
+              (m.normalTexture >= 0 ? gpu::kMaterialHasNormalTexture : 0u);
     g.texture = m.baseColorTexture >= 0 ? static_cast<uint32_t>(m.baseColorTexture) : 0u;
     g.emissiveTexture = m.emissiveTexture >= 0 ? static_cast<uint32_t>(m.emissiveTexture) : 0u;
     g.metallicRoughnessTexture =
@@ -127,6 +133,17 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glVertexArrayAttribFormat(vao, gpu::kColorAttribute, 4, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao, gpu::kColorAttribute, 1);
   }
+  if (s.hasNormalMaps()) {
+    // Tangents likewise: only scenes with normal maps carry them (binding 3).
+    const auto tbytes = static_cast<GLsizeiptr>(s.tangents.size() * sizeof(glm::vec4));
+    cbytes += static_cast<size_t>(tbytes);
+    tangents_ = gl::createBuffer(tbytes, s.tangents.data(),
+                                 s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
+    glVertexArrayVertexBuffer(vao, 3, tangents_.id(), 0, sizeof(glm::vec4));
+    glEnableVertexArrayAttrib(vao, gpu::kTangentAttribute);
+    glVertexArrayAttribFormat(vao, gpu::kTangentAttribute, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, gpu::kTangentAttribute, 3);
+  }
   const auto mats = packMaterials(s);
   const auto lights = packLights(s);
   const auto emitters = packEmitters(buildEmitters(s));
@@ -183,10 +200,11 @@ void GpuScene::setDefaultColor() const {
 }
 
 void GpuScene::bindMaterialTextures(const Material& m) const {
-  const std::pair<GLuint, int> slots[] = {
+  std::vector<std::pair<GLuint, int>> slots = {
       {gpu::kBaseColorUnit, m.baseColorTexture},
       {gpu::kEmissiveUnit, m.emissiveTexture},
       {gpu::kMetallicRoughnessUnit, m.metallicRoughnessTexture}};
+  if (scene_.hasNormalMaps()) slots.emplace_back(gpu::kNormalUnit, m.normalTexture);
   for (const auto& [unit, index] : slots) {
     glBindTextureUnit(unit, texture(index));
     glBindSampler(unit, sampler(index));
@@ -196,10 +214,12 @@ void GpuScene::bindMaterialTextures(const Material& m) const {
 void GpuScene::bindSampler() const {
   for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit})
     glBindSampler(unit, sampler_.id());
+  if (scene_.hasNormalMaps()) glBindSampler(gpu::kNormalUnit, sampler_.id());
 }
 
 void GpuScene::unbindMaterialTextures() {
-  for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit}) {
+  for (GLuint unit :
+       {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit, gpu::kNormalUnit}) {
     glBindTextureUnit(unit, 0);
     glBindSampler(unit, 0);
   }
@@ -228,6 +248,10 @@ void GpuScene::updateGeometry() {
   glNamedBufferSubData(vertices_.id(), static_cast<GLintptr>(lo) * sizeof(Vertex),
                        static_cast<GLsizeiptr>(hi - lo) * sizeof(Vertex),
                        scene_.vertices.data() + lo);
+  if (scene_.hasNormalMaps())
+    glNamedBufferSubData(tangents_.id(), static_cast<GLintptr>(lo) * sizeof(glm::vec4),
+                         static_cast<GLsizeiptr>(hi - lo) * sizeof(glm::vec4),
+                         scene_.tangents.data() + lo);
   // Moving emissive surfaces move their light.
   const auto emitters = packEmitters(buildEmitters(scene_));
   if (static_cast<int>(emitters.size()) == emitterCount_ && !emitters.empty()) {

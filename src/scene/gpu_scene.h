@@ -35,6 +35,9 @@ class GpuScene {
   // Where the scene has no colour stream, sets the constant value the vertex array
   // gives gpu::kColorAttribute to white (context state, so set before each draw).
   void setDefaultColor() const;
+  // Tangents (vec4 per vertex, xyz and handedness), 0 without normal maps; on
+  // attribute gpu::kTangentAttribute.
+  GLuint tangentBuffer() const { return tangents_.id(); }
   GLuint materials() const { return materials_.id(); }
   GLuint lights() const { return lights_.id(); }
   GLuint emitters() const { return emitters_.id(); }
@@ -71,7 +74,7 @@ class GpuScene {
 
  private:
   const Scene& scene_;
-  gl::Buffer vertices_, indices_, colors_, materials_, lights_, emitters_, emitterCdf_;
+  gl::Buffer vertices_, indices_, colors_, tangents_, materials_, lights_, emitters_, emitterCdf_;
   // Animated meshes: the vertices as the last frame drew them (attribute
   // kPreviousPositionAttribute).
   gl::Buffer previousVertices_;

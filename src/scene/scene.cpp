@@ -185,6 +185,14 @@ void Scene::pose(double seconds) {
       const glm::vec3 n = normalMatrix * r.localNormals[i];
       const float len = glm::length(n);
       v.normal = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+      if (!r.localTangents.empty()) {
+        const glm::vec4 lt = r.localTangents[i];
+        const glm::vec3 wt = glm::mat3(m) * glm::vec3(lt);
+        const float tl = glm::length(wt);
+        tangents[r.firstVertex + i] =
+            glm::vec4(tl > 0.0f ? wt / tl : glm::vec3(1.0f, 0.0f, 0.0f),
+                      glm::determinant(glm::dmat3(m)) < 0.0 ? -lt.w : lt.w);
+      }
     }
   }
   // Lights and the camera as the loader places them: at the node's origin, looking

@@ -34,12 +34,15 @@ struct Material {
   int baseColorTexture = -1;          // index into Scene::textures (sRGB)
   int emissiveTexture = -1;           // sRGB; multiplies emission
   int metallicRoughnessTexture = -1;  // linear; blue x metallic, green x roughness
+  int normalTexture = -1;             // linear; tangent-space normal map (normalTexture)
+  float normalScale = 1.0f;           // normalTexture.scale: scales the map's x and y
   bool doubleSided = false;
   AlphaMode alphaMode = AlphaMode::kOpaque;
   float alphaCutoff = 0.5f;
   bool isEmissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
   bool hasTexture() const {
-    return baseColorTexture >= 0 || emissiveTexture >= 0 || metallicRoughnessTexture >= 0;
+    return baseColorTexture >= 0 || emissiveTexture >= 0 || metallicRoughnessTexture >= 0 ||
+           normalTexture >= 0;
   }
 };
 
@@ -58,7 +61,7 @@ struct Texture {
   std::string name;
   int width = 0, height = 0;
   std::vector<uint8_t> rgba8;  // 4 channels, rows top first
-  bool srgb = true;            // colour (base colour, emission); false: data (metallic-roughness)
+  bool srgb = true;  // colour (base colour, emission); false: data (metallic-roughness, normal)
   // The texture's glTF sampler. Without one, or where it leaves a field out: repeat,
   // bilinear magnification and trilinear minification.
   int wrapS = kWrapRepeat, wrapT = kWrapRepeat;  // kWrap*
@@ -157,6 +160,8 @@ struct AnimatedRange {
   int node = -1;
   std::vector<glm::dvec3> localPositions;
   std::vector<glm::vec3> localNormals;
+  // With Scene::tangents: the tangents in the node's space (w: handedness).
+  std::vector<glm::vec4> localTangents;
 };
 
 // Quantities derived from the bounds so that nothing assumes a unit.
@@ -177,6 +182,12 @@ struct Scene {
   // colour. Empty when no primitive has vertex colours (the common case costs
   // nothing); otherwise primitives without COLOR_0 get white.
   std::vector<glm::vec4> colors;
+  // Tangents for normal maps, world space, parallel to `vertices`: xyz the unit
+  // tangent (the direction u grows in), w the handedness (+1 or -1): the bitangent
+  // is w * cross(normal, tangent). From the file's TANGENT, or generated with the
+  // MikkTSpace algorithm (scene/tangents.h). Empty when no drawn primitive has a
+  // normal-mapped material; otherwise other primitives get (1, 0, 0, 1).
+  std::vector<glm::vec4> tangents;
   std::vector<uint32_t> indices;
   std::vector<Draw> draws;
   std::vector<Material> materials;
@@ -203,6 +214,7 @@ struct Scene {
 
   size_t triangleCount() const { return indices.size() / 3; }
   bool hasVertexColors() const { return !colors.empty(); }
+  bool hasNormalMaps() const { return !tangents.empty(); }
   // Something moves: a mesh, the camera or a light.
   bool animated() const { return meshesAnimated() || cameraMoves || lightsAnimated(); }
   bool meshesAnimated() const { return !animatedRanges.empty(); }

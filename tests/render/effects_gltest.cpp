@@ -237,7 +237,8 @@ TEST(EffectsCli, PrintedAndInStats) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output.rfind("effects: shadows, emission, indirect, specular, textures (skipped: "
                            "alpha \u2014 --effects -alpha, colors \u2014 no vertex colours, "
-                           "animation \u2014 nothing animated)\n",
+                           "normalmaps \u2014 no normal-mapped material, animation \u2014 "
+                           "nothing animated)\n",
                            0),
             0u)
       << r.output;

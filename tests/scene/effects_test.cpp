@@ -39,7 +39,7 @@ TEST(EffectPlan, CornellRoom) {
   EXPECT_EQ(p.enabledList(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
   EXPECT_EQ(skippedNames(p),
-            (std::vector<std::string>{"textures", "alpha", "colors", "animation"}));
+            (std::vector<std::string>{"textures", "alpha", "colors", "normalmaps", "animation"}));
   EXPECT_EQ(p.skipped.at("textures"), "no textured material");
   EXPECT_EQ(p.skipped.at("alpha"), "no alpha-masked material");
   EXPECT_EQ(p.skipped.at("colors"), "no vertex colours");
@@ -47,7 +47,7 @@ TEST(EffectPlan, CornellRoom) {
   EXPECT_EQ(p.summary(),
             "shadows, emission, indirect, specular (skipped: textures \u2014 no textured "
             "material, alpha \u2014 no alpha-masked material, colors \u2014 no vertex colours, "
-            "animation \u2014 nothing animated)");
+            "normalmaps \u2014 no normal-mapped material, animation \u2014 nothing animated)");
 }
 
 TEST(EffectPlan, DarkPlane) {
@@ -58,7 +58,7 @@ TEST(EffectPlan, DarkPlane) {
   EXPECT_EQ(p.enabledList(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
   EXPECT_EQ(skippedNames(p),
-            (std::vector<std::string>{"textures", "alpha", "colors", "animation"}));
+            (std::vector<std::string>{"textures", "alpha", "colors", "normalmaps", "animation"}));
 }
 
 TEST(EffectPlan, DiffuseSceneHasNoSpecularOrEmission) {
@@ -158,7 +158,7 @@ TEST(EffectPlan, BadOverridesAreOneLineErrors) {
   };
   EXPECT_EQ(message("+bloom"),
             "--effects: unknown effect 'bloom' (shadows, emission, indirect, specular, textures, "
-            "alpha, colors, animation, all)");
+            "alpha, colors, normalmaps, animation, all)");
   EXPECT_EQ(message("specular"), "--effects: 'specular' needs a sign, +specular or -specular");
   EXPECT_EQ(message("+shadows,,-alpha"),
             "--effects: empty entry in '+shadows,,-alpha' (expected +name,-name)");
@@ -171,8 +171,9 @@ TEST(EffectPlan, ShaderDefines) {
   EXPECT_TRUE(ShaderFeatures{}.defines().empty());  // everything on: the plain shaders
   EXPECT_TRUE(shaderFeatures(allEffects()).defines().empty());
   const ShaderFeatures f = shaderFeatures(planEffects(diffuseScene()));
-  EXPECT_EQ(f.defines(), (std::vector<std::string>{"VOXGI_NO_EMISSION", "VOXGI_NO_TEXTURES",
-                                                   "VOXGI_NO_ALPHA", "VOXGI_NO_COLORS"}));
+  EXPECT_EQ(f.defines(),
+            (std::vector<std::string>{"VOXGI_NO_EMISSION", "VOXGI_NO_TEXTURES", "VOXGI_NO_ALPHA",
+                                      "VOXGI_NO_COLORS", "VOXGI_NO_NORMALMAPS"}));
 }
 
 // Vertex colours: the `colors` effect exactly when the scene has a COLOR_0 stream.
@@ -185,6 +186,18 @@ TEST(EffectPlan, VertexColors) {
   EXPECT_TRUE(shaderFeatures(p).colors);
   EXPECT_TRUE(planEffects(loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf"))
                   .has("colors"));
+}
+
+// Normal maps: the `normalmaps` effect exactly when the scene has a tangent stream
+// (a drawn normal-mapped material); read only with textures on.
+TEST(EffectPlan, NormalMaps) {
+  EXPECT_FALSE(planEffects(diffuseScene()).has("normalmaps"));
+  EffectPlan p = planEffects(loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf"));
+  EXPECT_TRUE(p.has("normalmaps"));
+  EXPECT_TRUE(p.has("textures"));
+  EXPECT_TRUE(shaderFeatures(p).normalMaps);
+  applyOverrides(&p, "-textures");
+  EXPECT_FALSE(shaderFeatures(p).normalMaps);
 }
 
 TEST(EffectPlan, CommandLine) {

@@ -13,7 +13,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -177,19 +179,20 @@ TEST_P(SampleTest, LoadsWithExactTriangleCount) {
 
 INSTANTIATE_TEST_SUITE_P(
     Samples, SampleTest,
-    ::testing::Values(SampleCase{"cornell_room", "cornell_room/cornell_room.gltf", 32268, 0},
-                      SampleCase{"dark_plane", "dark_plane/dark_plane.gltf", 48386, 0},
-                      SampleCase{"cornell_box", "cornell_box/cornellBox.gltf", 16732, 460},
-                      SampleCase{"box", "box/Box.gltf", 12, 0},
-                      SampleCase{"duck", "duck/Duck.gltf", 4212, 0},
-                      SampleCase{"avocado", "avocado/Avocado.gltf", 682, 0},
-                      SampleCase{"metal_rough_spheres_no_textures",
-                                 "metal_rough_spheres_no_textures/MetalRoughSpheresNoTextures.gltf",
-                                 1040409, 196},
-                      SampleCase{"lights_punctual_lamp",
-                                 "lights_punctual_lamp/LightsPunctualLamp.gltf", 6000, 0},
-                      SampleCase{"emissive_strength_test",
-                                 "emissive_strength_test/EmissiveStrengthTest.gltf", 90, 0}),
+    ::testing::Values(
+        SampleCase{"cornell_room", "cornell_room/cornell_room.gltf", 32268, 0},
+        SampleCase{"dark_plane", "dark_plane/dark_plane.gltf", 48386, 0},
+        SampleCase{"cornell_box", "cornell_box/cornellBox.gltf", 16732, 460},
+        SampleCase{"box", "box/Box.gltf", 12, 0}, SampleCase{"duck", "duck/Duck.gltf", 4212, 0},
+        SampleCase{"avocado", "avocado/Avocado.gltf", 682, 0},
+        SampleCase{"metal_rough_spheres_no_textures",
+                   "metal_rough_spheres_no_textures/MetalRoughSpheresNoTextures.gltf", 1040409,
+                   196},
+        SampleCase{"lights_punctual_lamp", "lights_punctual_lamp/LightsPunctualLamp.gltf", 6000, 0},
+        SampleCase{"emissive_strength_test", "emissive_strength_test/EmissiveStrengthTest.gltf", 90,
+                   0},
+        SampleCase{"normal_tangent_mirror_test",
+                   "normal_tangent_mirror_test/NormalTangentMirrorTest.gltf", 5240, 0}),
     [](const ::testing::TestParamInfo<SampleCase>& param) {
       return std::string(param.param.name);
     });
@@ -445,7 +448,7 @@ class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};
 TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
   const Scene s = loadGltf(sample(GetParam()));
   const bool avocado = std::string(GetParam()).find("avocado") != std::string::npos;
-  ASSERT_EQ(s.textures.size(), avocado ? 2u : 1u);
+  ASSERT_EQ(s.textures.size(), avocado ? 3u : 1u);
   for (const Texture& t : s.textures) {
     EXPECT_GT(t.width, 0);
     EXPECT_GT(t.height, 0);
@@ -458,9 +461,91 @@ TEST_P(TexturedSampleTest, OneDecodedBaseColourTexture) {
   if (avocado) {
     ASSERT_EQ(m.metallicRoughnessTexture, 1);
     EXPECT_FALSE(s.textures[1].srgb);
+    // And a normal map (linear), with the file's tangents.
+    ASSERT_EQ(m.normalTexture, 2);
+    EXPECT_FALSE(s.textures[2].srgb);
+    EXPECT_TRUE(s.hasNormalMaps());
+    EXPECT_EQ(s.tangents.size(), s.vertices.size());
   } else {
     EXPECT_EQ(m.metallicRoughnessTexture, -1);
+    EXPECT_EQ(m.normalTexture, -1);
+    EXPECT_FALSE(s.hasNormalMaps());
   }
+}
+
+// tests/data/normal_maps (make_normal_maps.py): the normal texture and its scale,
+// the file's TANGENT, and tangents generated where the file has none.
+TEST(GltfLoaderNormalMaps, TangentsFromTheFile) {
+  const Scene s = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf");
+  ASSERT_TRUE(s.hasNormalMaps());
+  ASSERT_EQ(s.tangents.size(), s.vertices.size());
+  const Material& m = s.materials[0];
+  ASSERT_EQ(m.normalTexture, 0);
+  EXPECT_FALSE(s.textures[0].srgb);
+  EXPECT_EQ(m.normalScale, 1.0f);
+  for (const glm::vec4& t : s.tangents) EXPECT_EQ(t, glm::vec4(1, 0, 0, 1));
+  EXPECT_EQ(loadGltf(test::testDataDir() + "/normal_maps/tilted_quad_scale.gltf")
+                .materials[0]
+                .normalScale,
+            0.5f);
+}
+
+TEST(GltfLoaderNormalMaps, GeneratedTangentsMatchTheFile) {
+  const Scene file = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf");
+  const Scene gen = loadGltf(test::testDataDir() + "/normal_maps/tilted_quad_generated.gltf");
+  ASSERT_EQ(gen.tangents.size(), file.tangents.size());
+  for (size_t i = 0; i < gen.tangents.size(); ++i)
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(gen.tangents[i][k], file.tangents[i][k], 1e-6f);
+  // Mirrored UVs: the tangent turns round and the handedness flips.
+  const Scene mirrored = loadGltf(test::testDataDir() + "/normal_maps/mirrored_quad.gltf");
+  ASSERT_EQ(mirrored.tangents.size(), 4u);
+  for (const glm::vec4& t : mirrored.tangents) {
+    EXPECT_NEAR(t.x, -1.0f, 1e-6f);
+    EXPECT_NEAR(t.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+    EXPECT_EQ(t.w, -1.0f);
+  }
+}
+
+// The Khronos NormalTangentMirrorTest (scenes/normal_tangent_mirror_test): with its
+// TANGENT removed, the generated tangents equal the file's (the handedness
+// everywhere, the direction within a degree), mirrored UV islands included.
+TEST(GltfLoaderNormalMaps, GeneratedTangentsMatchKhronosMirrorTest) {
+  const std::filesystem::path dir =
+      std::filesystem::path(test::samplesDir()) / "normal_tangent_mirror_test";
+  const std::filesystem::path file = dir / "NormalTangentMirrorTest.gltf";
+  // A copy without TANGENT beside copies of the buffer and images.
+  const std::filesystem::path out = std::filesystem::path(test::scratchDir()) / "mirror_test";
+  std::filesystem::create_directories(out);
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    std::filesystem::copy_file(e.path(), out / e.path().filename(),
+                               std::filesystem::copy_options::overwrite_existing);
+  std::ifstream in(file);
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::regex tangent("\"TANGENT\"\\s*:\\s*[0-9]+\\s*,");
+  ASSERT_TRUE(std::regex_search(json, tangent));
+  std::ofstream(out / "no_tangents.gltf") << std::regex_replace(json, tangent, "");
+  const Scene withFile = loadGltf(file.string());
+  const Scene generated = loadGltf((out / "no_tangents.gltf").string());
+  ASSERT_TRUE(withFile.hasNormalMaps());
+  ASSERT_EQ(generated.tangents.size(), withFile.tangents.size());
+  size_t sameHand = 0, within1 = 0;
+  for (size_t i = 0; i < withFile.tangents.size(); ++i) {
+    const glm::vec4 a = withFile.tangents[i], b = generated.tangents[i];
+    sameHand += a.w == b.w;
+    within1 += glm::dot(glm::vec3(a), glm::vec3(b)) > std::cos(glm::radians(1.0f));
+  }
+  std::printf("%zu tangents: %zu of the same handedness, %zu within 1 degree\n",
+              withFile.tangents.size(), sameHand, within1);
+  EXPECT_EQ(sameHand, withFile.tangents.size());
+  EXPECT_EQ(within1, withFile.tangents.size());
+}
+
+// Scenes without normal maps carry no tangent stream.
+TEST(GltfLoaderNormalMaps, NoneWithoutNormalTexture) {
+  EXPECT_FALSE(loadGltf(darkPlane()).hasNormalMaps());
+  EXPECT_FALSE(
+      loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf").hasNormalMaps());
 }
 
 INSTANTIATE_TEST_SUITE_P(

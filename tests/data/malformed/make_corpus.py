@@ -891,6 +891,36 @@ def _():
     return to_json(with_color(scene(), bytes([255, 0, 0, 255] * 4), UNSIGNED_BYTE, "VEC4", 4))
 
 
+def with_tangent(g, data, kind, count):
+    """Appends `data` as a FLOAT TANGENT accessor (and its bufferView) to the quad `g`."""
+    buf = base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1])
+    offset = len(buf)
+    buf += pad4(data)
+    g["buffers"][0] = {"byteLength": len(buf), "uri": data_uri(buf)}
+    g["bufferViews"].append({"buffer": 0, "byteOffset": offset, "byteLength": len(data),
+                             "target": ARRAY_BUFFER})
+    g["accessors"].append({"bufferView": len(g["bufferViews"]) - 1, "componentType": FLOAT,
+                           "count": count, "type": kind})
+    g["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = len(g["accessors"]) - 1
+    return g
+
+
+@case("tangent_wrong_type.gltf", "accessor 2 (TANGENT): element type VEC3 is not allowed here")
+def _():
+    return to_json(with_tangent(scene(), floats([(1.0, 0.0, 0.0)] * 4), "VEC3", 4))
+
+
+@case("tangent_wrong_count.gltf", "TANGENT and POSITION counts differ")
+def _():
+    return to_json(with_tangent(scene(), floats([(1.0, 0.0, 0.0, 1.0)] * 3), "VEC4", 3))
+
+
+@case("tangent_nan.gltf", "accessors[2] (TANGENT): element 1 is NaN or Inf")
+def _():
+    t = [(1.0, 0.0, 0.0, 1.0), (float("nan"), 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 1.0)]
+    return to_json(with_tangent(scene(), floats(t), "VEC4", 4))
+
+
 # tinygltf refuses these two before voxgi's own checks, in its own words.
 @case("bytestride_not_multiple_of_4.gltf", "must be the multiple of 4 : 14")
 @edited
