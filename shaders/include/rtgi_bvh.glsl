@@ -68,26 +68,20 @@ bool bvhHitStops(uint tri, vec2 bc) {
 float bvhEpsilon() { return 1e-3 * octreeVoxelSize(); }
 
 // 1 if nothing lies between p and the point `dist` away along unit l. `toEmitter`:
-// that point was drawn on an emitter, which must not shadow itself: a hit on an
-// emitter no more than `slack` before the point counts as the light (a point on a
-// cluster's disk lies up to the disk's radius off its facets).
+// that point was drawn on an emitter, which must not shadow itself: the ray ends a
+// thousandth of its length short of it, and `slack` more (a point on a cluster's
+// disk lies up to the disk's radius behind its facets). An any-hit ray: it stops at
+// the first occluder found, and never enters the emitter's own triangles (a lamp
+// of thousands).
 float bvhVisible(vec3 p, vec3 l, float dist, bool toEmitter, float slack) {
 #ifdef VOXGI_NO_SHADOWS
   return 1.0;
 #else
-  float t;
-  uint tri;
-  vec2 bc;
   loopBudget = kPtLoopBudget;
-  float tMax = min(dist, 3.0e38) * (1.0 - 1e-4);
-  if (!trace(p, l, tMax, !toEmitter, t, tri, bc)) return 1.0;
-  if (!toEmitter || t < dist * (1.0 - 1e-3) - slack) return 0.0;
-  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
-#ifdef RTGI_BVH_TEXTURES
-  // Where an emissive texture is black, the surface is no emitter: it shadows.
-  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) m = texturedMaterial(m, triangleUv(tri, bc));
-#endif
-  return m.emission.rgb != vec3(0.0) ? 1.0 : 0.0;
+  float d = min(dist, 3.0e38);
+  float tMax = toEmitter ? d * (1.0 - 1e-3) - slack : d * (1.0 - 1e-4);
+  if (!(tMax > 0.0)) return 1.0;
+  return occluded(p, l, tMax) ? 0.0 : 1.0;
 #endif
 }
 
