@@ -16,6 +16,7 @@
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/mode_runs.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -38,32 +39,14 @@ double expectedCosine(double scale) {
   return b / std::sqrt(r * r * scale * scale + g * g * scale * scale + b * b);
 }
 
-struct ModeRun {
-  const char* name;
-  render::Mode mode;
-  render::PathtraceDevice device;
-  int frames;
-};
-const ModeRun kRuns[] = {
-    {"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto, 1},
-    {"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto, 4},
-    {"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl, 1},
-    {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu, 1}};
-
 std::vector<float> renderImage(const scene::Scene& s, const ModeRun& run,
                                const std::string& effects = "") {
   render::RenderSettings rs;
-  rs.mode = run.mode;
   rs.width = rs.height = kSize;
   rs.voxels = 64;
   rs.spp = 16;
   rs.effects = effects;
-  rs.pathtrace.device = run.device;
-  gl::ProgramCache programs(sourceDir() + "/shaders");
-  render::Renderer r(programs, s, rs);
-  EXPECT_EQ(r.effects().has("normalmaps"), effects.empty()) << r.effects().summary();
-  for (int f = 0; f < run.frames; ++f) r.renderFrame();
-  return r.readLinear();
+  return renderRun(s, run, rs, "normalmaps");
 }
 
 // Mean red over the middle half of the image (the quad covers all of it).
@@ -91,7 +74,7 @@ TEST_F(NormalMapsTest, TiltedNormalGivesItsCosine) {
     const scene::Scene s = quad(c.file);
     ASSERT_TRUE(s.hasNormalMaps()) << c.file;
     double pathtraced[2] = {0.0, 0.0};
-    for (const ModeRun& run : kRuns) {
+    for (const ModeRun& run : kEveryMode) {
       const double mean = centreMean(renderImage(s, run));
       std::printf("%s, %s: %.4f (closed form %.4f)\n", c.file, run.name, mean, c.expected);
       EXPECT_NEAR(mean, c.expected, 0.02 * c.expected) << c.file << ", " << run.name;
@@ -104,7 +87,7 @@ TEST_F(NormalMapsTest, TiltedNormalGivesItsCosine) {
 
 TEST_F(NormalMapsTest, EffectOffShowsTheFlatQuad) {
   const scene::Scene s = quad("tilted_quad.gltf");
-  for (const ModeRun& run : kRuns) {
+  for (const ModeRun& run : kEveryMode) {
     const double mean = centreMean(renderImage(s, run, "-normalmaps"));
     std::printf("-normalmaps, %s: %.4f\n", run.name, mean);
     EXPECT_NEAR(mean, 1.0, 0.02) << run.name;
@@ -116,7 +99,7 @@ TEST_F(NormalMapsTest, EffectOffShowsTheFlatQuad) {
 // pixels), and nothing is NaN or infinite.
 TEST_F(NormalMapsTest, GrazingSteepMapNoBlackNoNan) {
   const scene::Scene s = quad("grazing_quad.gltf");
-  for (const ModeRun& run : kRuns) {
+  for (const ModeRun& run : kEveryMode) {
     const auto flat = renderImage(s, run, "-normalmaps");
     const auto mapped = renderImage(s, run);
     int covered = 0, black = 0, bad = 0;
@@ -140,7 +123,7 @@ TEST_F(NormalMapsTest, GrazingSteepMapNoBlackNoNan) {
 // the surface does not, so no light reaches the camera's side.
 TEST_F(NormalMapsTest, NoLightThroughTheSurface) {
   const scene::Scene s = quad("leak_quad.gltf");
-  for (const ModeRun& run : kRuns) {
+  for (const ModeRun& run : kEveryMode) {
     const auto px = renderImage(s, run);
     double peak = 0.0;
     for (size_t i = 0; i < px.size(); i += 4)

@@ -10,6 +10,7 @@
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/mode_runs.h"
 #include "support/test_paths.h"
 #include "voxel/voxelize_pass.h"
 
@@ -57,21 +58,8 @@ TEST_F(VertexColorsTest, EveryModeShowsThem) {
   const scene::Scene s = redGreenQuad();
   ASSERT_TRUE(s.hasVertexColors());
   glm::dvec3 pathtraced[2][2];  // [device][left, right]
-  struct Run {
-    const char* name;
-    render::Mode mode;
-    render::PathtraceDevice device;
-    int frames;
-  };
-  const Run runs[] = {
-      {"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto, 1},
-      {"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto, 4},
-      {"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl, 1},
-      {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu, 1}};
-  for (const Run& run : runs) {
-    render::RenderSettings rs = settingsFor(run.mode);
-    rs.pathtrace.device = run.device;
-    const auto px = renderImage(s, rs, run.frames);
+  for (const ModeRun& run : kEveryMode) {
+    const auto px = renderRun(s, run, settingsFor(run.mode), "colors");
     const glm::dvec3 left = halfMean(px, true), right = halfMean(px, false);
     std::printf("%s: left half (%.4f %.4f %.4f), right half (%.4f %.4f %.4f)\n", run.name, left.r,
                 left.g, left.b, right.r, right.g, right.b);

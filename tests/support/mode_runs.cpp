@@ -1,0 +1,29 @@
+#include "support/mode_runs.h"
+
+#include <gtest/gtest.h>
+
+#include "gl/program_cache.h"
+#include "support/test_paths.h"
+
+namespace voxgi::test {
+
+const std::array<ModeRun, 4> kEveryMode = {
+    {{"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto, 1},
+     {"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto, 4},
+     {"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl, 1},
+     {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu, 1}}};
+
+std::vector<float> renderRun(const scene::Scene& s, const ModeRun& run, render::RenderSettings rs,
+                             const char* effect) {
+  rs.mode = run.mode;
+  rs.pathtrace.device = run.device;
+  gl::ProgramCache programs(sourceDir() + "/shaders");
+  render::Renderer r(programs, s, rs);
+  if (effect) {
+    EXPECT_EQ(r.effects().has(effect), rs.effects.empty()) << r.effects().summary();
+  }
+  for (int f = 0; f < run.frames; ++f) r.renderFrame();
+  return r.readLinear();
+}
+
+}  // namespace voxgi::test

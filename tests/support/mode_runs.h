@@ -1,0 +1,33 @@
+// The modes a material channel must reach, for tests that render one scene in each:
+// raster, rtgi and the path tracer on each device.
+#ifndef VOXGI_TESTS_MODE_RUNS_H
+#define VOXGI_TESTS_MODE_RUNS_H
+
+#include <array>
+#include <vector>
+
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace voxgi::test {
+
+struct ModeRun {
+  const char* name;
+  render::Mode mode;
+  render::PathtraceDevice device;
+  int frames;  // rtgi accumulates a few; the others render one
+};
+
+// raster, rtgi (4 frames), pathtrace on GL, pathtrace on the CPU.
+extern const std::array<ModeRun, 4> kEveryMode;
+
+// The linear image of s rendered as `run` says (mode, device, frames), the rest of
+// the settings from `rs` (size, spp, voxels, effects), with a fresh program cache.
+// `effect`, when given: the scene's plan must have it exactly when rs.effects
+// overrides nothing.
+std::vector<float> renderRun(const scene::Scene& s, const ModeRun& run, render::RenderSettings rs,
+                             const char* effect = nullptr);
+
+}  // namespace voxgi::test
+
+#endif  // VOXGI_TESTS_MODE_RUNS_H
