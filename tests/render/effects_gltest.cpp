@@ -47,7 +47,6 @@ struct Frames {
   std::vector<float> linear;
   std::vector<std::string> stages;       // of the last frame
   std::vector<std::string> sceneStages;  // voxelize, octree, inject
-  double minFrameGpuMs = 1e30;           // the cheapest frame's summed stage time
 };
 
 // Largest |a - b| / (1 + |b|) over the colour channels, and the mean |a - b|.
@@ -82,13 +81,7 @@ class EffectsTest : public GlProgramsTest {
   Frames render(const scene::Scene& s, const render::RenderSettings& rs, int frames) {
     render::Renderer r(*programs_, s, rs);
     Frames run;
-    for (int f = 0; f < frames; ++f) {
-      r.renderFrame();
-      double sum = 0.0;
-      for (const gl::StageTime& t : r.lastStages())
-        if (t.name != "voxelize" && t.name != "octree" && t.name != "inject") sum += t.gpuMs;
-      if (f > 0) run.minFrameGpuMs = std::min(run.minFrameGpuMs, sum);  // frame 0 builds
-    }
+    for (int f = 0; f < frames; ++f) r.renderFrame();
     run.linear = r.readLinear();
     run.stages = stageNames(r.lastStages());
     run.sceneStages = stageNames(r.sceneStages());
@@ -189,17 +182,16 @@ TEST_F(EffectsTest, NothingTracedNeedsNoVoxels) {
   EXPECT_GT(sum, static_cast<double>(direct.linear.size()) / 4.0);  // alpha, plus the light
 }
 
-// The plan is not slower: it runs a subset of the stages, and its cheapest frame
-// costs no more than the cheapest frame with every effect forced on (generous
-// bound: GPU timings on a shared llvmpipe machine are noisy; the minimum over
-// frames is the robust statistic). tools/bench-rtgi measures real timings.
-TEST_F(EffectsTest, PlanIsNotSlower) {
+// The plan runs a subset of the stages that every effect forced on runs, and fewer.
+// What that saves in time is a benchmark's to say (tools/bench-rtgi), not a test's:
+// GPU timings on a shared llvmpipe machine scatter by tens of percent.
+TEST_F(EffectsTest, PlanRunsASubsetOfTheStages) {
   const scene::Scene s = diffuseScene();
-  const Frames plan = render(s, settings(""), 5);
-  const Frames all = render(s, settings("+all"), 5);
+  const Frames plan = render(s, settings(""), 2);
+  const Frames all = render(s, settings("+all"), 2);
   EXPECT_LT(plan.stages.size(), all.stages.size());
-  EXPECT_LE(plan.minFrameGpuMs, 1.5 * all.minFrameGpuMs + 0.5)
-      << "plan " << plan.minFrameGpuMs << " ms, all " << all.minFrameGpuMs << " ms";
+  for (const std::string& stage : plan.stages)
+    EXPECT_NE(std::find(all.stages.begin(), all.stages.end(), stage), all.stages.end()) << stage;
 }
 
 TEST_F(EffectsTest, RasterAndPointsFollowThePlan) {
