@@ -12,8 +12,9 @@
 // passes on through up to kMaxMirrorChain further mirrors, and is shaded there with
 // exact direct light (rtgi_direct_light.glsl, the shadows stage's estimators, with
 // shadow rays through the BVH) plus the voxels' light along one cosine ray from the
-// hit (the indirect stage's estimate), when the plan has indirect light: voxels
-// serve only as the light cache behind the hit. A mirror sees an emitter it hits; a
+// hit (the indirect stage's estimate; RTGI_BVH_RAYS: that ray on the triangles too),
+// when the plan has indirect light: voxels serve only as the light cache behind the
+// hit. A mirror sees an emitter it hits; a
 // glossy surface does not (its highlight comes from the shadows stage).
 // RTGI_BVH_TEXTURES, _COLORS, _ALPHA: the material's textures, vertex colours and
 // alpha masks at the hit, as the path tracer reads them (rtgi_bvh.glsl).
@@ -39,6 +40,9 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 }
 
 #include "rtgi_direct_light.glsl"
+#ifdef RTGI_BVH_RAYS
+#include "rtgi_voxel_light.glsl"
+#endif
 
 // Radiance arriving at o from unit direction dir: the nearest triangle's (after up to
 // kMaxMirrorChain mirrors) direct light, its voxel indirect light and, when
@@ -112,9 +116,20 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     result += throughput * directLight(s, p + ng * eps, below);
     if ((rtgi.counts.z & kRtgiHasIndirect) != 0u && any(greaterThan(s.diffuse, vec3(0.0)))) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
+#ifdef RTGI_BVH_RAYS
+      // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
+      vec3 o2 = p + ng * eps;
+      float t2;
+      uint tri2;
+      vec2 bc2;
+      loopBudget = kPtLoopBudget;
+      if (dot(d, below) >= 0.0 && trace(o2, d, kInf, false, t2, tri2, bc2))
+        result += throughput * s.diffuse * voxelLightAt(o2, d, t2);
+#else
       MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(s), d, 3.0e38), 0.0, kRaySteps);
       if (h.hit && !seenFromBehind(material[h.node].y, d))
         result += throughput * s.diffuse * unpackRgb9e5(radiance[h.node]);
+#endif
     }
     break;
   }
