@@ -26,4 +26,14 @@ vec3 voxelLightAt(vec3 o, vec3 dir, float t) {
   return vec3(0.0);
 }
 
+// The voxels' light arriving at o from unit direction dir: where the ray meets a
+// triangle, none where it leaves the scene.
+vec3 voxelLightAlong(vec3 o, vec3 dir) {
+  float t;
+  uint tri;
+  vec2 bc;
+  loopBudget = kPtLoopBudget;
+  return trace(o, dir, kInf, false, t, tri, bc) ? voxelLightAt(o, dir, t) : vec3(0.0);
+}
+
 #endif  // VOXGI_RTGI_VOXEL_LIGHT_GLSL

@@ -7,7 +7,7 @@
 // Cosine sampling: the Lambertian estimate is albedo x L.
 //
 // RTGI_BVH: the ray finds its hit on the exact triangles (rtgi_bvh.glsl), and the
-// voxels serve only as the light cache at that point (voxelLightAt). Without it
+// voxels serve only as the light cache at that point (rtgi_voxel_light.glsl). Without it
 // (--voxel-rays, or an animated scene) the ray marches the octree and the first leaf
 // it meets (unless seen from behind: seenFromBehind) both stops it and lights it;
 // voxels are fatter than the surfaces, so near a contact they stop rays that would
@@ -46,11 +46,7 @@ void main() {
     if (dot(dir, ng) >= 0.0) {
 #ifdef RTGI_BVH
       vec3 o = p.s.p + (ng != vec3(0.0) ? ng : p.s.n) * bvhEpsilon();
-      float t;
-      uint tri;
-      vec2 bc;
-      loopBudget = kPtLoopBudget;
-      if (trace(o, dir, kInf, false, t, tri, bc)) result = p.s.diffuse * voxelLightAt(o, dir, t);
+      result = p.s.diffuse * voxelLightAlong(o, dir);
 #else
       MarchHit h =
           octreeTrace(octreeWorldRay(surfaceRayOrigin(px, p.s), dir, 3.0e38), 0.0, kRaySteps);

@@ -118,13 +118,8 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
 #ifdef RTGI_BVH_RAYS
       // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
-      vec3 o2 = p + ng * eps;
-      float t2;
-      uint tri2;
-      vec2 bc2;
-      loopBudget = kPtLoopBudget;
-      if (dot(d, below) >= 0.0 && trace(o2, d, kInf, false, t2, tri2, bc2))
-        result += throughput * s.diffuse * voxelLightAt(o2, d, t2);
+      if (dot(d, below) >= 0.0)
+        result += throughput * s.diffuse * voxelLightAlong(p + ng * eps, d);
 #else
       MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(s), d, 3.0e38), 0.0, kRaySteps);
       if (h.hit && !seenFromBehind(material[h.node].y, d))
