@@ -427,13 +427,14 @@ TEST(GltfLoaderSamplers, WrapAndFilterAsTheFileStates) {
   EXPECT_EQ(t.minFilter, kFilterNearest);
   EXPECT_TRUE(t.srgb);  // emissive: colour
   EXPECT_EQ(t.tableFlags(), 1u | 2u | (1u << 2) | (2u << 4));
-  const Texture& linear = loadGltf(dir + "/wrap_repeat_clamp_linear.gltf").textures[0];
+  // Copies: a reference into a temporary Scene would dangle.
+  const Texture linear = loadGltf(dir + "/wrap_repeat_clamp_linear.gltf").textures[0];
   EXPECT_EQ(linear.wrapS, kWrapRepeat);
   EXPECT_EQ(linear.wrapT, kWrapClampToEdge);
   EXPECT_EQ(linear.magFilter, kFilterLinear);
   EXPECT_EQ(linear.minFilter, kFilterLinear);
   // No sampler: repeat, bilinear, trilinear.
-  const Texture& d = loadGltf(dir + "/no_sampler.gltf").textures[0];
+  const Texture d = loadGltf(dir + "/no_sampler.gltf").textures[0];
   EXPECT_EQ(d.wrapS, kWrapRepeat);
   EXPECT_EQ(d.wrapT, kWrapRepeat);
   EXPECT_EQ(d.magFilter, kFilterLinear);
