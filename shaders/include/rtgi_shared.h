@@ -58,6 +58,28 @@ VOXGI_CONST uint kMaskKeyImage = 7u;           // rgba32ui: what the edges compa
 VOXGI_CONST uint kPixelListBinding = 15u;      // SSBO: PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // SSBO: uint[kMaskBins]
 VOXGI_CONST uint kMaskBins = 256u;
+// Denoiser (RtgiPass::Settings::denoise). Accumulate keeps, beside each pixel's mean,
+// the running mean of its samples' luminance and squared luminance (rg32f), after
+// the light is divided by the surface's base colour; reproject carries them over a
+// camera move as it carries the mean. They use the mask's image units, which
+// accumulate and reproject do not otherwise read.
+VOXGI_CONST uint kMomentsImage = 4u;
+VOXGI_CONST uint kReprojectedMomentsImage = 5u;
+VOXGI_CONST uint kHistoryMomentsUnit = 13u;  // the moments before this frame, as a texture
+// The denoise stage's own images (rgba32f): light divided by base colour with the
+// variance of its luminance in alpha, ping-ponged between the filter's passes, and
+// the denoised image the last pass writes.
+VOXGI_CONST uint kDenoiseInImage = 0u;
+VOXGI_CONST uint kDenoiseOutImage = 1u;
+VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
+// A uniform of the denoise passes (location): x the spacing of the taps in pixels,
+// y 1 on the last pass.
+VOXGI_CONST int kDenoisePassLocation = 0;
+// The filter: this many passes of the a-trous wavelet, the i-th with taps 2^i
+// pixels apart (a 3x3 kernel: together they reach 31 pixels either way).
+VOXGI_CONST int kDenoisePasses = 5;
+// Below this many samples a pixel's variance is estimated from its neighbours'.
+VOXGI_CONST float kDenoiseTemporalSamples = 4.0f;
 // How the pixels that trace are chosen (RtgiParams::work.z).
 VOXGI_CONST uint kSelectPattern = 0u;   // every interleave-th frame, Bayer order
 VOXGI_CONST uint kSelectMask = 1u;      // the pattern, plus pixels whose mask exceeds work.y
@@ -101,6 +123,9 @@ struct RtgiParams {
   // y for glossy surfaces, z for mirrors, w on edges between surfaces.
   vec4 previousViewProj[4];
   vec4 history;
+  // Denoise: x the luminance edge stop's scale (sigma_l), y the plane-distance
+  // edge stop's (RtgiPass::Settings).
+  vec4 denoise;
 };
 
 // Pixels that trace this frame, appended by rtgi_select.comp; `groups` doubles as
@@ -120,7 +145,7 @@ bool sameSurface(bool covered0, vec3 n0, float d0, bool covered1, vec3 n1, float
 #endif
 
 #ifdef __cplusplus
-static_assert(sizeof(RtgiParams) == 192);
+static_assert(sizeof(RtgiParams) == 208);
 static_assert(sizeof(PixelListHeader) == 32);
 }  // namespace voxgi::gpu
 #endif

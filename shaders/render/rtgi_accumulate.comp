@@ -7,13 +7,15 @@
 // non-finite term is dropped rather than poisoning the mean. VOXGI_NO_EMISSION
 // (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
 // adds the light lent to pixels that have not traced yet; RTGI_REPROJECTED, on a
-// frame after a camera move, starts from the reproject stage's mean.
+// frame after a camera move, starts from the reproject stage's mean; RTGI_MOMENTS
+// (the denoiser) keeps the moments of each pixel's samples beside its mean.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
 #include "octree.glsl"
 #define RTGI_TRACED_IMAGE
 #include "rtgi_common.glsl"
+#include "rtgi_denoise.glsl"
 
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
 
@@ -23,6 +25,22 @@ layout(binding = kSpecularImage, rgba16f) uniform readonly image2D specularIn;
 layout(binding = kAccumImage, rgba32f) uniform image2D accum;
 #ifdef RTGI_REPROJECTED
 layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojected;
+#endif
+#ifdef RTGI_MOMENTS
+// The running mean of (luminance, luminance^2) of the pixel's samples, divided by
+// its base colour, over the same samples as its mean (rtgi_denoise.glsl).
+layout(binding = kMomentsImage, rg32f) uniform image2D moments;
+#ifdef RTGI_REPROJECTED
+layout(binding = kReprojectedMomentsImage, rg32f) uniform readonly image2D reprojectedMoments;
+#endif
+
+vec2 previousMoments(ivec2 px) {
+#ifdef RTGI_REPROJECTED
+  return imageLoad(reprojectedMoments, px).xy;
+#else
+  return rtgi.frame.x > 0u ? imageLoad(moments, px).xy : vec2(0.0);
+#endif
+}
 #endif
 
 // The mean so far: the target's, or on a frame after a camera move what the
@@ -101,6 +119,9 @@ void main() {
   if (keep) {
 #ifdef RTGI_REPROJECTED
     imageStore(accum, px, previous);
+#ifdef RTGI_MOMENTS
+    imageStore(moments, px, vec4(previousMoments(px), 0.0, 0.0));
+#endif
 #endif
     return;
   }
@@ -113,11 +134,20 @@ void main() {
   if (!traced) {
     bool covered = texelFetch(gPosition, px, 0).w > 0.5;
     imageStore(accum, px, vec4(c + (covered ? borrowedLight(px) : vec3(0.0)), 0.0));
+#ifdef RTGI_MOMENTS
+    imageStore(moments, px, vec4(0.0));
+#endif
     return;
   }
 #endif
-  c += tracedLight(px);
+  vec3 light = tracedLight(px);
+  c += light;
   float n = previous.a + 1.0;
   vec3 mean = previous.rgb + (c - previous.rgb) / n;
   imageStore(accum, px, vec4(mean, n));
+#ifdef RTGI_MOMENTS
+  float l = luminance(light / demodulation(px));
+  vec2 m = previousMoments(px);
+  imageStore(moments, px, vec4(m + (vec2(l, l * l) - m) / n, 0.0, 0.0));
+#endif
 }

@@ -29,6 +29,18 @@ layout(binding = kGPreviousPositionUnit) uniform sampler2D previousPosition;
 layout(binding = kGPreviousNormalUnit) uniform sampler2D previousNormal;
 layout(binding = kGMotionUnit) uniform sampler2D gMotion;
 layout(binding = kReprojectedImage, rgba32f) uniform writeonly image2D reprojected;
+#ifdef RTGI_MOMENTS
+// The denoiser's moments (rtgi_accumulate.comp) follow the mean.
+layout(binding = kHistoryMomentsUnit) uniform sampler2D historyMoments;
+layout(binding = kReprojectedMomentsImage, rg32f) uniform writeonly image2D reprojectedMoments;
+#endif
+
+void store(ivec2 px, vec4 mean, vec2 m) {
+  imageStore(reprojected, px, mean);
+#ifdef RTGI_MOMENTS
+  imageStore(reprojectedMoments, px, vec4(m, 0.0, 0.0));
+#endif
+}
 
 // The history a pixel of this material keeps across a camera move.
 float historyCap(float metallic, float roughness) {
@@ -52,7 +64,7 @@ void main() {
   if (px.x >= size.x || px.y >= size.y) return;
   vec4 p = texelFetch(gPosition, px, 0);
   if (p.w < 0.5) {
-    imageStore(reprojected, px, vec4(0.0));  // nothing drawn: nothing to keep
+    store(px, vec4(0.0), vec2(0.0));  // nothing drawn: nothing to keep
     return;
   }
   vec4 nr = texelFetch(gNormal, px, 0);
@@ -63,6 +75,7 @@ void main() {
   vec3 was = p.xyz + texelFetch(gMotion, px, 0).xyz;
   vec4 clip = previous * vec4(was, 1.0);
   vec3 sum = vec3(0.0);
+  vec2 moments = vec2(0.0);
   float count = 0.0, weight = 0.0;
   bool edge = false, lampEdge = false;
   if (clip.w > 0.0) {
@@ -86,6 +99,9 @@ void main() {
       if (!(h.a > 0.0)) continue;
       float w = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
       sum += w * h.rgb;
+#ifdef RTGI_MOMENTS
+      moments += w * texelFetch(historyMoments, q, 0).xy;
+#endif
       count += w * h.a;
       weight += w;
     }
@@ -93,7 +109,7 @@ void main() {
   // A sliver of one tap's weight would carry its light alone: below 1% of the
   // bilinear footprint the pixel starts again.
   if (!(weight > 0.01)) {
-    imageStore(reprojected, px, vec4(0.0));
+    store(px, vec4(0.0), vec2(0.0));
     return;
   }
   vec4 am = texelFetch(gAlbedo, px, 0);
@@ -104,5 +120,8 @@ void main() {
   // over, none is kept.
   if (edge) cap = lampEdge || emits(p.w) ? 0.0 : min(cap, rtgi.history.w);
   float n1 = min(count / weight, cap);
-  imageStore(reprojected, px, n1 > 0.0 ? vec4(sum / weight, n1) : vec4(0.0));
+  if (n1 > 0.0)
+    store(px, vec4(sum / weight, n1), moments / weight);
+  else
+    store(px, vec4(0.0), vec2(0.0));
 }

@@ -164,6 +164,10 @@ std::string renderHelp() {
          "  --history-cap N   while the camera moves, a pixel's history counts at most N\n"
          "                    frames (default 16; glossy surfaces 4, mirrors none), so\n"
          "                    light follows the view; a still camera accumulates on\n"
+         "  --denoise on|off  on (default): the image is each pixel's running mean\n"
+         "                    filtered by a variance-guided, edge-avoiding wavelet (SVGF),\n"
+         "                    as strongly as its measured noise asks, so less and less as\n"
+         "                    a still image converges; off: the running mean itself\n"
          "  --voxel-reflections  mirrors and glossy surfaces reflect the voxels they see\n"
          "                    (default: the exact triangles, through a BVH, lit exactly)\n"
          "  --voxel-rays      shadow and indirect rays march the voxels, which stop them\n"
@@ -213,6 +217,8 @@ std::string viewHelp() {
          "  r                 camera back to the start (the glTF camera)\n"
          "  p, F12            screenshot: voxgi-DATE-TIME-N.png (display) + .exr (linear),\n"
          "                    never overwriting an earlier one\n"
+         "  m                 rtgi's work mask (with a frame budget) in place of the image\n"
+         "  n                 rtgi's denoiser on / off\n"
          "  tab, F1           panel on / off\n"
          "  esc               quit\n"
          "\n"
@@ -239,6 +245,8 @@ std::string viewHelp() {
          "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S,\n"
          "  --reproject on|off, --history-cap N\n"
          "                    as for voxgi render\n"
+         "  --denoise on|off  on (default): the image shown is denoised (see voxgi render\n"
+         "                    --help); the n key toggles it\n"
          "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
          "                    pixels each frame (default 30; off: every pixel, every\n"
          "                    frame). A camera move keeps each pixel's history where its\n"
@@ -345,6 +353,10 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     if (v != "on" && v != "off")
       throw UsageError("--reproject: expected on or off, got '" + v + "'");
     rs->rtgi.reproject = v == "on";
+  } else if (a == "--denoise") {
+    const std::string v = value();
+    if (v != "on" && v != "off") throw UsageError("--denoise: expected on or off, got '" + v + "'");
+    rs->rtgi.denoise = v == "on";
   } else if (a == "--history-cap") {
     rs->rtgi.historyCap = parseInt("--history-cap", value(), 1, 1 << 20);
   } else if (a == "--budget-select") {
@@ -383,6 +395,7 @@ Invocation parseView(const std::vector<std::string>& args) {
   // a restarted accumulation (every camera move) costs no more than other frames.
   o.render.targetFps = kViewTargetFps;
   o.render.rtgi.sparseStart = true;
+  o.render.rtgi.denoise = true;
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> std::string {
@@ -535,6 +548,9 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
   RenderOptions& o = inv.render;
   o.render.width = 512;
   o.render.height = 512;
+  // rtgi's image is denoised: closer to the path tracer at every frame count measured
+  // (docs/rtgi.md, "Denoiser").
+  o.render.rtgi.denoise = true;
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> std::string {

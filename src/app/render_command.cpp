@@ -235,6 +235,7 @@ int runRender(const RenderOptions& o) {
     stats["interleave"] = renderer.rtgi()->settings().interleave;
     stats["reproject"] = renderer.rtgi()->settings().reproject;
     stats["history_cap"] = renderer.rtgi()->settings().historyCap;
+    stats["denoise"] = renderer.rtgi()->settings().denoise;
     stats["rays"] = renderer.rtgi()->raysHitTriangles() ? "triangles" : "voxels";
     stats["reflections"] = !renderer.rtgi()->settings().specular ? "none"
                            : renderer.rtgi()->tracesTriangles()  ? "triangles"

@@ -94,6 +94,8 @@ std::optional<Action> actionForGlfwKey(int key) {
       return Action{K::kScreenshot};
     case GLFW_KEY_M:
       return Action{K::kToggleMask};
+    case GLFW_KEY_N:
+      return Action{K::kToggleDenoise};
     case GLFW_KEY_TAB:
     case GLFW_KEY_F1:
       return Action{K::kTogglePanel};
@@ -258,6 +260,13 @@ void Viewer::apply(const Action& a) {
     case K::kToggleMask:
       renderer_->setShowMask(!renderer_->showMask());
       logInfo(strf("view: frame %d: work mask %s", frame_, renderer_->showMask() ? "on" : "off"));
+      break;
+    case K::kToggleDenoise:
+      if (renderer_->rtgi()) {
+        renderer_->setDenoise(!renderer_->rtgi()->settings().denoise);
+        logInfo(strf("view: frame %d: denoiser %s", frame_,
+                     renderer_->rtgi()->settings().denoise ? "on" : "off"));
+      }
       break;
     case K::kTogglePanel:
       panel_ = !panel_;
@@ -541,6 +550,10 @@ void Viewer::drawPanel() {
                 100.0 * renderer_->rtgi()->lastTracedFraction());
     bool show = renderer_->showMask();
     if (ImGui::Checkbox("show work mask (m)", &show)) renderer_->setShowMask(show);
+  }
+  if (renderer_->rtgi()) {
+    bool denoise = renderer_->rtgi()->settings().denoise;
+    if (ImGui::Checkbox("denoise (n)", &denoise)) renderer_->setDenoise(denoise);
   }
   if (ImGui::Button("Screenshot (p)")) pendingActions_.push_back({Action::Kind::kScreenshot});
   if (!screenshots_.empty()) {

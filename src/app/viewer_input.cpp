@@ -24,6 +24,7 @@ std::optional<Action> actionForKeyName(const std::string& name) {
   if (name == "r") return Action{K::kResetCamera};
   if (name == "p") return Action{K::kScreenshot};
   if (name == "m") return Action{K::kToggleMask};
+  if (name == "n") return Action{K::kToggleDenoise};
   if (name == "tab") return Action{K::kTogglePanel};
   if (name == "esc") return Action{K::kQuit};
   return std::nullopt;
@@ -45,6 +46,8 @@ std::string keyName(const Action& a) {
       return "p";
     case Action::Kind::kToggleMask:
       return "m";
+    case Action::Kind::kToggleDenoise:
+      return "n";
     case Action::Kind::kTogglePanel:
       return "tab";
     case Action::Kind::kQuit:

@@ -5,6 +5,7 @@
 //   r      camera back to the start                p    screenshot (PNG + EXR)
 //   tab    panel on / off                          esc  quit
 //   m      show the rtgi work mask (with --target-fps) instead of the image
+//   n      rtgi denoiser on / off (--denoise)
 // Tested by tests/app/viewer_input_test.cpp.
 #ifndef VOXGI_APP_VIEWER_INPUT_H
 #define VOXGI_APP_VIEWER_INPUT_H
@@ -30,6 +31,7 @@ struct Action {
     kScreenshot,
     kTogglePanel,
     kToggleMask,
+    kToggleDenoise,
     kQuit
   };
   Kind kind = Kind::kMode;
@@ -37,7 +39,7 @@ struct Action {
   bool operator==(const Action&) const = default;
 };
 
-// "1".."6", "+", "-", "t", "r", "p", "m", "tab", "esc"; nullopt for anything else.
+// "1".."6", "+", "-", "t", "r", "p", "m", "n", "tab", "esc"; nullopt for anything else.
 std::optional<Action> actionForKeyName(const std::string& name);
 std::string keyName(const Action& a);
 

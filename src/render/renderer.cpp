@@ -417,7 +417,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
     tonemap_.executeMask(ctx, rtgi_->maskTexture(), ldrFbo_.id());
   else
-    tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
+    tonemap_.execute(ctx, shownHdr(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   stages_ = timer_.resolve();
@@ -458,11 +458,24 @@ void flipRows(std::vector<T>& px, int width, int height, int channels) {
 }
 }  // namespace
 
+void Renderer::setDenoise(bool on) {
+  settings_.rtgi.denoise = on;
+  if (!rtgi_ || rtgi_->settings().denoise == on) return;
+  rtgi_->settings().denoise = on;
+  accumulated_ = 0;
+}
+
+GLuint Renderer::shownHdr() const {
+  if (settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->denoisedTexture() != 0)
+    return rtgi_->denoisedTexture();
+  return hdr_.id();
+}
+
 std::vector<float> Renderer::readLinear() const {
   std::vector<float> px(static_cast<size_t>(settings_.width) *
                         static_cast<size_t>(settings_.height) * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(hdr_.id(), 0, GL_RGBA, GL_FLOAT,
+  glGetTextureImage(shownHdr(), 0, GL_RGBA, GL_FLOAT,
                     static_cast<GLsizei>(px.size() * sizeof(float)), px.data());
   flipRows(px, settings_.width, settings_.height, 4);
   return px;

@@ -187,6 +187,9 @@ class Renderer {
   double traceFraction() const { return budget_ ? budget_->fraction() : 1.0; }
   // Display the work mask instead of the image (rtgi with a frame budget).
   void setShowMask(bool show) { showMask_ = show; }
+  // rtgi: turns the denoiser on or off (RtgiPass::Settings::denoise); accumulation
+  // restarts, since the denoiser's moments are kept only while it is on.
+  void setDenoise(bool on);
   bool showMask() const { return showMask_; }
   // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
   // recent run, in order.
@@ -228,6 +231,8 @@ class Renderer {
   bool meshesMoved_ = false, geometryUnsettled_ = false;
   // Whether a camera or mesh move keeps rtgi's history (reprojection).
   bool reprojects() const;
+  // The HDR image shown: rtgi's denoised one when it denoises, else the target.
+  GLuint shownHdr() const;
 
   void createTargets();
   // Builds the BVH at its first use (the "bvh" start-up stage).

@@ -121,6 +121,12 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
+  make(moments_, GL_RG32F);
+  make(historyMoments_, GL_RG32F);
+  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32F);
+  make(denoisedImage_, GL_RGBA32F);
+  make(denoiseKeys_, GL_RGBA32UI);
+  denoised_ = false;
   make(maskKeyImage_, GL_RGBA32UI);
   make(edgeImage_, GL_R16F);
   make(maskImage_, GL_R16F);
@@ -151,7 +157,7 @@ void RtgiPass::resize(int width, int height) {
   }
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
+                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9 + 2 * 8 + 4 * 16);
 }
 
 void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
@@ -178,6 +184,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
       static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
       static_cast<uint32_t>(std::clamp(settings_.exactEmitters, 0, gpu::kMaxExactEmitters)));
   p.camera = glm::vec4(cameraPosition, 1.0f);
+  p.denoise = glm::vec4(settings_.denoiseLuminance, settings_.denoisePlane, 0.0f, 0.0f);
   if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
       (settings_.interleave & (settings_.interleave - 1)) != 0)
     throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
@@ -318,8 +325,15 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   // reprojected mean (RTGI_REPROJECTED).
   const bool lends =
       !everyPixel && ((settings_.sparseStart && frameIndex < settings_.interleave) || reprojecting);
-  if (lends || reprojecting) {
+  if (settings_.denoise) {
+    // The moments use the mask's image units (rtgi_shared.h): bound here, after it ran.
+    glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+    glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RG32F);
+  }
+  if (lends || reprojecting || settings_.denoise) {
     std::vector<std::string> defines = settings_.features.defines();
+    if (settings_.denoise) defines.emplace_back("RTGI_MOMENTS");
     if (lends) defines.emplace_back("RTGI_SPARSE_START");
     if (reprojecting) {
       defines.emplace_back("RTGI_REPROJECTED");
@@ -333,6 +347,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
     run("accumulate", accumulate_);
   }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  denoised_ = false;
+  if (settings_.denoise) denoise(ctx, gx, gy, accum);
   if (listed) {
     gpu::PixelListHeader header{};
     glGetNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
@@ -354,12 +370,49 @@ void RtgiPass::reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, 
   glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
-  glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, settings_.features.defines()}).id());
+  std::vector<std::string> defines = settings_.features.defines();
+  if (settings_.denoise) {
+    defines.emplace_back("RTGI_MOMENTS");
+    glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
+    glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RG32F);
+  }
+  glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, defines}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit,
-                   gpu::kGMotionUnit})
+                   gpu::kGMotionUnit, gpu::kHistoryMomentsUnit})
     glBindTextureUnit(u, 0);
+}
+
+void RtgiPass::denoise(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
+  gl::StageScope stage(ctx.timer, "denoise");
+  glBindTextureUnit(gpu::kHistoryUnit, accum);
+  glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
+  // The pass's spacing and whether it is the last go in a uniform: updating the
+  // parameter block between dispatches stalls a software rasterizer.
+  auto pass = [&](const char* shader, GLuint in, GLuint out, float step, bool last) {
+    if (in != 0)
+      glBindImageTexture(gpu::kDenoiseInImage, in, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(gpu::kDenoiseOutImage, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(programs_.get({{shader}, {}}).id());
+    if (in != 0) glUniform2f(gpu::kDenoisePassLocation, step, last ? 1.0f : 0.0f);
+    glDispatchCompute(gx, gy, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  };
+  glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32UI);
+  pass("render/rtgi_denoise_prepare.comp", 0, denoiseScratch_[0].id(), 0.0f, false);
+  glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                     GL_RGBA32UI);
+  for (int i = 0; i < gpu::kDenoisePasses; ++i) {
+    const bool last = i + 1 == gpu::kDenoisePasses;
+    pass("render/rtgi_denoise.comp", denoiseScratch_[i & 1].id(),
+         last ? denoisedImage_.id() : denoiseScratch_[(i + 1) & 1].id(), static_cast<float>(1 << i),
+         last);
+  }
+  for (GLuint u : {gpu::kHistoryUnit, gpu::kHistoryMomentsUnit}) glBindTextureUnit(u, 0);
+  denoised_ = true;
 }
 
 void RtgiPass::runMask(FrameContext& ctx, GLuint gx, GLuint gy) {

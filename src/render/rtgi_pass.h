@@ -19,6 +19,9 @@
 //               the surface it shows from the previous frame's pixels, dropped where
 //               they showed another surface, its count capped (rtgi_reproject.comp);
 //   accumulate  emission + the three terms, into each pixel's running mean.
+//   denoise     with Settings::denoise: the image shown is the running mean filtered
+//               by a variance-guided, edge-avoiding wavelet (Schied et al. 2017,
+//               rtgi_denoise.glsl); the mean itself stays as it was.
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
 #ifndef VOXGI_RENDER_RTGI_PASS_H
@@ -72,6 +75,15 @@ class RtgiPass {
     // (glossy surfaces at most kGlossyHistory, mirrors none), so the light follows
     // the view; a still camera accumulates without a cap.
     int historyCap = 16;
+    // The image shown is the running mean denoised (rtgi_denoise.glsl): each pixel's
+    // light filtered with its neighbours' on the same surface, as strongly as the
+    // mean's measured noise asks, so less and less as a still image converges.
+    bool denoise = false;
+    // Its edge stops: how far two pixels' luminances may differ, in units of their
+    // noise (the standard deviation of the mean), and a neighbour's distance from the
+    // pixel's tangent plane, relative to the pixel's distance from the camera.
+    float denoiseLuminance = 4.0f;
+    float denoisePlane = 0.01f;
     uint32_t seed = 1;
   };
 
@@ -106,6 +118,9 @@ class RtgiPass {
   int maskWidth() const { return maskValid_ ? width_ : 0; }
   int maskHeight() const { return maskValid_ ? height_ : 0; }
   size_t targetBytes() const { return targetBytes_; }
+  // The denoised image of the last frame (rgba32f, the accumulation target's layout),
+  // or 0 when the denoiser is off: what the renderer shows in place of the mean.
+  GLuint denoisedTexture() const { return denoised_ ? denoisedImage_.id() : 0; }
   // Whether the specular stage runs and traces the exact triangles.
   bool tracesTriangles() const {
     return bvh_ != nullptr && settings_.specular && settings_.exactReflections;
@@ -122,6 +137,8 @@ class RtgiPass {
   // of them emit).
   void reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
   float maskThreshold(uint64_t extra) const;
+  // The denoise stage (see above): `accum` filtered into denoisedImage_.
+  void denoise(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum);
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   const gl::Program& directProgram(const GpuScene& gs);
@@ -157,6 +174,10 @@ class RtgiPass {
   int current_ = 0;
   gl::Texture history_;  // the reprojected mean, on a frame after a camera move
   gl::Texture directImage_, indirectImage_, specularImage_;
+  // Denoiser: the moments beside the mean and their reprojection (rg32f), the
+  // filter's two scratch images and its output (rgba32f), and its edge stops' keys.
+  gl::Texture moments_, historyMoments_, denoiseScratch_[2], denoisedImage_, denoiseKeys_;
+  bool denoised_ = false;
   int width_ = 0, height_ = 0;
   size_t targetBytes_ = 0;
 };

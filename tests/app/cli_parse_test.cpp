@@ -92,6 +92,18 @@ TEST(CliParse, PathtraceOptions) {
             render::PathtraceDevice::kGl);
 }
 
+TEST(CliParse, DenoiseOption) {
+  // On by default in render and view; the library's default is the raw mean.
+  EXPECT_TRUE(parse({"render"}).render.render.rtgi.denoise);
+  EXPECT_TRUE(parse({"view"}).view.render.rtgi.denoise);
+  EXPECT_FALSE(render::RenderSettings{}.rtgi.denoise);
+  EXPECT_FALSE(parse({"render", "--denoise", "off"}).render.render.rtgi.denoise);
+  EXPECT_FALSE(parse({"view", "--denoise", "off"}).view.render.rtgi.denoise);
+  EXPECT_TRUE(parse({"render", "--denoise", "on"}).render.render.rtgi.denoise);
+  EXPECT_THROW(parse({"render", "--denoise", "yes"}), UsageError);
+  EXPECT_THROW(parse({"render", "--denoise"}), UsageError);
+}
+
 TEST(CliParse, ReprojectionOptions) {
   // On by default, for render and view alike; the cap defaults to 16 frames.
   const Invocation d = parse({"render"});

@@ -31,7 +31,7 @@ TEST(ViewerInput, ModeSlotsInTheDocumentedOrder) {
 
 TEST(ViewerInput, KeyNamesRoundTrip) {
   for (const char* name :
-       {"1", "2", "3", "4", "5", "6", "+", "-", "t", "r", "p", "m", "tab", "esc"}) {
+       {"1", "2", "3", "4", "5", "6", "+", "-", "t", "r", "p", "m", "n", "tab", "esc"}) {
     const auto a = actionForKeyName(name);
     ASSERT_TRUE(a.has_value()) << name;
     EXPECT_EQ(keyName(*a), name);

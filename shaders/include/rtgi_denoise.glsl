@@ -1,0 +1,72 @@
+// What the denoiser's stages share (rtgi_denoise_prepare.comp, rtgi_denoise.comp) and
+// what accumulate needs of it for the moments (RTGI_MOMENTS). Include after
+// rtgi_common.glsl.
+//
+// The filter follows Schied et al. 2017, "Spatiotemporal Variance-Guided Filtering"
+// (SVGF), on the edge-avoiding a-trous wavelet of Dammertz et al. 2010: light is
+// divided by the surface's base colour (so texture detail is not blurred, and comes
+// back when the result is multiplied by it again), filtered by a 5x5 kernel whose
+// taps spread 2^i pixels apart on pass i, with weights that stop at edges in depth
+// and normal and where two pixels' luminances differ by more than their noise says
+// they may. Unlike SVGF, the filter reads the running mean and never writes into
+// it: accumulation stays as unbiased as before, and since the noise it measures is
+// that of the mean, which falls as 1/n, the filter fades out as a still image
+// converges.
+#ifndef VOXGI_RTGI_DENOISE_GLSL
+#define VOXGI_RTGI_DENOISE_GLSL
+
+// What the light at a covered pixel is divided by: its base colour, kept away from 0
+// so that black texels do not turn noise into infinities.
+vec3 demodulation(ivec2 px) { return max(texelFetch(gAlbedo, px, 0).rgb, vec3(0.02)); }
+
+// Pixels the filter leaves as they are, and which lend nothing to their neighbours:
+// nothing drawn, emitters (their light is exact and far brighter than what surrounds
+// them) and mirrors (a reflection is an image, not noise).
+bool denoiseKeeps(ivec2 px) {
+  if (texelFetch(gPosition, px, 0).w < 0.5) return true;
+  if (any(greaterThan(texelFetch(gEmission, px, 0).rgb, vec3(0.0)))) return true;
+  float roughness = texelFetch(gNormal, px, 0).w;
+  return (rtgi.counts.z & kRtgiHasSpecular) != 0u && roughness < kMirrorRoughness;
+}
+
+// What the edge stops compare, one rgba32ui texel per pixel (kDenoiseKeyImage),
+// written by the first pass so that each tap of the others reads it in one load: the
+// world position's float bits, and the normal in octahedral coordinates (11 bits
+// each) with the low 10 bits of the material index.
+uvec4 packDenoiseKey(vec4 position, vec3 n) {
+  n /= max(abs(n.x) + abs(n.y) + abs(n.z), 1e-20);
+  vec2 e = n.z >= 0.0 ? n.xy : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
+  uvec2 q = uvec2(clamp(round((e * 0.5 + 0.5) * 2047.0), 0.0, 2047.0));
+  uint material = uint(position.w) & 1023u;
+  return uvec4(floatBitsToUint(position.xyz), (q.x << 21u) | (q.y << 10u) | material);
+}
+
+struct DenoiseKey {
+  vec3 position;
+  vec3 normal;
+  uint material;
+};
+
+DenoiseKey unpackDenoiseKey(uvec4 k) {
+  DenoiseKey d;
+  d.position = uintBitsToFloat(k.xyz);
+  vec2 e = vec2(float(k.w >> 21u), float((k.w >> 10u) & 2047u)) / 2047.0 * 2.0 - 1.0;
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
+  d.normal = normalize(n);
+  d.material = k.w & 1023u;
+  return d;
+}
+
+// The log of the edge-stopping weight of pixel q for pixel p (Schied et al. 2017,
+// eq. 3-4), the depth term measured as the distance of q's point from p's tangent
+// plane, relative to `scale` (sigma_plane times p's distance from the camera);
+// -infinity on another material.
+float logEdgeWeight(DenoiseKey p, DenoiseKey q, float scale) {
+  if (q.material != p.material) return -1e30;
+  float c = max(dot(p.normal, q.normal), 1e-8);
+  float plane = abs(dot(p.normal, q.position - p.position));
+  return 128.0 * log(c) - plane / scale;
+}
+
+#endif

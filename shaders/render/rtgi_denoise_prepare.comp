@@ -1,0 +1,68 @@
+#version 450 core
+// rtgi stage "denoise", first pass: each pixel's running mean divided by its base
+// colour, with the variance of that mean's luminance in alpha, for the a-trous passes
+// (rtgi_denoise.comp), and the key their edge stops compare. The variance of a mean
+// of n samples is the samples' variance over n. A pixel with kDenoiseTemporalSamples
+// samples or more takes its samples' variance from its own moments
+// (rtgi_accumulate.comp); one with fewer (just after a restart or a disocclusion)
+// from the moments of the 7x7 pixels around it on the same surface (Schied et al.
+// 2017, sec. 4.2). Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
+#include "scene_shared.h"
+#include "lighting.glsl"
+#include "sampling.glsl"
+#include "octree.glsl"
+#include "rtgi_common.glsl"
+#include "rtgi_denoise.glsl"
+
+layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
+
+layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
+layout(binding = kHistoryMomentsUnit) uniform sampler2D moments;
+layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D prepared;
+layout(binding = kDenoiseKeyImage, rgba32ui) uniform writeonly uimage2D keys;
+
+DenoiseKey keyAt(ivec2 px) {
+  DenoiseKey k;
+  vec4 p = texelFetch(gPosition, px, 0);
+  k.position = p.xyz;
+  k.normal = normalize(texelFetch(gNormal, px, 0).xyz);
+  k.material = uint(p.w) & 1023u;
+  return k;
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(rtgi.frame.zw);
+  if (px.x >= size.x || px.y >= size.y) return;
+  vec4 c = texelFetch(mean, px, 0);
+  if (denoiseKeeps(px)) {
+    imageStore(prepared, px, vec4(c.rgb, -1.0));
+    return;
+  }
+  vec4 position = texelFetch(gPosition, px, 0);
+  imageStore(keys, px, packDenoiseKey(position, normalize(texelFetch(gNormal, px, 0).xyz)));
+  vec3 light = c.rgb / demodulation(px);
+  float n = c.a;
+  vec2 m = texelFetch(moments, px, 0).xy;
+  if (n < kDenoiseTemporalSamples) {
+    // Too few samples of its own: the moments of the pixels around it on its surface
+    // that have samples.
+    DenoiseKey p = keyAt(px);
+    float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+    vec2 sum = n > 0.0 ? m : vec2(0.0);
+    float weight = n > 0.0 ? 1.0 : 0.0;
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) {
+        ivec2 q = px + ivec2(dx, dy);
+        if ((dx == 0 && dy == 0) || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
+          continue;
+        if (!(texelFetch(mean, q, 0).a > 0.0) || texelFetch(gPosition, q, 0).w < 0.5) continue;
+        float w = exp(logEdgeWeight(p, keyAt(q), scale));
+        sum += w * texelFetch(moments, q, 0).xy;
+        weight += w;
+      }
+    if (weight > 0.0) m = sum / weight;
+  }
+  float variance = max(m.y - m.x * m.x, 0.0) / max(n, 1.0);
+  imageStore(prepared, px, vec4(light, variance));
+}

@@ -1,0 +1,239 @@
+// rtgi's denoiser (RtgiPass::Settings::denoise, shaders/include/rtgi_denoise.glsl):
+// after two frames it takes most of the noise out of the image, without blurring away
+// what the converged image and the path tracer show: texture detail, the contact
+// shadow at a box's foot, mirror reflections (which it leaves as they are); as frames
+// accumulate it fades out, and it stays finite through camera moves, interleaving
+// and sparse starts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "image/metrics.h"
+#include "render/renderer.h"
+#include "support/gl_fixture.h"
+
+namespace voxgi::test {
+namespace {
+
+constexpr int kSize = 96;
+
+// Adds the quad a, b, c, d (counter-clockwise seen from its front) with corner UVs.
+void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4],
+             const glm::vec2 (&uv)[4] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}}) {
+  const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+  const auto first = static_cast<uint32_t>(s->vertices.size());
+  const auto firstIndex = static_cast<uint32_t>(s->indices.size());
+  for (int i = 0; i < 4; ++i) s->vertices.push_back({p[i], n, uv[i]});
+  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s->indices.push_back(first + i);
+  s->draws.push_back({firstIndex, 6, material, -1, -1});
+}
+
+// A 4 x 4 floor (y = 0) whose base colour is a 16 x 16 checker texture (white 0.8,
+// grey 0.2, nearest: 0.25-unit squares), a white back wall at z = -1.6 with a mirror
+// panel (metallic, roughness 0) in front of its left half, a 0.6-unit white box on
+// the floor, and a square area light (0.6 units, facing down) 1.4 above the floor to
+// the box's right: the box's soft shadow on its left, and one bounce, both noisy
+// after a few frames.
+scene::Scene checkerRoom() {
+  scene::Scene s;
+  s.path = "checker_room";
+  scene::Material floor, white, mirror, lamp;
+  floor.baseColor = glm::vec4(1.0f);
+  floor.metallic = 0.0f;
+  floor.baseColorTexture = 0;
+  white.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+  white.metallic = 0.0f;
+  mirror.baseColor = glm::vec4(0.9f, 0.9f, 0.9f, 1.0f);
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  lamp.metallic = 0.0f;
+  lamp.emission = glm::vec3(12.0f);
+  s.materials = {floor, white, mirror, lamp};
+  scene::Texture t;
+  t.width = t.height = 16;
+  t.srgb = false;
+  t.magFilter = scene::kFilterNearest;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const uint8_t v = (x + y) % 2 == 0 ? 204 : 51;
+      t.rgba8.insert(t.rgba8.end(), {v, v, v, 255});
+    }
+  s.textures.push_back(t);
+  addQuad(&s, 0, {{-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}},
+          {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  addQuad(&s, 1, {{-2, 0, -1.6f}, {2, 0, -1.6f}, {2, 2.2f, -1.6f}, {-2, 2.2f, -1.6f}});
+  addQuad(
+      &s, 2,
+      {{-1.8f, 0.2f, -1.55f}, {-0.4f, 0.2f, -1.55f}, {-0.4f, 1.6f, -1.55f}, {-1.8f, 1.6f, -1.55f}});
+  const float h = 0.3f, top = 0.6f;
+  addQuad(&s, 1, {{-h, 0, h}, {h, 0, h}, {h, top, h}, {-h, top, h}});        // front
+  addQuad(&s, 1, {{h, 0, h}, {h, 0, -h}, {h, top, -h}, {h, top, h}});        // right
+  addQuad(&s, 1, {{-h, 0, -h}, {-h, 0, h}, {-h, top, h}, {-h, top, -h}});    // left
+  addQuad(&s, 1, {{h, 0, -h}, {-h, 0, -h}, {-h, top, -h}, {h, top, -h}});    // back
+  addQuad(&s, 1, {{-h, top, h}, {h, top, h}, {h, top, -h}, {-h, top, -h}});  // top
+  // The lamp, facing down, to the box's right: the box's shadow falls to its left.
+  addQuad(&s, 3,
+          {{1.0f - h, 1.4f, -h}, {1.0f + h, 1.4f, -h}, {1.0f + h, 1.4f, h}, {1.0f - h, 1.4f, h}});
+  s.camera.position = glm::vec3(0.0f, 1.5f, 2.8f);
+  s.camera.forward = glm::normalize(glm::vec3(0.0f, 0.2f, -0.2f) - s.camera.position);
+  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  s.camera.yfov = 0.9f;
+  s.camera.fromFile = true;
+  s.finalize();
+  return s;
+}
+
+// The pixel (column, row from the top) where world point p lands.
+glm::ivec2 project(const scene::Scene& s, glm::vec3 p) {
+  const glm::vec4 c = s.camera.projection(1.0f) * s.camera.view() * glm::vec4(p, 1.0f);
+  const glm::vec2 ndc = glm::vec2(c) / c.w;
+  return {static_cast<int>((ndc.x * 0.5f + 0.5f) * kSize),
+          static_cast<int>((0.5f - ndc.y * 0.5f) * kSize)};
+}
+
+image::Image toImage(const std::vector<float>& rgba) {
+  image::Image im;
+  im.width = im.height = kSize;
+  im.channels = 3;
+  for (size_t i = 0; i < rgba.size(); i += 4)
+    im.pixels.insert(im.pixels.end(), {rgba[i], rgba[i + 1], rgba[i + 2]});
+  return im;
+}
+
+// Mean luminance over the (2r + 1)^2 pixels about `at`.
+double windowMean(const image::Image& im, glm::ivec2 at, int r) {
+  EXPECT_TRUE(at.x >= r && at.y >= r && at.x + r < kSize && at.y + r < kSize);
+  const std::vector<double> l = image::luminance(im);
+  double sum = 0.0;
+  for (int y = at.y - r; y <= at.y + r; ++y)
+    for (int x = at.x - r; x <= at.x + r; ++x) sum += l[static_cast<size_t>(y * kSize + x)];
+  return sum / ((2 * r + 1) * (2 * r + 1));
+}
+
+// Mean absolute luminance step between horizontal and vertical neighbours over the
+// window about `at`: the checker's edges, and noise.
+double windowGradient(const image::Image& im, glm::ivec2 at, int r) {
+  const std::vector<double> l = image::luminance(im);
+  double sum = 0.0;
+  for (int y = at.y - r; y < at.y + r; ++y)
+    for (int x = at.x - r; x < at.x + r; ++x) {
+      const auto i = static_cast<size_t>(y * kSize + x);
+      sum += std::abs(l[i + 1] - l[i]) + std::abs(l[i + kSize] - l[i]);
+    }
+  return sum / (4.0 * r * r);
+}
+
+class DenoiseTest : public GlProgramsTest {
+ protected:
+  image::Image render(const scene::Scene& s, render::Mode mode, int frames, bool denoise,
+                      uint32_t seed) {
+    render::RenderSettings rs;
+    rs.mode = mode;
+    rs.width = rs.height = kSize;
+    rs.voxels = 64;
+    rs.rtgi.seed = seed;
+    rs.rtgi.denoise = denoise;
+    // Every frame samples the pixel centres: what two frames lack against 64 is then
+    // noise alone, not antialiasing too.
+    rs.jitter = false;
+    rs.octree.seed = seed;
+    rs.spp = 256;
+    rs.pathtrace.seed = seed;
+    render::Renderer r(*programs_, s, rs);
+    for (int f = 0; f < frames; ++f) r.renderFrame();
+    return toImage(r.readLinear());
+  }
+};
+
+TEST_F(DenoiseTest, TakesOutTheNoiseOfTwoFramesAndKeepsWhatTheImageShows) {
+  const scene::Scene s = checkerRoom();
+  const image::Image converged = render(s, render::Mode::kRtgi, 64, false, 1);
+  const image::Image raw = render(s, render::Mode::kRtgi, 2, false, 2);
+  const image::Image denoised = render(s, render::Mode::kRtgi, 2, true, 2);
+  const image::Image pt = render(s, render::Mode::kPathtrace, 1, false, 3);
+
+  const double rawError = image::errorMetrics(raw, converged).rmse;
+  const double denoisedError = image::errorMetrics(denoised, converged).rmse;
+  // The checker where the floor is lit and open (in front of the box, to its right).
+  const glm::ivec2 open = project(s, {0.9f, 0.0f, 0.9f});
+  // The box's shadow at its foot, and the lit floor beyond the shadow.
+  const glm::ivec2 foot = project(s, {-0.45f, 0.0f, 0.1f});
+  const glm::ivec2 away = project(s, {-0.6f, 0.0f, 1.1f});
+  // The mirror panel's middle: the floor and room reflected.
+  const glm::ivec2 mirror = project(s, {-1.1f, 0.9f, -1.55f});
+  const auto contact = [&](const image::Image& im) {
+    return windowMean(im, foot, 2) / windowMean(im, away, 2);
+  };
+  std::printf(
+      "rmse against 64 frames: 2 frames %.4f, denoised %.4f; checker gradient: converged "
+      "%.4f, denoised %.4f, 2 frames %.4f, path tracer %.4f; contact shadow (foot / open "
+      "floor): converged %.3f, denoised %.3f, path tracer %.3f\n",
+      rawError, denoisedError, windowGradient(converged, open, 5),
+      windowGradient(denoised, open, 5), windowGradient(raw, open, 5), windowGradient(pt, open, 5),
+      contact(converged), contact(denoised), contact(pt));
+
+  // Most of the noise is gone.
+  EXPECT_LT(denoisedError, 0.6 * rawError);
+  // The checker's edges stay as sharp as converged (the noise of two frames would
+  // add to the gradient; blurring would take from it).
+  EXPECT_NEAR(windowGradient(denoised, open, 5) / windowGradient(converged, open, 5), 1.0, 0.1);
+  // The contact shadow keeps its depth, as the converged image and the path tracer
+  // show it.
+  EXPECT_NEAR(contact(denoised), contact(converged), 0.05);
+  EXPECT_NEAR(contact(denoised), contact(pt), 0.1);
+  // Mirrors are left as they are: the same samples give the same pixels.
+  for (int y = mirror.y - 3; y <= mirror.y + 3; ++y)
+    for (int x = mirror.x - 3; x <= mirror.x + 3; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const auto i = static_cast<size_t>((y * kSize + x) * 3 + c);
+        ASSERT_EQ(denoised.pixels[i], raw.pixels[i]) << "mirror pixel " << x << "," << y;
+      }
+}
+
+// As a still image converges, the noise the filter measures falls as 1/n and so does
+// what it changes: after 64 frames the denoised image is the running mean, within
+// what remains of its noise.
+TEST_F(DenoiseTest, FadesOutAsTheImageConverges) {
+  const scene::Scene s = checkerRoom();
+  const image::Image mean = render(s, render::Mode::kRtgi, 64, false, 1);
+  const image::Image denoised = render(s, render::Mode::kRtgi, 64, true, 1);
+  const image::Image other = render(s, render::Mode::kRtgi, 64, false, 2);
+  const double change = image::errorMetrics(denoised, mean).rmse;
+  const double noise = image::errorMetrics(other, mean).rmse;  // two seeds' difference
+  std::printf("64 frames: denoised against the mean %.5f, a second seed's mean %.5f\n", change,
+              noise);
+  EXPECT_LT(change, noise);
+  EXPECT_GT(change, 0.0);  // it does filter
+}
+
+// Camera moves (reprojected history, disocclusions), an interleave with a sparse
+// start (pixels with no sample yet): every pixel shown stays finite.
+TEST_F(DenoiseTest, StaysFiniteThroughMovesAndSparseStarts) {
+  const scene::Scene s = checkerRoom();
+  render::RenderSettings rs;
+  rs.mode = render::Mode::kRtgi;
+  rs.width = rs.height = kSize;
+  rs.voxels = 64;
+  rs.rtgi.denoise = true;
+  rs.rtgi.interleave = 4;
+  rs.rtgi.sparseStart = true;
+  render::Renderer r(*programs_, s, rs);
+  scene::Camera c = s.camera;
+  for (int f = 0; f < 12; ++f) {
+    if (f % 3 == 2) c.position += glm::vec3(0.15f, 0.0f, 0.0f);
+    r.renderFrame(c);
+    const std::vector<float> px = r.readLinear();
+    double sum = 0.0;
+    for (size_t i = 0; i < px.size(); i += 4)
+      for (size_t k = 0; k < 3; ++k) {
+        ASSERT_TRUE(std::isfinite(px[i + k])) << "frame " << f << " pixel " << i / 4;
+        sum += px[i + k];
+      }
+    EXPECT_GT(sum, 0.0) << "frame " << f;
+  }
+}
+
+}  // namespace
+}  // namespace voxgi::test
