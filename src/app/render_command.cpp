@@ -236,6 +236,10 @@ int runRender(const RenderOptions& o) {
     stats["reproject"] = renderer.rtgi()->settings().reproject;
     stats["history_cap"] = renderer.rtgi()->settings().historyCap;
     stats["rays"] = renderer.rtgi()->raysHitTriangles() ? "triangles" : "voxels";
+    stats["indirect"] = renderer.rtgi()->settings().indirectMethod ==
+                                render::RtgiPass::Settings::IndirectMethod::kCones
+                            ? "cones"
+                            : "rays";
     stats["reflections"] = !renderer.rtgi()->settings().specular ? "none"
                            : renderer.rtgi()->tracesTriangles()  ? "triangles"
                                                                  : "voxels";
