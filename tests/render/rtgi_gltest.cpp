@@ -162,7 +162,9 @@ TEST_F(RtgiTest, ConesThroughClosedWallsLeakLittle) {
 
 // Cones give the Cornell room finite indirect light of about the strength the rays
 // converge to: the indirect term (the image less the image without the indirect
-// effect) of one cone frame against 64 frames of rays.
+// effect) of one cone frame against 64 frames of rays. Measured 0.90x: the cones
+// are biased low where coarse nodes mix both sides of a surface (they occlude
+// without light); the bound leaves room for that, not for a lost or doubled term.
 TEST_F(RtgiTest, ConesGiveIndirectLightLikeRays) {
   const scene::Scene room = scene::loadGltf(cornellRoom());
   render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
@@ -179,7 +181,7 @@ TEST_F(RtgiTest, ConesGiveIndirectLightLikeRays) {
               conesIndirect, conesIndirect / raysIndirect);
   ASSERT_GT(raysIndirect, 0.0);
   EXPECT_GT(conesIndirect, 0.0);
-  EXPECT_NEAR(conesIndirect / raysIndirect, 1.0, 0.5);
+  EXPECT_NEAR(conesIndirect / raysIndirect, 1.0, 0.25);
 }
 
 // Converged still image: between frames n and n + 1 of accumulation the mean moves
