@@ -145,18 +145,21 @@ TEST_F(RtgiTest, ClosedWallsDoNotLeakLight) {
   EXPECT_LT(thinLeak, 0.5);
 }
 
-// The same rooms with cone-traced indirect light (--indirect cones).
-TEST_F(RtgiTest, ConesThroughClosedWallsLeakLittle) {
+// The same rooms with cone-traced indirect light (--indirect cones): walls 4 voxels
+// thick give the same image with the outside light on and off, as with rays (inner
+// nodes holding both sides of a wall give the cones no light); walls a third of a
+// voxel thick leak 0.206 (rays: 0.387), bounded as for rays.
+TEST_F(RtgiTest, ConesDoNotLeakThroughClosedWalls) {
   using Method = render::RtgiPass::Settings::IndirectMethod;
   const auto [on, off] = sealedRoom(0.25f, Method::kCones);
   ASSERT_GT(off, 0.0);
+  EXPECT_LE(std::abs(on - off), 1e-6 * off) << "on " << on << " off " << off;
   const double thickLeak = (on - off) / off / 1000.0;
   const auto [thinOn, thinOff] = sealedRoom(0.02f, Method::kCones);
   const double thinLeak = (thinOn - thinOff) / thinOff / 1000.0;
   std::printf(
       "sealed room, cones: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
       thickLeak, thinLeak);
-  EXPECT_LE(thickLeak, 1e-6);
   EXPECT_LT(thinLeak, 0.5);
 }
 
