@@ -5,8 +5,10 @@
 // opacity the mean of the 8 children's, colours opacity-weighted means), the level
 // at each step the one whose cells match the cone's diameter there, and composites
 // the radiance it meets front to back by opacity. Deterministic: the same light
-// every frame, smooth, and biased where the filtered levels mix what a ray would
-// keep apart (light leaks through walls thinner than the cone's footprint).
+// every frame, and biased where the filtered levels mix what a ray would keep
+// apart; nodes that mix both sides of a wall are kept dark (coneNode) so that light
+// does not leak through it, and a coarse level's cells show as blocks (one cell
+// is read per level, not interpolated: docs/rtgi.md#cone-tracing).
 //
 // Include after octree.glsl and sampling.glsl, with the octree's radiance[] and
 // material[] declared.
