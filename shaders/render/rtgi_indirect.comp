@@ -12,6 +12,9 @@
 // it meets (unless seen from behind: seenFromBehind) both stops it and lights it;
 // voxels are fatter than the surfaces, so near a contact they stop rays that would
 // have passed (the floor under a sphere comes out too dark).
+//
+// RTGI_CONES (--indirect cones): instead of the ray, six cones through the octree's
+// filtered levels (rtgi_cones.glsl), the same light every frame.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -32,6 +35,9 @@ layout(binding = kIndirectImage, rgba16f) uniform writeonly image2D indirectOut;
 #ifdef RTGI_BVH
 #include "rtgi_voxel_light.glsl"
 #endif
+#ifdef RTGI_CONES
+#include "rtgi_cones.glsl"
+#endif
 
 void main() {
   ivec2 px;
@@ -39,6 +45,9 @@ void main() {
   Pixel p = loadPixel(px);
   vec3 result = vec3(0.0);
   if (p.covered && any(greaterThan(p.s.diffuse, vec3(0.0)))) {
+#ifdef RTGI_CONES
+    result = p.s.diffuse * coneIrradiance(surfaceRayOrigin(px, p.s), p.s.n, surfaceNormal(px));
+#else
     seedPixel(px, 2u);
     vec3 dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
     // A ray below the surface itself (a normal map tilts n) brings nothing: no leaks.
@@ -54,6 +63,7 @@ void main() {
         result = p.s.diffuse * unpackRgb9e5(radiance[h.node]);
 #endif
     }
+#endif
   }
   imageStore(indirectOut, px, vec4(result, 1.0));
 }

@@ -1,8 +1,9 @@
 #version 450 core
 // Inner nodes of one level from their 8 children, one invocation per node of the
 // level: opacity is the children's mean (an empty child counts 0); radiance,
-// albedo and emission are opacity-weighted means; normals an opacity-weighted sum,
-// renormalised (zero where they cancel). The cone tracer composites
+// albedo, emission and normals are opacity-weighted means: a normal's length says how
+// far the children's agree (1: one side, 0: they cancel, as both sides of a wall
+// do; the cone tracer, rtgi_cones.glsl, tells them apart). The cone tracer composites
 // colour x opacity front to back, so a half-empty node weighs half.
 // OCTREE_FILTER_RADIANCE: radiance only (the refinement of a built octree, whose
 // materials and emission do not change).
@@ -34,11 +35,10 @@ void main() {
 #endif
   }
   float inv = opacity > 0.0 ? 1.0 / opacity : 0.0;
-  float len = length(nrm);
   radiance[node] = packRgb9e5(rad * inv);
 #ifndef OCTREE_FILTER_RADIANCE
   material[node] = uvec2(packUnorm4x8(vec4(alb * inv, opacity / 8.0)),
-                         packSnorm4x8(vec4(len > 1e-3 ? nrm / len : vec3(0.0), 0.0)));
+                         packSnorm4x8(vec4(nrm * inv, 0.0)));
   emission[node] = packRgb9e5(em * inv);
 #endif
 }

@@ -175,6 +175,11 @@ std::string renderHelp() {
          "                    triangles, through a BVH; the voxels give only the light\n"
          "                    at an indirect ray's hit). A scene whose meshes move\n"
          "                    always marches the voxels\n"
+         "  --indirect M      how diffuse indirect light is gathered: rays (default), one\n"
+         "                    random ray per pixel and frame, averaged by accumulation; or\n"
+         "                    cones, six cones through the octree's filtered levels (voxel\n"
+         "                    cone tracing): the same smooth light every frame, biased\n"
+         "                    (it leaks through walls thinner than a cone's footprint)\n"
          "  --out-mask FILE   write the last work mask (grey PNG, or EXR)\n"
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces in the first\n"
          "                    estimate of the voxels' light (default 4; refinement adds more)\n"
@@ -243,7 +248,7 @@ std::string viewHelp() {
          "                    +specular,-shadows; the panel shows the plan\n"
          "  --voxels N, --revoxelize, --small-triangles P, --bounces N, --inject-rays N,\n"
          "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S,\n"
-         "  --reproject on|off, --history-cap N\n"
+         "  --reproject on|off, --history-cap N, --indirect M\n"
          "                    as for voxgi render\n"
          "  --denoise on|off  on (default): the image shown is denoised (see voxgi render\n"
          "                    --help); the n key toggles it\n"
@@ -348,6 +353,14 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     rs->rtgi.exactReflections = false;
   } else if (a == "--voxel-rays") {
     rs->rtgi.exactRays = false;
+  } else if (a == "--indirect") {
+    const std::string v = value();
+    if (v == "rays")
+      rs->rtgi.indirectMethod = render::RtgiPass::Settings::IndirectMethod::kRays;
+    else if (v == "cones")
+      rs->rtgi.indirectMethod = render::RtgiPass::Settings::IndirectMethod::kCones;
+    else
+      throw UsageError("--indirect: unknown method '" + v + "' (rays, cones)");
   } else if (a == "--reproject") {
     const std::string v = value();
     if (v != "on" && v != "off")

@@ -237,6 +237,10 @@ int runRender(const RenderOptions& o) {
     stats["history_cap"] = renderer.rtgi()->settings().historyCap;
     stats["denoise"] = renderer.rtgi()->settings().denoise;
     stats["rays"] = renderer.rtgi()->raysHitTriangles() ? "triangles" : "voxels";
+    stats["indirect"] = renderer.rtgi()->settings().indirectMethod ==
+                                render::RtgiPass::Settings::IndirectMethod::kCones
+                            ? "cones"
+                            : "rays";
     stats["reflections"] = !renderer.rtgi()->settings().specular ? "none"
                            : renderer.rtgi()->tracesTriangles()  ? "triangles"
                                                                  : "voxels";

@@ -25,7 +25,8 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
 
 void RtgiPass::buildOptionalStages() {
   // With a BVH the variants depend on the scene (indirectProgram, specularProgram).
-  if (settings_.indirect && !indirect_ && !raysHitTriangles())
+  if (settings_.indirect && !indirect_ && !raysHitTriangles() &&
+      settings_.indirectMethod == Settings::IndirectMethod::kRays)
     indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
   if (settings_.specular && !specular_ && !tracesTriangles())
     specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
@@ -80,8 +81,11 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
   return programs_.get({{"render/rtgi_direct.comp"}, defines});
 }
 
-// The indirect stage's variant: the voxel march, or the triangles (RTGI_BVH).
+// The indirect stage's variant: the voxel march, the triangles (RTGI_BVH), or cones
+// (RTGI_CONES).
 const gl::Program& RtgiPass::indirectProgram(const GpuScene& gs) {
+  if (settings_.indirectMethod == Settings::IndirectMethod::kCones)
+    return programs_.get({{"render/rtgi_indirect.comp"}, {"RTGI_CONES"}});
   if (!raysHitTriangles()) return *indirect_;
   return programs_.get({{"render/rtgi_indirect.comp"}, bvhDefines(gs)});
 }

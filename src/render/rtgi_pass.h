@@ -9,6 +9,7 @@
 //               with the shadows effect off, "direct": the same without shadow rays,
 //               and absent when there is no light at all;
 //   indirect    one cosine ray per pixel into the lit voxels (rtgi_indirect.comp),
+//               or six cones through the octree's filtered levels (rtgi_cones.glsl),
 //               with the indirect effect;
 //   specular    the reflected ray of mirrors and glossy surfaces (rtgi_specular.comp),
 //               with the specular effect (the scene has such materials): traced
@@ -68,6 +69,10 @@ class RtgiPass {
     // cache at an indirect ray's hit. false: the rays march the voxels, which stop
     // them too early near contacts (the previous behaviour).
     bool exactRays = true;
+    // How the indirect stage gathers diffuse indirect light: one random ray per pixel
+    // and frame (accumulation averages them), or six cones through the octree's
+    // filtered levels (voxel cone tracing; the same light every frame).
+    enum class IndirectMethod { kRays, kCones } indirectMethod = IndirectMethod::kRays;
     // A camera move keeps the image: each pixel's history is reprojected onto the
     // surface it now shows (false: a move restarts accumulation).
     bool reproject = true;

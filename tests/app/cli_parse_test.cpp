@@ -119,6 +119,18 @@ TEST(CliParse, ReprojectionOptions) {
   EXPECT_THROW(parse({"render", "--history-cap", "0"}), UsageError);
 }
 
+TEST(CliParse, IndirectMethod) {
+  using Method = render::RtgiPass::Settings::IndirectMethod;
+  EXPECT_EQ(parse({"render"}).render.render.rtgi.indirectMethod, Method::kRays);
+  EXPECT_EQ(parse({"render", "--indirect", "cones"}).render.render.rtgi.indirectMethod,
+            Method::kCones);
+  EXPECT_EQ(parse({"render", "--indirect", "rays"}).render.render.rtgi.indirectMethod,
+            Method::kRays);
+  EXPECT_EQ(parse({"view", "--indirect", "cones"}).view.render.rtgi.indirectMethod, Method::kCones);
+  EXPECT_THROW(parse({"render", "--indirect", "foo"}), UsageError);
+  EXPECT_THROW(parse({"render", "--indirect"}), UsageError);
+}
+
 TEST(CliParse, Compare) {
   Invocation inv = parse({"compare", "a.exr", "b.exr", "--json"});
   EXPECT_EQ(inv.command, Command::kCompare);

@@ -61,7 +61,9 @@ class RtgiTest : public GlProgramsTest {
   // A sealed room, walls `thickness` thick, a dim light inside and a light 1000 times
   // brighter just outside; the camera inside. Returns the mean radiance with the
   // outside light on and off.
-  std::pair<double, double> sealedRoom(float thickness) {
+  std::pair<double, double> sealedRoom(float thickness,
+                                       render::RtgiPass::Settings::IndirectMethod method =
+                                           render::RtgiPass::Settings::IndirectMethod::kRays) {
     SceneBuilder b;
     const int wall = b.addMaterial(glm::vec3(0.7f));
     const float in = 1.0f, out = 1.0f + thickness;
@@ -85,7 +87,8 @@ class RtgiTest : public GlProgramsTest {
     cam.position = glm::vec3(0.0f, 0.0f, 0.8f);
     cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
     cam.up = glm::vec3(0.0f, 1.0f, 0.0f);
-    const render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+    render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+    rs.rtgi.indirectMethod = method;
     s.lights = {inside};
     const double off = meanOf(render(s, rs, 8, cam));
     s.lights = {inside, outside};
@@ -140,6 +143,48 @@ TEST_F(RtgiTest, ClosedWallsDoNotLeakLight) {
   std::printf("sealed room: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
               (on - off) / off / 1000.0, thinLeak);
   EXPECT_LT(thinLeak, 0.5);
+}
+
+// The same rooms with cone-traced indirect light (--indirect cones): walls 4 voxels
+// thick give the same image with the outside light on and off, as with rays (inner
+// nodes holding both sides of a wall give the cones no light); walls a third of a
+// voxel thick leak 0.206 (rays: 0.387), bounded as for rays.
+TEST_F(RtgiTest, ConesDoNotLeakThroughClosedWalls) {
+  using Method = render::RtgiPass::Settings::IndirectMethod;
+  const auto [on, off] = sealedRoom(0.25f, Method::kCones);
+  ASSERT_GT(off, 0.0);
+  EXPECT_LE(std::abs(on - off), 1e-6 * off) << "on " << on << " off " << off;
+  const double thickLeak = (on - off) / off / 1000.0;
+  const auto [thinOn, thinOff] = sealedRoom(0.02f, Method::kCones);
+  const double thinLeak = (thinOn - thinOff) / thinOff / 1000.0;
+  std::printf(
+      "sealed room, cones: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
+      thickLeak, thinLeak);
+  EXPECT_LT(thinLeak, 0.5);
+}
+
+// Cones give the Cornell room finite indirect light of about the strength the rays
+// converge to: the indirect term (the image less the image without the indirect
+// effect) of one cone frame against 64 frames of rays. Measured 0.90x: the cones
+// are biased low where coarse nodes mix both sides of a surface (they occlude
+// without light); the bound leaves room for that, not for a lost or doubled term.
+TEST_F(RtgiTest, ConesGiveIndirectLightLikeRays) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+  rs.jitter = false;
+  const auto rays = render(room, rs, 64, room.camera);
+  rs.rtgi.indirectMethod = render::RtgiPass::Settings::IndirectMethod::kCones;
+  const auto cones = render(room, rs, 1, room.camera);
+  EXPECT_EQ(nonFinite(cones), 0u);
+  rs.effects = "-indirect";
+  const double direct = meanOf(render(room, rs, 1, room.camera));
+  const double raysIndirect = meanOf(rays) - direct;
+  const double conesIndirect = meanOf(cones) - direct;
+  std::printf("cornell room indirect term: rays %.4f, cones %.4f (ratio %.3f)\n", raysIndirect,
+              conesIndirect, conesIndirect / raysIndirect);
+  ASSERT_GT(raysIndirect, 0.0);
+  EXPECT_GT(conesIndirect, 0.0);
+  EXPECT_NEAR(conesIndirect / raysIndirect, 1.0, 0.25);
 }
 
 // Converged still image: between frames n and n + 1 of accumulation the mean moves
