@@ -192,7 +192,11 @@ INSTANTIATE_TEST_SUITE_P(
         SampleCase{"emissive_strength_test", "emissive_strength_test/EmissiveStrengthTest.gltf", 90,
                    0},
         SampleCase{"normal_tangent_mirror_test",
-                   "normal_tangent_mirror_test/NormalTangentMirrorTest.gltf", 5240, 0}),
+                   "normal_tangent_mirror_test/NormalTangentMirrorTest.gltf", 5240, 0},
+        SampleCase{"texture_transform_test", "texture_transform_test/TextureTransformTest.gltf", 24,
+                   0},
+        SampleCase{"texture_coordinate_test", "texture_coordinate_test/TextureCoordinateTest.gltf",
+                   10, 0}),
     [](const ::testing::TestParamInfo<SampleCase>& param) {
       return std::string(param.param.name);
     });
