@@ -502,6 +502,23 @@ TEST(GltfLoaderTextureTransform, BakedIntoTheVertexUvs) {
   }
 }
 
+// A material whose textures read different coordinates: one set of UVs per vertex,
+// so all read the base colour's (untransformed here), with a warning naming it.
+TEST(GltfLoaderTextureTransform, DifferingSlotsWarnAndReadTheBaseColours) {
+  const Scene s = loadGltf(test::testDataDir() + "/texcoords/mixed_transforms.gltf");
+  ASSERT_EQ(s.warnings.size(), 1u) << joined(s.warnings);
+  EXPECT_NE(s.warnings[0].find("materials[0]: baseColorTexture and emissiveTexture read "
+                               "different texture coordinates"),
+            std::string::npos)
+      << s.warnings[0];
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.uv, TextureTransform{});
+  EXPECT_NE(m.emissiveUv, TextureTransform{});
+  const glm::vec2 right[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  ASSERT_EQ(s.vertices.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) expectNear(s.vertices[i].uv, right[i], "base colour's UVs");
+}
+
 // The Khronos samples load without a warning (texCoord, transform) and keep the
 // file's transforms.
 TEST(GltfLoaderTextureTransform, KhronosSamples) {

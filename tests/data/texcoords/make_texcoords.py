@@ -19,6 +19,9 @@ Files:
                         (0.5, 1), rotation pi/2, scale (2, 1).
   transform_texcoord1.gltf  the same transform, TEXCOORD_0 wrong, TEXCOORD_1 right,
                         selected by the extension's texCoord override.
+  mixed_transforms.gltf  transform.gltf plus a base-colour texture without the
+                        transform: the material's textures disagree (a warning; all
+                        read the base colour's coordinates).
   occlusion_strength_0.gltf, occlusion_strength_1.gltf  a white Lambert quad (no
                         emission, the default light) with a 2 x 1 occlusion texture:
                         0 in the left column (fully occluded), 255 in the right;
@@ -143,5 +146,9 @@ write("transform.gltf", scene(RIGHT, None, {"extensions": {"KHR_texture_transfor
                               required=["KHR_texture_transform"]))
 write("transform_texcoord1.gltf",
       scene(WRONG, RIGHT, {"extensions": {"KHR_texture_transform": dict(TRANSFORM, texCoord=1)}}))
+mixed = scene(RIGHT, None, {"extensions": {"KHR_texture_transform": TRANSFORM}},
+              required=["KHR_texture_transform"])
+mixed["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+write("mixed_transforms.gltf", mixed)
 write("occlusion_strength_0.gltf", occlusion(0.0))
 write("occlusion_strength_1.gltf", occlusion(1.0))
