@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <string_view>
@@ -1099,6 +1100,7 @@ class Loader {
     Material d;
     d.name = "default";
     scene_.materials.push_back(d);
+    uvField_.push_back("");
   }
 
   // A texture a material reads: its source and sampler must exist (a texture no
@@ -1132,9 +1134,11 @@ class Loader {
 
   // A texture slot's texture coordinate set and KHR_texture_transform (identity
   // without the extension). `at` names the textureInfo, e.g.
-  // "materials[2].pbrMetallicRoughness.baseColorTexture".
+  // "materials[2].pbrMetallicRoughness.baseColorTexture"; the field that names the
+  // set goes to texCoordField_[at].
   TextureTransform transform(int texCoord, const tinygltf::ExtensionMap& extensions,
-                             const std::string& at) const {
+                             const std::string& at) {
+    std::string setField = at + ".texCoord";  // where the set is named
     glm::vec2 offset(0.0f), scale(1.0f);
     float rotation = 0.0f;
     auto it = extensions.find("KHR_texture_transform");
@@ -1164,17 +1168,20 @@ class Loader {
         if (!v.IsInt() || v.GetNumberAsInt() < 0)
           fail(ext + ".texCoord: not a non-negative integer");
         texCoord = v.GetNumberAsInt();
+        setField = ext + ".texCoord";
       }
     }
     if (texCoord < 0) fail(strf("%s.texCoord %d: negative", at.c_str(), texCoord));
     TextureTransform t = textureTransform(offset, rotation, scale);
     t.texCoord = texCoord;
+    texCoordField_[at] = setField;
     return t;
   }
 
   // The set and transform baked into the vertex UVs of the primitives drawn with
   // `mat`: the one all its textures share. Where they differ, the base colour's
   // (else the first texture's), with a warning: the others read it too.
+  // Records in uvField_ the field that names the chosen set.
   TextureTransform bakedUv(const Material& mat, const std::string& at) {
     std::vector<std::pair<const char*, const TextureTransform*>> slots;
     if (mat.baseColorTexture >= 0) slots.push_back({"baseColorTexture", &mat.baseColorUv});
@@ -1183,7 +1190,18 @@ class Loader {
     if (mat.emissiveTexture >= 0) slots.push_back({"emissiveTexture", &mat.emissiveUv});
     if (mat.normalTexture >= 0) slots.push_back({"normalTexture", &mat.normalUv});
     if (mat.occlusionTexture >= 0) slots.push_back({"occlusionTexture", &mat.occlusionUv});
-    if (slots.empty()) return TextureTransform{};
+    if (slots.empty()) {
+      uvField_.push_back("");
+      return TextureTransform{};
+    }
+    const std::string slotAt =
+        at +
+        (std::string(slots.front().first) == "baseColorTexture" ||
+                 std::string(slots.front().first) == "metallicRoughnessTexture"
+             ? ".pbrMetallicRoughness."
+             : ".") +
+        slots.front().first;
+    uvField_.push_back(texCoordField_[slotAt]);
     for (const auto& [name, uv] : slots)
       if (*uv != *slots.front().second) {
         warn_(
@@ -1420,8 +1438,9 @@ class Loader {
           fail(strf("%s: %s and POSITION counts differ", where.c_str(), uvName.c_str()));
         hasUv = true;
       } else if (uvMap.texCoord != 0) {
-        fail(strf("%s: materials[%d] reads texCoord %d, and the primitive has no %s attribute",
-                  where.c_str(), prim.material, uvMap.texCoord, uvName.c_str()));
+        fail(strf("%s: %s %d: the primitive has no %s attribute", where.c_str(),
+                  uvField_[static_cast<size_t>(prim.material)].c_str(), uvMap.texCoord,
+                  uvName.c_str()));
       }
       View col;
       bool hasColor = false;
@@ -1744,6 +1763,10 @@ class Loader {
   size_t dropped_ = 0, repaired_ = 0;
   std::vector<std::string> droppedIn_, repairedIn_;
   std::vector<std::string> drawWhere_;  // per draw: "mesh M primitive P"
+  // The field that names each textureInfo's set (transform()), and per material
+  // the one whose set its vertex UVs hold (bakedUv()).
+  std::map<std::string, std::string> texCoordField_;
+  std::vector<std::string> uvField_;
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };

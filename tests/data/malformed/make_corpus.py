@@ -476,14 +476,16 @@ def _():
     return to_json(g)
 
 
-@case("texcoord_set_missing.gltf", "materials[0] reads texCoord 1, and the primitive has no TEXCOORD_1")
+@case("texcoord_set_missing.gltf",
+      "materials[0].pbrMetallicRoughness.baseColorTexture.texCoord 1: the primitive has no TEXCOORD_1")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})
     g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1
     return to_json(g)
 
 
-@case("texture_transform_texcoord_missing.gltf", "materials[0] reads texCoord 2, and the primitive has no TEXCOORD_2")
+@case("texture_transform_texcoord_missing.gltf",
+      "baseColorTexture.extensions.KHR_texture_transform.texCoord 2: the primitive has no TEXCOORD_2")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})
     g["extensionsUsed"] = ["KHR_texture_transform"]
