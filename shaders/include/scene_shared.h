@@ -20,13 +20,15 @@ VOXGI_CONST uint kBaseColorUnit = 0u;
 // Past every unit the passes that draw the scene bind for their own use.
 VOXGI_CONST uint kEmissiveUnit = 9u;
 VOXGI_CONST uint kMetallicRoughnessUnit = 10u;
-VOXGI_CONST uint kNormalUnit = 11u;   // normalTexture (linear)
-VOXGI_CONST uint kHdrInputUnit = 0u;  // tonemap input
+VOXGI_CONST uint kNormalUnit = 11u;     // normalTexture (linear)
+VOXGI_CONST uint kOcclusionUnit = 12u;  // occlusionTexture (linear; the raster baseline only)
+VOXGI_CONST uint kHdrInputUnit = 0u;    // tonemap input
 
 // Uniform locations.
 VOXGI_CONST int kMaterialIndexLocation = 0;
 VOXGI_CONST int kExposureLocation = 1;
 VOXGI_CONST int kTonemapLocation = 2;
+VOXGI_CONST int kAmbientLocation = 3;  // raster.frag: the uniform ambient radiance
 
 // Vertex attribute locations (scene::GpuScene's vertex array): position, normal
 // and uv from scene::Vertex; the vertex colour (COLOR_0, RGBA) from its own stream,
@@ -45,7 +47,8 @@ VOXGI_CONST uint kMaterialDoubleSided = 2u;
 VOXGI_CONST uint kMaterialAlphaMask = 4u;
 VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
 VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
-VOXGI_CONST uint kMaterialHasNormalTexture = 32u;  // params.w scale, emission.w the texture
+VOXGI_CONST uint kMaterialHasNormalTexture = 32u;     // params.w scale, emission.w the texture
+VOXGI_CONST uint kMaterialHasOcclusionTexture = 64u;  // occlusion: x strength, y the texture
 
 // The texture table's flags (the w of each entry; render/pathtrace_scene.h, read by
 // texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap
@@ -80,6 +83,9 @@ struct GpuMaterial {
   uint texture;  // base-colour texture: index into Scene::textures (with kMaterialHasTexture)
   uint emissiveTexture;           // with kMaterialHasEmissiveTexture
   uint metallicRoughnessTexture;  // with kMaterialHasMetallicRoughnessTexture
+  // x occlusionTexture.strength, y the texture (bits), with kMaterialHasOcclusionTexture;
+  // read by the raster baseline alone (the GI modes compute their own occlusion).
+  vec4 occlusion;
 };
 
 struct GpuLight {
@@ -103,7 +109,8 @@ struct GpuFrame {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(GpuMaterial) == 64);
+static_assert(sizeof(GpuMaterial) == 80);
+static_assert(offsetof(GpuMaterial, occlusion) == 64);
 static_assert(offsetof(GpuMaterial, params) == 32);
 static_assert(offsetof(GpuMaterial, flags) == 48);
 static_assert(offsetof(GpuMaterial, metallicRoughnessTexture) == 60);

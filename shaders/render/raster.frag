@@ -1,6 +1,7 @@
 #version 450 core
 // Raster baseline: emission plus unshadowed direct light from punctual lights and
-// emissive surfaces, in linear HDR radiance. Effect-plan variants (scene/effects.h):
+// emissive surfaces, and an optional uniform ambient term that the material's
+// occlusion texture darkens (glTF occlusionTexture), in linear HDR radiance. Effect-plan variants (scene/effects.h):
 // VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
 // VOXGI_NO_NORMALMAPS compile that code out.
 #include "scene_shared.h"
@@ -16,6 +17,10 @@ layout(location = kMaterialIndexLocation) uniform int materialIndex;
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessTexture;
+layout(binding = kOcclusionUnit) uniform sampler2D occlusionTexture;
+// Uniform ambient radiance (grey): no light of the scene, the stand-in for the
+// indirect light the baseline does not compute (RenderSettings::ambient; 0: none).
+layout(location = kAmbientLocation) uniform float ambient;
 
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
@@ -83,6 +88,14 @@ void main() {
 #else
   vec3 radiance = emission;
 #endif
+  // The ambient term, darkened by the occlusion texture (red channel) mixed in by
+  // its strength: occlusion scales indirect light only, as glTF defines it.
+  float occlusion = 1.0;
+#ifndef VOXGI_NO_TEXTURES
+  if ((m.flags & kMaterialHasOcclusionTexture) != 0u)
+    occlusion = mix(1.0, texture(occlusionTexture, vUv).r, m.occlusion.x);
+#endif
+  radiance += ambient * occlusion * s.diffuse;
   int lightCount = int(frame.counts.x);
 #ifndef VOXGI_NO_NORMALMAPS
   for (int i = 0; i < lightCount; ++i) {

@@ -126,6 +126,8 @@ std::string renderHelp() {
          "                    or glfw (a hidden window; needs a display)\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
          "  --tonemap T       clamp (default) or aces\n"
+         "  --ambient A       raster: uniform ambient radiance A (grey, >= 0) times the\n"
+         "                    albedo and the occlusion texture (default 0: none)\n"
          "  --effects LIST    override the effect plan, e.g. +specular,-shadows (names:\n"
          "                    shadows, emission, indirect, specular, textures, alpha,\n"
          "                    colors, normalmaps, animation, or all). The plan comes from\n"
@@ -313,6 +315,9 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     parseSize(value(), &rs->width, &rs->height);
   } else if (a == "--exposure") {
     rs->tonemap.exposure = parseFloat("--exposure", value());
+  } else if (a == "--ambient") {
+    rs->ambient = parseFloat("--ambient", value());
+    if (rs->ambient < 0.0f) throw UsageError("--ambient: must not be negative");
   } else if (a == "--tonemap") {
     const std::string t = value();
     auto op = render::parseTonemap(t);

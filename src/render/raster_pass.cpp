@@ -33,6 +33,7 @@ void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuff
   gl::StageScope stage(ctx.timer, "raster");
   beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glUseProgram(program_.id());
+  glUniform1f(gpu::kAmbientLocation, settings_.ambient);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());

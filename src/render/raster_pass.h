@@ -1,7 +1,8 @@
 // Raster baseline ("baseline standard render" of the voxel GI thesis).
 // Reads: the GpuScene. Writes: linear HDR radiance (RGBA32F) and depth into the
 // given target at the frame size. Lighting: emission plus unshadowed direct light
-// from punctual lights and emissive surfaces (shaders/include/lighting.glsl).
+// from punctual lights and emissive surfaces (shaders/include/lighting.glsl), plus
+// an optional uniform ambient term scaled by the material's occlusion texture.
 // Tested by tests/render/raster_gltest.cpp (backends agree, golden image).
 #ifndef VOXGI_RENDER_RASTER_PASS_H
 #define VOXGI_RENDER_RASTER_PASS_H
@@ -23,6 +24,9 @@ class RasterPass {
   struct Settings {
     glm::vec4 clearColor{0.0f, 0.0f, 0.0f, 1.0f};  // the background emits nothing
     scene::ShaderFeatures features;                // effect-plan variant of raster.frag
+    // Uniform ambient radiance (grey) times the diffuse albedo and the occlusion
+    // texture (glTF occlusionTexture, mixed in by its strength); 0: none.
+    float ambient = 0.0f;
   };
 
   RasterPass(gl::ProgramCache& programs, const Settings& settings);

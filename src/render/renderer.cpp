@@ -121,6 +121,7 @@ void Renderer::createPasses() {
   if (mode == Mode::kRaster && !raster_) {
     RasterPass::Settings rs;
     rs.features = features;
+    rs.ambient = settings_.ambient;
     raster_ = std::make_unique<RasterPass>(programs_, rs);
   }
   if (usesVoxels(mode) && !voxelize_) {

@@ -86,6 +86,10 @@ struct RenderSettings {
   // chosen by the work mask (rtgi.select; kMask unless set) on top of an interleave
   // of 16 (unless set).
   double targetFps = 0.0;
+  // raster: a uniform ambient radiance (grey) the baseline adds, times the diffuse
+  // albedo and the material's occlusion texture; 0 (the default): direct light only.
+  // The GI modes compute their own indirect light and ignore it.
+  float ambient = 0.0f;
   PathtraceSettings pathtrace;
   int spp = 64;  // pathtrace: samples per pixel of one frame
   // pathtrace: frames add their samples to the image until accumulation restarts

@@ -61,8 +61,8 @@ EffectPlan planEffects(const Scene& scene) {
     const Material& m = scene.materials[i];
     emissive = emissive || m.isEmissive();
     specular = specular || isSpecular(m);
-    for (int t :
-         {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture, m.normalTexture})
+    for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture,
+                  m.normalTexture, m.occlusionTexture})
       textured = textured || (t >= 0 && static_cast<size_t>(t) < scene.textures.size());
     masked = masked || m.alphaMode == AlphaMode::kMask;
   }

@@ -7,7 +7,8 @@
 //   indirect   diffuse bounces (pixel and voxels)  a punctual light or an emissive surface
 //   specular   the traced reflection stage         a mirror or glossy material
 //   textures   texture sampling (base colour,      a textured material
-//              emissive, metallic-roughness)
+//              emissive, metallic-roughness,
+//              occlusion in raster)
 //   alpha      alpha-mask discard                  an alpha-masked material
 //   colors     vertex colours (COLOR_0) multiply   a drawn primitive with COLOR_0
 //              the base colour

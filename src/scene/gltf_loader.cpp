@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <string_view>
@@ -31,8 +32,9 @@ namespace fs = std::filesystem;
 constexpr uint64_t kMaxFileBytes = 0xffffffffu;
 constexpr int kMaxJsonDepth = 256;
 
-const std::set<std::string> kSupportedRequired = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_mesh_quantization"};
+const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
+                                                  "KHR_materials_emissive_strength",
+                                                  "KHR_mesh_quantization", "KHR_texture_transform"};
 
 // Accessors without a bufferView (zeros) or with a sparse part are copied out dense:
 // a small file must not ask for gigabytes.
@@ -469,7 +471,7 @@ class Loader {
   // --- validity, as the glTF 2.0 spec states it, of the parts voxgi reads ---------
   // Those parts: asset, extensionsRequired, scene and scenes, every node (hierarchy,
   // transform, mesh, camera, light), every mesh's primitives (mode, indices,
-  // material, attribute references), the accessors of POSITION, NORMAL, TEXCOORD_0,
+  // material, attribute references), the accessors of POSITION, NORMAL, the TEXCOORD_n read,
   // indices and animation samplers, every bufferView and buffer, every material's
   // fields that the renderer uses, the textures and images those materials
   // reference, every camera and every KHR_lights_punctual light. Anything else
@@ -599,6 +601,11 @@ class Loader {
         checkIndex(m.normalTexture.index, model_.textures.size(), at + ".normalTexture.index",
                    "texture", "textures");
         checkRange(m.normalTexture.scale, -kHuge, kHuge, at + ".normalTexture.scale");
+      }
+      if (m.occlusionTexture.index != -1) {
+        checkIndex(m.occlusionTexture.index, model_.textures.size(), at + ".occlusionTexture.index",
+                   "texture", "textures");
+        checkRange(m.occlusionTexture.strength, 0.0, 1.0, at + ".occlusionTexture.strength");
       }
     }
   }
@@ -917,8 +924,8 @@ class Loader {
                "components",
                a.bufferView, bv.byteStride, index, compSize));
     const std::string_view role(what);
-    if ((role == "POSITION" || role == "NORMAL" || role == "TEXCOORD_0" || role == "COLOR_0" ||
-         role == "TANGENT") &&
+    if ((role == "POSITION" || role == "NORMAL" || role.substr(0, 9) == "TEXCOORD_" ||
+         role == "COLOR_0" || role == "TANGENT") &&
         (a.byteOffset % 4 || stride % 4))
       fail(
           strf("accessors[%d] (%s): elements of %zu bytes at offset %zu are not 4-byte aligned, "
@@ -1054,21 +1061,38 @@ class Loader {
       mat.metallic = std::clamp(mat.metallic, 0.0f, 1.0f);
       mat.roughness = std::clamp(mat.roughness, 0.0f, 1.0f);
       mat.emission = glm::max(mat.emission, 0.0f);
-      if (pbr.baseColorTexture.index != -1)
-        mat.baseColorTexture = texture(pbr.baseColorTexture.index, true,
-                                       pbr.baseColorTexture.texCoord, what + ": baseColorTexture");
-      if (pbr.metallicRoughnessTexture.index != -1)
-        mat.metallicRoughnessTexture =
-            texture(pbr.metallicRoughnessTexture.index, false,
-                    pbr.metallicRoughnessTexture.texCoord, what + ": metallicRoughnessTexture");
-      if (m.emissiveTexture.index != -1 && mat.isEmissive())
-        mat.emissiveTexture = texture(m.emissiveTexture.index, true, m.emissiveTexture.texCoord,
-                                      what + ": emissiveTexture");
-      if (m.normalTexture.index != -1) {
-        mat.normalTexture = texture(m.normalTexture.index, false, m.normalTexture.texCoord,
-                                    what + ": normalTexture");
-        mat.normalScale = toFloat(m.normalTexture.scale, what + ": normalTexture.scale");
+      const std::string at = strf("materials[%zu]", i);
+      const std::string pbrAt = at + ".pbrMetallicRoughness";
+      if (pbr.baseColorTexture.index != -1) {
+        mat.baseColorTexture = texture(pbr.baseColorTexture.index, true);
+        mat.baseColorUv = transform(pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
+                                    pbrAt + ".baseColorTexture");
       }
+      if (pbr.metallicRoughnessTexture.index != -1) {
+        mat.metallicRoughnessTexture = texture(pbr.metallicRoughnessTexture.index, false);
+        mat.metallicRoughnessUv =
+            transform(pbr.metallicRoughnessTexture.texCoord,
+                      pbr.metallicRoughnessTexture.extensions, pbrAt + ".metallicRoughnessTexture");
+      }
+      if (m.emissiveTexture.index != -1 && mat.isEmissive()) {
+        mat.emissiveTexture = texture(m.emissiveTexture.index, true);
+        mat.emissiveUv = transform(m.emissiveTexture.texCoord, m.emissiveTexture.extensions,
+                                   at + ".emissiveTexture");
+      }
+      if (m.normalTexture.index != -1) {
+        mat.normalTexture = texture(m.normalTexture.index, false);
+        mat.normalScale = toFloat(m.normalTexture.scale, what + ": normalTexture.scale");
+        mat.normalUv =
+            transform(m.normalTexture.texCoord, m.normalTexture.extensions, at + ".normalTexture");
+      }
+      if (m.occlusionTexture.index != -1) {
+        mat.occlusionTexture = texture(m.occlusionTexture.index, false);
+        mat.occlusionStrength =
+            toFloat(m.occlusionTexture.strength, what + ": occlusionTexture.strength");
+        mat.occlusionUv = transform(m.occlusionTexture.texCoord, m.occlusionTexture.extensions,
+                                    at + ".occlusionTexture");
+      }
+      mat.uv = bakedUv(mat, at);
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -1076,18 +1100,14 @@ class Loader {
     Material d;
     d.name = "default";
     scene_.materials.push_back(d);
+    uvField_.push_back("");
   }
 
   // A texture a material reads: its source and sampler must exist (a texture no
   // material uses is not read, so not checked). `srgb`: a colour texture (base
   // colour, emissive), decoded from sRGB where it is sampled; else a data texture
   // (metallic-roughness), read linearly. One entry per texture and encoding.
-  int texture(int index, bool srgb, int texCoord, const std::string& slot) {
-    if (texCoord != 0 && !texCoordWarned_) {
-      texCoordWarned_ = true;
-      warn_(strf("%s: texCoord %d is not supported: TEXCOORD_0 is read instead", slot.c_str(),
-                 texCoord));
-    }
+  int texture(int index, bool srgb) {
     auto found = textureMap_.find({index, srgb});
     if (found != textureMap_.end()) return found->second;
     const auto& tex = model_.textures[static_cast<size_t>(index)];
@@ -1110,6 +1130,87 @@ class Loader {
     const int id = static_cast<int>(scene_.textures.size() - 1);
     textureMap_[{index, srgb}] = id;
     return id;
+  }
+
+  // A texture slot's texture coordinate set and KHR_texture_transform (identity
+  // without the extension). `at` names the textureInfo, e.g.
+  // "materials[2].pbrMetallicRoughness.baseColorTexture"; the field that names the
+  // set goes to texCoordField_[at].
+  TextureTransform transform(int texCoord, const tinygltf::ExtensionMap& extensions,
+                             const std::string& at) {
+    std::string setField = at + ".texCoord";  // where the set is named
+    glm::vec2 offset(0.0f), scale(1.0f);
+    float rotation = 0.0f;
+    auto it = extensions.find("KHR_texture_transform");
+    if (it != extensions.end()) {
+      const tinygltf::Value& e = it->second;
+      const std::string ext = at + ".extensions.KHR_texture_transform";
+      if (!e.IsObject()) fail(ext + ": not an object");
+      auto number = [&](const tinygltf::Value& v, const std::string& field) {
+        if (!v.IsNumber()) fail(field + ": not a number");
+        const double d = v.GetNumberAsDouble();
+        if (!std::isfinite(d) || std::abs(d) > 1e30)
+          fail(strf("%s %g: not finite", field.c_str(), d));
+        return static_cast<float>(d);
+      };
+      auto pair = [&](const char* name, glm::vec2 fallback) {
+        if (!e.Has(name)) return fallback;
+        const tinygltf::Value& v = e.Get(name);
+        const std::string field = ext + "." + name;
+        if (!v.IsArray() || v.ArrayLen() != 2) fail(field + ": needs 2 numbers");
+        return glm::vec2(number(v.Get(0), field + "[0]"), number(v.Get(1), field + "[1]"));
+      };
+      offset = pair("offset", offset);
+      scale = pair("scale", scale);
+      if (e.Has("rotation")) rotation = number(e.Get("rotation"), ext + ".rotation");
+      if (e.Has("texCoord")) {
+        const tinygltf::Value& v = e.Get("texCoord");
+        if (!v.IsInt() || v.GetNumberAsInt() < 0)
+          fail(ext + ".texCoord: not a non-negative integer");
+        texCoord = v.GetNumberAsInt();
+        setField = ext + ".texCoord";
+      }
+    }
+    if (texCoord < 0) fail(strf("%s.texCoord %d: negative", at.c_str(), texCoord));
+    TextureTransform t = textureTransform(offset, rotation, scale);
+    t.texCoord = texCoord;
+    texCoordField_[at] = setField;
+    return t;
+  }
+
+  // The set and transform baked into the vertex UVs of the primitives drawn with
+  // `mat`: the one all its textures share. Where they differ, the base colour's
+  // (else the first texture's), with a warning: the others read it too.
+  // Records in uvField_ the field that names the chosen set.
+  TextureTransform bakedUv(const Material& mat, const std::string& at) {
+    std::vector<std::pair<const char*, const TextureTransform*>> slots;
+    if (mat.baseColorTexture >= 0) slots.push_back({"baseColorTexture", &mat.baseColorUv});
+    if (mat.metallicRoughnessTexture >= 0)
+      slots.push_back({"metallicRoughnessTexture", &mat.metallicRoughnessUv});
+    if (mat.emissiveTexture >= 0) slots.push_back({"emissiveTexture", &mat.emissiveUv});
+    if (mat.normalTexture >= 0) slots.push_back({"normalTexture", &mat.normalUv});
+    if (mat.occlusionTexture >= 0) slots.push_back({"occlusionTexture", &mat.occlusionUv});
+    if (slots.empty()) {
+      uvField_.push_back("");
+      return TextureTransform{};
+    }
+    const std::string slotAt =
+        at +
+        (std::string(slots.front().first) == "baseColorTexture" ||
+                 std::string(slots.front().first) == "metallicRoughnessTexture"
+             ? ".pbrMetallicRoughness."
+             : ".") +
+        slots.front().first;
+    uvField_.push_back(texCoordField_[slotAt]);
+    for (const auto& [name, uv] : slots)
+      if (*uv != *slots.front().second) {
+        warn_(
+            strf("%s: %s and %s read different texture coordinates (texCoord or "
+                 "KHR_texture_transform); all its textures read those of %s",
+                 at.c_str(), slots.front().first, name, slots.front().first));
+        break;
+      }
+    return *slots.front().second;
   }
 
   // Sampler `index`'s wrap modes and filters into `t`; a field the sampler leaves
@@ -1323,10 +1424,23 @@ class Loader {
         if (n.count != p.count) fail(where + ": NORMAL and POSITION counts differ");
         hasNormals = true;
       }
-      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        t = vertexAttribute(it->second, "TEXCOORD_0");
-        if (t.count != p.count) fail(where + ": TEXCOORD_0 and POSITION counts differ");
+      // The texture coordinates the material's textures read (Material::uv), baked
+      // with its KHR_texture_transform into the vertex UVs.
+      const bool hasMaterial =
+          prim.material >= 0 && static_cast<size_t>(prim.material) < model_.materials.size();
+      const TextureTransform uvMap = hasMaterial
+                                         ? scene_.materials[static_cast<size_t>(prim.material)].uv
+                                         : TextureTransform{};
+      const std::string uvName = strf("TEXCOORD_%d", uvMap.texCoord);
+      if (auto it = prim.attributes.find(uvName); it != prim.attributes.end()) {
+        t = vertexAttribute(it->second, uvName.c_str());
+        if (t.count != p.count)
+          fail(strf("%s: %s and POSITION counts differ", where.c_str(), uvName.c_str()));
         hasUv = true;
+      } else if (uvMap.texCoord != 0) {
+        fail(strf("%s: %s %d: the primitive has no %s attribute", where.c_str(),
+                  uvField_[static_cast<size_t>(prim.material)].c_str(), uvMap.texCoord,
+                  uvName.c_str()));
       }
       View col;
       bool hasColor = false;
@@ -1353,8 +1467,7 @@ class Loader {
         hasTangent = true;
       }
       const bool normalMapped =
-          prim.material >= 0 && static_cast<size_t>(prim.material) < model_.materials.size() &&
-          scene_.materials[static_cast<size_t>(prim.material)].normalTexture >= 0;
+          hasMaterial && scene_.materials[static_cast<size_t>(prim.material)].normalTexture >= 0;
       std::vector<uint32_t> idx;
       if (prim.indices != -1) {
         const View iv =
@@ -1432,6 +1545,8 @@ class Loader {
           v.uv =
               glm::vec2(readComponent(t.data + i * t.stride, t.componentType, t.normalized),
                         readComponent(t.data + i * t.stride + cs, t.componentType, t.normalized));
+          if (!std::isfinite(v.uv.x) || !std::isfinite(v.uv.y)) v.uv = glm::vec2(0.0f);
+          v.uv = uvMap.apply(v.uv);
           if (!std::isfinite(v.uv.x) || !std::isfinite(v.uv.y)) v.uv = glm::vec2(0.0f);
         }
       }
@@ -1519,13 +1634,14 @@ class Loader {
     }
   }
 
-  // POSITION, NORMAL or TEXCOORD_0 with the component types glTF 2.0 allows (float;
-  // normalized unsigned byte or short for TEXCOORD_0) and, when the file uses
-  // KHR_mesh_quantization, those of the extension's table: POSITION and TEXCOORD_0
+  // POSITION, NORMAL or TEXCOORD_n with the component types glTF 2.0 allows (float;
+  // normalized unsigned byte or short for TEXCOORD_n) and, when the file uses
+  // KHR_mesh_quantization, those of the extension's table: POSITION and TEXCOORD_n
   // 8- or 16-bit integers, signed or not, normalized or not; NORMAL normalized
   // signed 8- or 16-bit integers. Read as floats (readComponent).
   View vertexAttribute(int index, const char* role) const {
     const std::string_view r(role);
+    const bool texCoord = r.substr(0, 9) == "TEXCOORD_";
     checkIndex(index, model_.accessors.size(), strf("%s: accessor", role), "accessor", "accessors");
     // The component type before the layout: a quantized attribute's elements are
     // laid out differently from a float one's.
@@ -1535,7 +1651,7 @@ class Loader {
         c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
         c == TINYGLTF_COMPONENT_TYPE_SHORT || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
     if (integer) {
-      const bool core = r == "TEXCOORD_0" && a.normalized &&
+      const bool core = texCoord && a.normalized &&
                         (c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
                          c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
       if (!core && !usesExtension("KHR_mesh_quantization"))
@@ -1550,7 +1666,7 @@ class Loader {
                  "normals of normalized BYTE or SHORT only",
                  index, a.normalized ? "normalized " : "", componentName(c)));
     }
-    return accessor(index, role, {r == "TEXCOORD_0" ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3},
+    return accessor(index, role, {texCoord ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3},
                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
@@ -1641,13 +1757,16 @@ class Loader {
   Scene scene_;
   int defaultMaterial_ = 0;
   std::map<std::pair<int, bool>, int> textureMap_;  // (glTF texture, sRGB) -> Scene::textures
-  bool texCoordWarned_ = false;
   bool colorWarned_ = false;
   std::vector<glm::dvec3> world_;  // double-precision world positions, parallel to vertices
   std::vector<char> moving_;       // per node: it or an ancestor is animated
   size_t dropped_ = 0, repaired_ = 0;
   std::vector<std::string> droppedIn_, repairedIn_;
   std::vector<std::string> drawWhere_;  // per draw: "mesh M primitive P"
+  // The field that names each textureInfo's set (transform()), and per material
+  // the one whose set its vertex UVs hold (bakedUv()).
+  std::map<std::string, std::string> texCoordField_;
+  std::vector<std::string> uvField_;
   glm::dvec3 cameraWorld_{0.0};
   std::vector<glm::dvec3> lightWorld_;
 };

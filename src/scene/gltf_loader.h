@@ -1,9 +1,11 @@
 // glTF 2.0 (.gltf and .glb) through tinygltf, validated, baked to world space.
 //
 // Reads: node hierarchy (matrix or TRS), indexed and non-indexed triangles (strips
-// and fans converted), normals (generated when missing or broken), TEXCOORD_0,
+// and fans converted), normals (generated when missing or broken), TEXCOORD_n,
 // metallic-roughness materials with base-colour textures, emission with
-// KHR_materials_emissive_strength, KHR_lights_punctual, perspective cameras.
+// KHR_materials_emissive_strength, KHR_texture_transform, KHR_lights_punctual,
+// perspective cameras. The texture coordinates a material's textures read (their
+// texCoord and transform) are baked into the vertex UVs of its primitives.
 // Bad input throws voxgi::Error with one line "FILE: problem". Unsupported
 // primitive modes (points, lines) are skipped with a warning.
 #ifndef VOXGI_SCENE_GLTF_LOADER_H

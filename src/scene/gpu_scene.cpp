@@ -23,7 +23,12 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
               (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u) |
               (m.emissiveTexture >= 0 ? gpu::kMaterialHasEmissiveTexture : 0u) |
               (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u) |
-              (m.normalTexture >= 0 ? gpu::kMaterialHasNormalTexture : 0u);
+              (m.normalTexture >= 0 ? gpu::kMaterialHasNormalTexture : 0u) |
+              (m.occlusionTexture >= 0 ? gpu::kMaterialHasOcclusionTexture : 0u);
+    if (m.occlusionTexture >= 0)
+      g.occlusion =
+          glm::vec4(m.occlusionStrength,
+                    std::bit_cast<float>(static_cast<uint32_t>(m.occlusionTexture)), 0.0f, 0.0f);
     g.texture = m.baseColorTexture >= 0 ? static_cast<uint32_t>(m.baseColorTexture) : 0u;
     g.emissiveTexture = m.emissiveTexture >= 0 ? static_cast<uint32_t>(m.emissiveTexture) : 0u;
     g.metallicRoughnessTexture =
@@ -95,6 +100,8 @@ std::vector<float> GpuScene::emitterPowerCdf(const std::vector<gpu::GpuEmitter>&
 }
 
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
+  hasOcclusion_ = std::any_of(s.materials.begin(), s.materials.end(),
+                              [](const Material& m) { return m.occlusionTexture >= 0; });
   const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(Vertex));
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
   // Animated scenes rewrite their vertices (updateGeometry); others never do.
@@ -205,6 +212,7 @@ void GpuScene::bindMaterialTextures(const Material& m) const {
       {gpu::kEmissiveUnit, m.emissiveTexture},
       {gpu::kMetallicRoughnessUnit, m.metallicRoughnessTexture}};
   if (scene_.hasNormalMaps()) slots.emplace_back(gpu::kNormalUnit, m.normalTexture);
+  if (hasOcclusion_) slots.emplace_back(gpu::kOcclusionUnit, m.occlusionTexture);
   for (const auto& [unit, index] : slots) {
     glBindTextureUnit(unit, texture(index));
     glBindSampler(unit, sampler(index));
@@ -215,11 +223,12 @@ void GpuScene::bindSampler() const {
   for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit})
     glBindSampler(unit, sampler_.id());
   if (scene_.hasNormalMaps()) glBindSampler(gpu::kNormalUnit, sampler_.id());
+  if (hasOcclusion_) glBindSampler(gpu::kOcclusionUnit, sampler_.id());
 }
 
 void GpuScene::unbindMaterialTextures() {
-  for (GLuint unit :
-       {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit, gpu::kNormalUnit}) {
+  for (GLuint unit : {gpu::kBaseColorUnit, gpu::kEmissiveUnit, gpu::kMetallicRoughnessUnit,
+                      gpu::kNormalUnit, gpu::kOcclusionUnit}) {
     glBindTextureUnit(unit, 0);
     glBindSampler(unit, 0);
   }

@@ -57,8 +57,9 @@ class GpuScene {
     return index >= 0 ? samplers_[static_cast<size_t>(index)].id() : sampler_.id();
   }
   // The default sampler on every material texture unit (kBaseColorUnit,
-  // kEmissiveUnit, kMetallicRoughnessUnit); m's textures on them with their own
-  // samplers (0 and the default where it has none); both undone.
+  // kEmissiveUnit, kMetallicRoughnessUnit, and kNormalUnit and kOcclusionUnit where
+  // some material has such a texture); m's textures on them with their own samplers
+  // (0 and the default where it has none); both undone.
   void bindSampler() const;
   void bindMaterialTextures(const Material& m) const;
   static void unbindMaterialTextures();
@@ -84,6 +85,7 @@ class GpuScene {
   std::vector<gl::Sampler> samplers_;  // per texture
   gl::Sampler sampler_;
   int lightCount_ = 0, emitterCount_ = 0;
+  bool hasOcclusion_ = false;  // some material has an occlusion texture
   size_t bytes_ = 0, textureBytes_ = 0;
 };
 

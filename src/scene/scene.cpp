@@ -12,6 +12,17 @@
 
 namespace voxgi::scene {
 
+TextureTransform textureTransform(glm::vec2 offset, float rotation, glm::vec2 scale) {
+  // T * R * S with R = [cos sin; -sin cos] (the extension's matrix; its rows are
+  // u' and v'). Columns: R * S's, then the offset.
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  TextureTransform t;
+  t.columns[0] = glm::vec2(c, -s) * scale.x;
+  t.columns[1] = glm::vec2(s, c) * scale.y;
+  t.columns[2] = offset;
+  return t;
+}
+
 float Bounds::diagonal() const {
   return empty() ? 0.0f : glm::length(max - min);
 }

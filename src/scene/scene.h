@@ -25,6 +25,25 @@ struct Vertex {
 
 enum class AlphaMode { kOpaque, kMask, kBlend };
 
+// How a texture slot maps the mesh's texture coordinates: the set it reads
+// (textureInfo.texCoord, or KHR_texture_transform's override) and the extension's
+// affine map uv' = T * R * S * uv, a 2x3 matrix kept as its three columns.
+struct TextureTransform {
+  glm::vec2 columns[3] = {glm::vec2(1.0f, 0.0f), glm::vec2(0.0f, 1.0f), glm::vec2(0.0f)};
+  int texCoord = 0;  // TEXCOORD_<texCoord>
+  glm::vec2 apply(glm::vec2 uv) const { return columns[0] * uv.x + columns[1] * uv.y + columns[2]; }
+  bool operator==(const TextureTransform& o) const {
+    return texCoord == o.texCoord && columns[0] == o.columns[0] && columns[1] == o.columns[1] &&
+           columns[2] == o.columns[2];
+  }
+  bool operator!=(const TextureTransform& o) const { return !(*this == o); }
+};
+
+// KHR_texture_transform's matrix: translation by `offset`, rotation by `rotation`
+// radians (counter-clockwise in UV space, as the extension writes its matrix) and
+// scale, applied in the order scale, rotation, translation.
+TextureTransform textureTransform(glm::vec2 offset, float rotation, glm::vec2 scale);
+
 struct Material {
   std::string name;
   glm::vec4 baseColor{1.0f};  // linear
@@ -36,13 +55,21 @@ struct Material {
   int metallicRoughnessTexture = -1;  // linear; blue x metallic, green x roughness
   int normalTexture = -1;             // linear; tangent-space normal map (normalTexture)
   float normalScale = 1.0f;           // normalTexture.scale: scales the map's x and y
+  int occlusionTexture = -1;          // linear; red channel: ambient occlusion (raster only)
+  float occlusionStrength = 1.0f;     // occlusionTexture.strength: 0 none, 1 the full map
+  // What each of the textures above reads. The loader resolves them into
+  // Vertex::uv (see `uv`), so renderers read Vertex::uv alone.
+  TextureTransform baseColorUv, emissiveUv, metallicRoughnessUv, normalUv, occlusionUv;
+  // The set and transform baked into Vertex::uv of the primitives drawn with this
+  // material: the one its textures share (the base colour's where they differ).
+  TextureTransform uv;
   bool doubleSided = false;
   AlphaMode alphaMode = AlphaMode::kOpaque;
   float alphaCutoff = 0.5f;
   bool isEmissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
   bool hasTexture() const {
     return baseColorTexture >= 0 || emissiveTexture >= 0 || metallicRoughnessTexture >= 0 ||
-           normalTexture >= 0;
+           normalTexture >= 0 || occlusionTexture >= 0;
   }
 };
 

@@ -41,10 +41,10 @@ TEST(CliParse, Defaults) {
 }
 
 TEST(CliParse, AllOptions) {
-  const Invocation inv =
-      parse({"render",     "s.gltf",  "--size",    "640x360",  "--out",  "a.png",     "--out",
-             "a.exr",      "--stats", "s.json",    "--frames", "7",      "--backend", "osmesa",
-             "--exposure", "0.5",     "--tonemap", "aces",     "--mode", "raster"});
+  const Invocation inv = parse(
+      {"render",    "s.gltf", "--size",   "640x360", "--out",     "a.png",  "--out",      "a.exr",
+       "--stats",   "s.json", "--frames", "7",       "--backend", "osmesa", "--exposure", "0.5",
+       "--tonemap", "aces",   "--mode",   "raster",  "--ambient", "0.25"});
   const RenderOptions& o = inv.render;
   EXPECT_EQ(o.scene, "s.gltf");
   EXPECT_EQ(o.render.width, 640);
@@ -55,6 +55,7 @@ TEST(CliParse, AllOptions) {
   EXPECT_EQ(o.backend, gl::Backend::kOsMesa);
   EXPECT_FLOAT_EQ(o.render.tonemap.exposure, 0.5f);
   EXPECT_EQ(o.render.tonemap.op, render::Tonemap::kAces);
+  EXPECT_FLOAT_EQ(o.render.ambient, 0.25f);
 }
 
 TEST(CliParse, PathtraceOptions) {
@@ -177,6 +178,8 @@ TEST(CliParse, Rejects) {
            {"render", "--frames", "1e3"},
            {"render", "--exposure", "nan"},
            {"render", "--exposure", "inf"},
+           {"render", "--ambient", "-0.5"},
+           {"render", "--ambient", "nan"},
            {"render", "--backend", "d3d"},
            {"render", "--tonemap", "filmic"},
            {"render", "--mode", "magic"},

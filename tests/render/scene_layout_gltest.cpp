@@ -34,6 +34,8 @@ TEST_F(SceneLayoutTest, StorageAndUniformLayoutsMatchCpp) {
             static_cast<GLint>(offsetof(gpu::GpuMaterial, params)));
   EXPECT_EQ(query(p, bv, "materials[0].flags", GL_OFFSET),
             static_cast<GLint>(offsetof(gpu::GpuMaterial, flags)));
+  EXPECT_EQ(query(p, bv, "materials[0].occlusion", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuMaterial, occlusion)));
   EXPECT_EQ(query(p, bv, "lights[0].positionType", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(gpu::GpuLight)));
   EXPECT_EQ(query(p, bv, "lights[0].cone", GL_OFFSET),

@@ -192,7 +192,11 @@ INSTANTIATE_TEST_SUITE_P(
         SampleCase{"emissive_strength_test", "emissive_strength_test/EmissiveStrengthTest.gltf", 90,
                    0},
         SampleCase{"normal_tangent_mirror_test",
-                   "normal_tangent_mirror_test/NormalTangentMirrorTest.gltf", 5240, 0}),
+                   "normal_tangent_mirror_test/NormalTangentMirrorTest.gltf", 5240, 0},
+        SampleCase{"texture_transform_test", "texture_transform_test/TextureTransformTest.gltf", 24,
+                   0},
+        SampleCase{"texture_coordinate_test", "texture_coordinate_test/TextureCoordinateTest.gltf",
+                   10, 0}),
     [](const ::testing::TestParamInfo<SampleCase>& param) {
       return std::string(param.param.name);
     });
@@ -440,6 +444,99 @@ TEST(GltfLoaderSamplers, WrapAndFilterAsTheFileStates) {
   EXPECT_EQ(d.magFilter, kFilterLinear);
   EXPECT_EQ(d.minFilter, kFilterLinearMipmapLinear);
   EXPECT_EQ(d.tableFlags(), 1u);
+}
+
+// --- texture coordinates (tests/data/texcoords) -------------------------------------
+
+void expectNear(glm::vec2 got, glm::vec2 want, const char* what) {
+  EXPECT_NEAR(got.x, want.x, 1e-6f) << what;
+  EXPECT_NEAR(got.y, want.y, 1e-6f) << what;
+}
+
+// KHR_texture_transform's matrix, T * R * S with the extension's R (counter-clockwise
+// in UV space: u' = cos u + sin v, v' = -sin u + cos v), worked by hand.
+TEST(GltfLoaderTextureTransform, MatrixOfOffsetRotationScale) {
+  const float quarter = kPi / 2.0f;
+  expectNear(textureTransform({0.5f, 0.25f}, 0.0f, {1.0f, 1.0f}).apply({0.2f, 0.3f}), {0.7f, 0.55f},
+             "offset");
+  expectNear(textureTransform({0.0f, 0.0f}, quarter, {1.0f, 1.0f}).apply({1.0f, 0.0f}),
+             {0.0f, -1.0f}, "rotation of u");
+  expectNear(textureTransform({0.0f, 0.0f}, quarter, {1.0f, 1.0f}).apply({0.0f, 1.0f}),
+             {1.0f, 0.0f}, "rotation of v");
+  expectNear(textureTransform({0.0f, 0.0f}, 0.0f, {2.0f, 3.0f}).apply({1.0f, 1.0f}), {2.0f, 3.0f},
+             "scale");
+  // Scale first, then rotation, then offset: (0.25, 0.5) -> (0.5, 0.5) -> (0.5, -0.5)
+  // -> (1.0, 0.5).
+  expectNear(textureTransform({0.5f, 1.0f}, quarter, {2.0f, 1.0f}).apply({0.25f, 0.5f}),
+             {1.0f, 0.5f}, "all three");
+  // The sample's "All" quad: offset (-0.2, -0.1), rotation 0.3, scale 1.5.
+  const float c = std::cos(0.3f), sn = std::sin(0.3f);
+  expectNear(textureTransform({-0.2f, -0.1f}, 0.3f, {1.5f, 1.5f}).apply({1.0f, 0.0f}),
+             {1.5f * c - 0.2f, -1.5f * sn - 0.1f}, "sample's All");
+  const TextureTransform identity;
+  EXPECT_EQ(textureTransform({0.0f, 0.0f}, 0.0f, {1.0f, 1.0f}), identity);
+}
+
+// tests/data/texcoords: the UVs a material's texture reads are baked into the
+// vertices, through TEXCOORD_1 and the transform (make_texcoords.py's numbers).
+TEST(GltfLoaderTextureTransform, BakedIntoTheVertexUvs) {
+  const std::string dir = test::testDataDir() + "/texcoords";
+  // Corners as the file lists them: the right coordinates (s, t), then transformed:
+  // (t + 0.5, 1 - 2 s).
+  const glm::vec2 right[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  const Scene t1 = loadGltf(dir + "/texcoord1.gltf");
+  EXPECT_TRUE(t1.warnings.empty()) << joined(t1.warnings);
+  ASSERT_EQ(t1.vertices.size(), 4u);
+  EXPECT_EQ(t1.materials[0].emissiveUv.texCoord, 1);
+  for (size_t i = 0; i < 4; ++i) expectNear(t1.vertices[i].uv, right[i], "TEXCOORD_1");
+  for (const char* file : {"/transform.gltf", "/transform_texcoord1.gltf"}) {
+    SCOPED_TRACE(file);
+    const Scene s = loadGltf(dir + file);  // transform.gltf requires the extension
+    EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+    ASSERT_EQ(s.vertices.size(), 4u);
+    const Material& m = s.materials[0];
+    EXPECT_EQ(m.emissiveUv.texCoord, std::string(file) == "/transform.gltf" ? 0 : 1);
+    EXPECT_EQ(m.uv, m.emissiveUv);
+    for (size_t i = 0; i < 4; ++i)
+      expectNear(s.vertices[i].uv, {right[i].y + 0.5f, 1.0f - 2.0f * right[i].x}, file);
+  }
+}
+
+// A material whose textures read different coordinates: one set of UVs per vertex,
+// so all read the base colour's (untransformed here), with a warning naming it.
+TEST(GltfLoaderTextureTransform, DifferingSlotsWarnAndReadTheBaseColours) {
+  const Scene s = loadGltf(test::testDataDir() + "/texcoords/mixed_transforms.gltf");
+  ASSERT_EQ(s.warnings.size(), 1u) << joined(s.warnings);
+  EXPECT_NE(s.warnings[0].find("materials[0]: baseColorTexture and emissiveTexture read "
+                               "different texture coordinates"),
+            std::string::npos)
+      << s.warnings[0];
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.uv, TextureTransform{});
+  EXPECT_NE(m.emissiveUv, TextureTransform{});
+  const glm::vec2 right[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  ASSERT_EQ(s.vertices.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) expectNear(s.vertices[i].uv, right[i], "base colour's UVs");
+}
+
+// The Khronos samples load without a warning (texCoord, transform) and keep the
+// file's transforms.
+TEST(GltfLoaderTextureTransform, KhronosSamples) {
+  const Scene tt = loadGltf(sample("texture_transform_test/TextureTransformTest.gltf"));
+  EXPECT_TRUE(tt.warnings.empty()) << joined(tt.warnings);
+  const auto named = [&](const char* name) -> const Material& {
+    for (const Material& m : tt.materials)
+      if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return tt.materials.back();
+  };
+  EXPECT_EQ(named("Offset UV").baseColorUv, textureTransform({0.5f, 0.5f}, 0.0f, {1.0f, 1.0f}));
+  EXPECT_EQ(named("Rotation").baseColorUv,
+            textureTransform({0.0f, 0.0f}, 0.39269908169872414f, {1.0f, 1.0f}));
+  EXPECT_EQ(named("Scale").baseColorUv, textureTransform({0.0f, 0.0f}, 0.0f, {1.5f, 1.5f}));
+  EXPECT_EQ(named("Correct").baseColorUv, TextureTransform{});
+  const Scene tc = loadGltf(sample("texture_coordinate_test/TextureCoordinateTest.gltf"));
+  EXPECT_TRUE(tc.warnings.empty()) << joined(tc.warnings);
 }
 
 class TexturedSampleTest : public ::testing::TestWithParam<const char*> {};

@@ -476,6 +476,50 @@ def _():
     return to_json(g)
 
 
+@case("texcoord_set_missing.gltf",
+      "materials[0].pbrMetallicRoughness.baseColorTexture.texCoord 1: the primitive has no TEXCOORD_1")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1
+    return to_json(g)
+
+
+@case("texture_transform_texcoord_missing.gltf",
+      "baseColorTexture.extensions.KHR_texture_transform.texCoord 2: the primitive has no TEXCOORD_2")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["extensionsUsed"] = ["KHR_texture_transform"]
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"texCoord": 2}}
+    return to_json(g)
+
+
+@case("texture_transform_bad_offset.gltf",
+      "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.offset: needs 2 numbers")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["extensionsUsed"] = ["KHR_texture_transform"]
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"offset": [0.5]}}
+    return to_json(g)
+
+
+@case("texture_transform_bad_rotation.gltf", "KHR_texture_transform.rotation: not a number")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["extensionsUsed"] = ["KHR_texture_transform"]
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"rotation": "quarter"}}
+    return to_json(g)
+
+
+@case("occlusion_strength_above_one.gltf", "materials[0].occlusionTexture.strength 2: outside [0, 1]")
+def _():
+    g = textured({"uri": data_uri(TINY_PNG, "image/png")})
+    g["materials"][0]["occlusionTexture"] = {"index": 0, "strength": 2.0}
+    return to_json(g)
+
+
 @case("sampler_bad_mag_filter.gltf", "samplers[0].magFilter 9984: not NEAREST (9728) or LINEAR (9729)")
 def _():
     g = textured({"uri": data_uri(TINY_PNG, "image/png")})

@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Writes the texture-coordinate test scenes: emissive quads whose texture is read
+through TEXCOORD_1 or through KHR_texture_transform.
+
+Each file holds a 2 x 2 quad in the z = 0 plane, facing +z, seen by a camera at
+(0, 0, 2) whose field of view (2 atan(1/2), square images) the quad fills exactly,
+as in tests/data/samplers. The material is black with an emissive texture (factor
+1), so every mode shows the texture's linear value. The texture is the samplers'
+2 x 2 one (red 255 in the right column, 40 in the left; green 255 in the bottom
+row, 40 in the top), sampled NEAREST with REPEAT.
+
+The "right" coordinates run s from 0 at the left edge to 1 at the right and t from
+0 at the top to 1 at the bottom; the "wrong" ones are those flipped on both axes,
+so that reading the wrong set shows the opposite texel everywhere.
+
+Files:
+  texcoord1.gltf        TEXCOORD_0 wrong, TEXCOORD_1 right, emissiveTexture.texCoord 1.
+  transform.gltf        TEXCOORD_0 right, KHR_texture_transform (required) with offset
+                        (0.5, 1), rotation pi/2, scale (2, 1).
+  transform_texcoord1.gltf  the same transform, TEXCOORD_0 wrong, TEXCOORD_1 right,
+                        selected by the extension's texCoord override.
+  mixed_transforms.gltf  transform.gltf plus a base-colour texture without the
+                        transform: the material's textures disagree (a warning; all
+                        read the base colour's coordinates).
+  occlusion_strength_0.gltf, occlusion_strength_1.gltf  a white Lambert quad (no
+                        emission, the default light) with a 2 x 1 occlusion texture:
+                        0 in the left column (fully occluded), 255 in the right;
+                        occlusionTexture.strength 0 and 1.
+Used by tests/render/texture_coordinates_gltest.cpp (which computes the expected
+image from these numbers) and tests/scene/gltf_loader_test.cpp.
+Self-contained: buffers and the image are base64 data: URIs. Run from anywhere.
+"""
+import base64
+import json
+import math
+import os
+import struct
+import sys
+import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "animated"))
+from gltf_writer import Buffer, bounds  # noqa: E402
+
+FLOAT, UNSIGNED_SHORT = 5126, 5123
+NEAREST, REPEAT = 9728, 10497
+
+
+def png_rgba(width, height, pixels):
+    """An 8-bit RGBA PNG; pixels row by row, top first, (r, g, b, a) each."""
+    def chunk(kind, payload):
+        return (struct.pack(">I", len(payload)) + kind + payload
+                + struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF))
+    rows = b"".join(b"\0" + bytes(c for p in pixels[y * width:(y + 1) * width] for c in p)
+                    for y in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+TEXELS = [(40, 40, 0, 255), (255, 40, 0, 255),     # top row: left, right
+          (40, 255, 0, 255), (255, 255, 0, 255)]   # bottom row
+
+# Corners: bottom left, bottom right, top right, top left.
+POSITIONS = [(-1.0, -1.0, 0.0), (1.0, -1.0, 0.0), (1.0, 1.0, 0.0), (-1.0, 1.0, 0.0)]
+RIGHT = [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)]
+WRONG = [(1.0 - s, 1.0 - t) for s, t in RIGHT]
+TRANSFORM = {"offset": [0.5, 1.0], "rotation": math.pi / 2, "scale": [2.0, 1.0]}
+
+
+def scene(uv0, uv1, texture_info, required=()):
+    buf = Buffer()
+    attributes = {"POSITION": buf.add(POSITIONS, "<3f", "VEC3", FLOAT, minmax=bounds(POSITIONS)),
+                  "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
+                  "TEXCOORD_0": buf.add(uv0, "<2f", "VEC2", FLOAT)}
+    if uv1 is not None:
+        attributes["TEXCOORD_1"] = buf.add(uv1, "<2f", "VEC2", FLOAT)
+    prim = {"attributes": attributes,
+            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", UNSIGNED_SHORT),
+            "material": 0}
+    image = png_rgba(2, 2, TEXELS)
+    g = {
+        "asset": {"version": "2.0", "generator": "voxgi make_texcoords.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
+        "cameras": [{"type": "perspective",
+                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
+                                     "znear": 0.1, "zfar": 10.0}}],
+        "meshes": [{"primitives": [prim]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
+                                                "metallicFactor": 0, "roughnessFactor": 1},
+                       "emissiveFactor": [1, 1, 1],
+                       "emissiveTexture": dict(texture_info, index=0)}],
+        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT,
+                      "wrapT": REPEAT}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode(),
+                    "mimeType": "image/png"}],
+    }
+    if required:
+        g["extensionsUsed"] = list(required)
+        g["extensionsRequired"] = list(required)
+    elif "extensions" in texture_info:
+        g["extensionsUsed"] = list(texture_info["extensions"])
+    return buf.finish(g)
+
+
+def occlusion(strength):
+    buf = Buffer()
+    prim = {"attributes": {"POSITION": buf.add(POSITIONS, "<3f", "VEC3", FLOAT, minmax=bounds(POSITIONS)),
+                           "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
+                           "TEXCOORD_0": buf.add(RIGHT, "<2f", "VEC2", FLOAT)},
+            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", UNSIGNED_SHORT),
+            "material": 0}
+    image = png_rgba(2, 1, [(0, 0, 0, 255), (255, 255, 255, 255)])
+    g = {
+        "asset": {"version": "2.0", "generator": "voxgi make_texcoords.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
+        "cameras": [{"type": "perspective",
+                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
+                                     "znear": 0.1, "zfar": 10.0}}],
+        "meshes": [{"primitives": [prim]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
+                                                "metallicFactor": 0, "roughnessFactor": 1},
+                       "occlusionTexture": {"index": 0, "strength": strength}}],
+        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT,
+                      "wrapT": REPEAT}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode(),
+                    "mimeType": "image/png"}],
+    }
+    return buf.finish(g)
+
+
+def write(name, g):
+    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
+    with open(out, "w") as f:
+        json.dump(g, f, indent=1)
+        f.write("\n")
+    print("wrote", out)
+
+
+write("texcoord1.gltf", scene(WRONG, RIGHT, {"texCoord": 1}))
+write("transform.gltf", scene(RIGHT, None, {"extensions": {"KHR_texture_transform": TRANSFORM}},
+                              required=["KHR_texture_transform"]))
+write("transform_texcoord1.gltf",
+      scene(WRONG, RIGHT, {"extensions": {"KHR_texture_transform": dict(TRANSFORM, texCoord=1)}}))
+mixed = scene(RIGHT, None, {"extensions": {"KHR_texture_transform": TRANSFORM}},
+              required=["KHR_texture_transform"])
+mixed["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+write("mixed_transforms.gltf", mixed)
+write("occlusion_strength_0.gltf", occlusion(0.0))
+write("occlusion_strength_1.gltf", occlusion(1.0))
