@@ -1,9 +1,10 @@
 """rtgi against the path tracer, as time goes by: time to the image and its error.
 
 For each view (cornell_room from its camera and from a second viewpoint, dark_plane),
-renders rtgi at 1, 4, 16, 64 and 256 accumulated frames with the current defaults,
-one row with the previous design's settings as the anchor of the same run
-(--voxel-rays: shadow and indirect rays marching the voxels), and the path tracer at 1, 4, 16 and 64 spp. Each image is measured against
+renders rtgi at 1, 4, 16, 64 and 256 accumulated frames with the current defaults
+(denoised) and with --denoise off (the running mean itself), one row with the
+previous design's settings as the anchor of the same run
+(--voxel-rays --denoise off: shadow and indirect rays marching the voxels, no denoiser), and the path tracer at 1, 4, 16 and 64 spp. Each image is measured against
 the view's path-traced reference (FLIP on sRGB 8-bit, RMSE and mean luminance ratio
 from `voxgi compare`). Time to the image is the render's total_ms: every frame
 accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
@@ -35,7 +36,7 @@ VIEWS = [
 ]
 FRAMES = [1, 4, 16, 64, 256]
 SPP = [1, 4, 16, 64]
-ANCHOR = ["--voxel-rays"]
+ANCHOR = ["--voxel-rays", "--denoise", "off"]
 
 
 def voxgi():
@@ -90,7 +91,8 @@ def plot(rows, outdir):
     views = [v[0] for v in VIEWS]
     fig, axes = plt.subplots(1, len(views), figsize=(5 * len(views), 4), squeeze=False)
     for ax, view in zip(axes[0], views):
-        for kind, style in (("rtgi", "o-"), ("pathtrace", "s--"), ("rtgi, previous", "x")):
+        for kind, style in (("rtgi", "o-"), ("rtgi, not denoised", "o:"), ("pathtrace", "s--"),
+                            ("rtgi, previous", "x")):
             pts = [(r["ms"], r["flip"]) for r in rows if r["view"] == view and r["kind"] == kind]
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], style, label=kind)
@@ -124,6 +126,8 @@ def main():
             continue
         ref_exr, ref_png, ref_spp = reference(view, scene, extra, a.ref_spp)
         jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in FRAMES]
+        jobs += [("rtgi, not denoised", f"{f} frames, --denoise off",
+                  ["--frames", str(f), "--denoise", "off"]) for f in FRAMES]
         jobs.append(("rtgi, previous", "64 frames, " + " ".join(ANCHOR),
                      ["--frames", "64"] + ANCHOR))
         jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in SPP]

@@ -7,7 +7,8 @@ camera path added to a copy of the scene, played at 30 fps), ending at the view;
 then it holds still. The image after 1, 4, 16 and 64 frames at the end pose is
 measured against the view's path-traced reference (FLIP on sRGB 8-bit, RMSE), with
 --reproject off (every move restarts accumulation: the previous design, the anchor
-of the same run) and on with each --history-cap of --caps. The stage times come
+of the same run) and on with each --history-cap of --caps, the running mean itself
+(--denoise off) and denoised. The stage times come
 from the same renders (the median frame, the reproject stage on moving frames).
 
 Writes out/bench-motion/table.md and motion.png and prints the table. References
@@ -159,13 +160,17 @@ def main():
     caps = [int(c) for c in a.caps.split(",") if c]
     still = [int(s) for s in a.still.split(",") if s]
     os.makedirs(a.out, exist_ok=True)
-    configs = [("restart", ["--reproject", "off"])]
-    configs += [(f"reproject, cap {c}", ["--reproject", "on", "--history-cap", str(c)])
+    configs = [("restart", ["--reproject", "off", "--denoise", "off"])]
+    configs += [(f"reproject, cap {c}",
+                 ["--reproject", "on", "--history-cap", str(c), "--denoise", "off"])
+                for c in caps]
+    configs += [(f"reproject, cap {c}, denoised",
+                 ["--reproject", "on", "--history-cap", str(c), "--denoise", "on"])
                 for c in caps]
     lines = [f"Camera orbiting {a.orbit:g} degrees over {a.move} frames, then still; "
              "FLIP and RMSE against the path tracer at the end pose.", "",
-             "| view | history | frames still | FLIP | RMSE | frame ms | reproject ms |",
-             "|---|---|---:|---:|---:|---:|---:|"]
+             "| view | history | frames still | FLIP | RMSE | frame ms | reproject ms | "
+             "denoise ms |", "|---|---|---:|---:|---:|---:|---:|---:|"]
     print("\n".join(lines), flush=True)
     rows = []
     for view in VIEWS:
@@ -188,13 +193,15 @@ def main():
                 m = conv.measure(base, ref_exr, ref_png)
                 row = {"view": view, "history": name, "still": s, **m,
                        "frame_ms": stats["frame_ms"],
-                       "reproject_ms": stats["stages"].get("reproject", 0.0)}
+                       "reproject_ms": stats["stages"].get("reproject", 0.0),
+                       "denoise_ms": stats["stages"].get("denoise", 0.0)}
                 rows.append(row)
                 line = (f"| {view} | {name} | {s} | {m['flip']:.4f} | {m['rmse']:.4f} | "
-                        f"{row['frame_ms']:.1f} | {row['reproject_ms']:.2f} |")
+                        f"{row['frame_ms']:.1f} | {row['reproject_ms']:.2f} | "
+                        f"{row['denoise_ms']:.2f} |")
                 lines.append(line)
                 print(line, flush=True)
-        lines.append(f"| {view} | reference | {ref_spp} spp | | | | |")
+        lines.append(f"| {view} | reference | {ref_spp} spp | | | | | |")
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     plot(rows, a.out)
