@@ -252,8 +252,9 @@ std::string viewHelp() {
          "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S,\n"
          "  --reproject on|off, --history-cap N, --indirect M\n"
          "                    as for voxgi render\n"
-         "  --denoise on|off  on (default): the image shown is denoised (see voxgi render\n"
-         "                    --help); the n key toggles it\n"
+         "  --denoise on|off  the image shown is denoised (see voxgi render --help); on by\n"
+         "                    default on a hardware GL, off on a software one (llvmpipe),\n"
+         "                    where it costs more than a frame; the n key toggles it\n"
          "  --target-fps F    rtgi holds F frames per second by tracing a share of the\n"
          "                    pixels each frame (default 30; off: every pixel, every\n"
          "                    frame). A camera move keeps each pixel's history where its\n"
@@ -413,7 +414,7 @@ Invocation parseView(const std::vector<std::string>& args) {
   // a restarted accumulation (every camera move) costs no more than other frames.
   o.render.targetFps = kViewTargetFps;
   o.render.rtgi.sparseStart = true;
-  o.render.rtgi.denoise = true;
+  o.render.rtgi.denoise = true;  // on a software GL the viewer starts it off (viewer.h)
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> std::string {
@@ -425,6 +426,7 @@ Invocation parseView(const std::vector<std::string>& args) {
       inv.helpTopic = "view";
       return inv;
     } else if (parseRenderSetting(a, value, &o.render)) {
+      if (a == "--denoise") o.denoiseChosen = true;
     } else if (a == "--frames") {
       o.frames = parseInt("--frames", value(), 1, 10000000);
     } else if (a == "--screenshot") {

@@ -152,6 +152,8 @@ int runRender(const RenderOptions& o) {
       renderer.posed();
     }
     bar.begin();
+    // Only the last frame is written: the frames before it need no denoising.
+    renderer.setFrameShown(f + 1 == o.frames);
     renderer.renderFrame();
     frameMs.push_back(msSince(t));
     if (const render::RtgiPass* rt = renderer.rtgi()) traced.push_back(rt->lastTracedFraction());

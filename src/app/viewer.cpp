@@ -651,9 +651,17 @@ int Viewer::run() {
   settings.progressive = true;
   settings.spp = 1;
   settings.voxelChecksum = false;  // not shown
+  const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const bool denoiseOff = !options_.denoiseChosen && settings.rtgi.denoise &&
+                          render::isSoftwareRenderer(glRenderer ? glRenderer : "");
+  if (denoiseOff) settings.rtgi.denoise = false;
   programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
   logInfo("effects: " + renderer_->effects().summary());
+  if (denoiseOff)
+    logInfo(
+        "view: rtgi's denoiser starts off on a software renderer (it costs more than a "
+        "frame); n turns it on");
   camera_ = std::make_unique<FlyCamera>(scene_->camera, scene_->bounds, scene_->scale.cameraSpeed);
   followPath_ = scene_->cameraMoves;
 

@@ -28,6 +28,9 @@ struct ViewOptions {
   std::vector<ScriptedKey> keys;  // --keys
   std::string stats;              // .json, written at exit
   bool panel = true;
+  // --denoise given: otherwise the denoiser starts on only on a hardware GL (on a
+  // software one it costs more than the frame budget: docs/rtgi.md, "Denoiser").
+  bool denoiseChosen = false;
   bool verbose = false;
   bool quiet = false;
 };

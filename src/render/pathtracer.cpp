@@ -23,11 +23,15 @@ const char* pathtraceDeviceName(PathtraceDevice device) {
   return "?";
 }
 
+bool isSoftwareRenderer(const std::string& glRenderer) {
+  for (const char* software : {"llvmpipe", "softpipe", "swrast"})
+    if (glRenderer.find(software) != std::string::npos) return true;
+  return false;
+}
+
 PathtraceDevice resolvePathtraceDevice(PathtraceDevice device, const std::string& glRenderer) {
   if (device != PathtraceDevice::kAuto) return device;
-  for (const char* software : {"llvmpipe", "softpipe", "swrast"})
-    if (glRenderer.find(software) != std::string::npos) return PathtraceDevice::kCpu;
-  return PathtraceDevice::kGl;
+  return isSoftwareRenderer(glRenderer) ? PathtraceDevice::kCpu : PathtraceDevice::kGl;
 }
 
 }  // namespace voxgi::render

@@ -26,6 +26,9 @@ namespace voxgi::render {
 
 enum class PathtraceDevice { kAuto, kCpu, kGl };
 
+// Whether GL_RENDERER names a software rasterizer (llvmpipe, softpipe, swrast).
+bool isSoftwareRenderer(const std::string& glRenderer);
+
 // "auto", "cpu", "gl"; throws Error on anything else.
 PathtraceDevice parsePathtraceDevice(const std::string& name);
 const char* pathtraceDeviceName(PathtraceDevice device);

@@ -168,6 +168,7 @@ void Renderer::createPasses() {
     if (((rs.specular && rs.exactReflections) || raysUseBvh) && !scene_.meshesAnimated())
       bvh = sharedBvh();
     rtgi_ = std::make_unique<RtgiPass>(programs_, rs, std::move(bvh));
+    rtgi_->setShown(frameShown_);
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
@@ -458,6 +459,11 @@ void flipRows(std::vector<T>& px, int width, int height, int channels) {
   }
 }
 }  // namespace
+
+void Renderer::setFrameShown(bool shown) {
+  frameShown_ = shown;
+  if (rtgi_) rtgi_->setShown(shown);
+}
 
 void Renderer::setDenoise(bool on) {
   settings_.rtgi.denoise = on;

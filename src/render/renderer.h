@@ -194,6 +194,9 @@ class Renderer {
   // rtgi: turns the denoiser on or off (RtgiPass::Settings::denoise); accumulation
   // restarts, since the denoiser's moments are kept only while it is on.
   void setDenoise(bool on);
+  // Whether the frames rendered from now on are shown (default) or only steps of an
+  // accumulation whose last frame is: rtgi denoises only frames that are shown.
+  void setFrameShown(bool shown);
   bool showMask() const { return showMask_; }
   // Stages that run once per scene (voxelize, octree, inject): GPU ms of their most
   // recent run, in order.
@@ -213,6 +216,7 @@ class Renderer {
   std::unique_ptr<DvrPass> dvr_;
   std::unique_ptr<FrameBudget> budget_;
   bool showMask_ = false;
+  bool frameShown_ = true;
   bool octreeBuilt_ = false;
   bool lightsMoved_ = false;  // the voxel light is stale: inject again
   std::vector<gl::StageTime> sceneStages_;

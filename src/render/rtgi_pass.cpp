@@ -352,7 +352,7 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   denoised_ = false;
-  if (settings_.denoise) denoise(ctx, gx, gy, accum);
+  if (settings_.denoise && shown_) denoise(ctx, gx, gy, accum);
   if (listed) {
     gpu::PixelListHeader header{};
     glGetNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);

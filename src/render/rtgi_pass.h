@@ -126,6 +126,10 @@ class RtgiPass {
   // The denoised image of the last frame (rgba32f, the accumulation target's layout),
   // or 0 when the denoiser is off: what the renderer shows in place of the mean.
   GLuint denoisedTexture() const { return denoised_ ? denoisedImage_.id() : 0; }
+  // Whether the next frames are shown (default): the denoiser filters only those.
+  // `voxgi render` shows only the last frame it accumulates, so only that one pays
+  // for the filter; the moments it needs are kept every frame.
+  void setShown(bool shown) { shown_ = shown; }
   // Whether the specular stage runs and traces the exact triangles.
   bool tracesTriangles() const {
     return bvh_ != nullptr && settings_.specular && settings_.exactReflections;
@@ -183,6 +187,7 @@ class RtgiPass {
   // filter's two scratch images and its output (rgba32f), and its edge stops' keys.
   gl::Texture moments_, historyMoments_, denoiseScratch_[2], denoisedImage_, denoiseKeys_;
   bool denoised_ = false;
+  bool shown_ = true;
   int width_ = 0, height_ = 0;
   size_t targetBytes_ = 0;
 };

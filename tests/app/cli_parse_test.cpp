@@ -100,6 +100,12 @@ TEST(CliParse, DenoiseOption) {
   EXPECT_FALSE(render::RenderSettings{}.rtgi.denoise);
   EXPECT_FALSE(parse({"render", "--denoise", "off"}).render.render.rtgi.denoise);
   EXPECT_FALSE(parse({"view", "--denoise", "off"}).view.render.rtgi.denoise);
+  // The viewer's default depends on the GL; a choice on the command line does not.
+  EXPECT_FALSE(parse({"view"}).view.denoiseChosen);
+  EXPECT_TRUE(parse({"view", "--denoise", "on"}).view.denoiseChosen);
+  EXPECT_TRUE(render::isSoftwareRenderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+  EXPECT_TRUE(render::isSoftwareRenderer("softpipe"));
+  EXPECT_FALSE(render::isSoftwareRenderer("NVIDIA H200/PCIe/SSE2"));
   EXPECT_TRUE(parse({"render", "--denoise", "on"}).render.render.rtgi.denoise);
   EXPECT_THROW(parse({"render", "--denoise", "yes"}), UsageError);
   EXPECT_THROW(parse({"render", "--denoise"}), UsageError);
