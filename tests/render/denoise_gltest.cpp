@@ -12,22 +12,12 @@
 #include "image/metrics.h"
 #include "render/renderer.h"
 #include "support/gl_fixture.h"
+#include "support/scene_builder.h"
 
 namespace voxgi::test {
 namespace {
 
 constexpr int kSize = 96;
-
-// Adds the quad a, b, c, d (counter-clockwise seen from its front) with corner UVs.
-void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4],
-             const glm::vec2 (&uv)[4] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}}) {
-  const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
-  const auto first = static_cast<uint32_t>(s->vertices.size());
-  const auto firstIndex = static_cast<uint32_t>(s->indices.size());
-  for (int i = 0; i < 4; ++i) s->vertices.push_back({p[i], n, uv[i]});
-  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s->indices.push_back(first + i);
-  s->draws.push_back({firstIndex, 6, material, -1, -1});
-}
 
 // A 4 x 4 floor (y = 0) whose base colour is a 16 x 16 checker texture (white 0.8,
 // grey 0.2, nearest: 0.25-unit squares), a white back wall at z = -1.6 with a mirror

@@ -18,22 +18,13 @@
 #include "scene/emitters.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/scene_builder.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
-
-// Adds the quad a, b, c, d (counter-clockwise seen from its front) with corner UVs.
-void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4], const glm::vec2 (&uv)[4]) {
-  const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
-  const auto first = static_cast<uint32_t>(s->vertices.size());
-  const auto firstIndex = static_cast<uint32_t>(s->indices.size());
-  for (int i = 0; i < 4; ++i) s->vertices.push_back({p[i], n, uv[i]});
-  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s->indices.push_back(first + i);
-  s->draws.push_back({firstIndex, 6, material, -1, -1});
-}
 
 // The emitter at z = 0 (x in [-1, 1], y in [-0.5, 1], facing +z): black, emission 2
 // times a 4x1 texture white, grey (sRGB 128), black, black. The left half reads u in

@@ -15,6 +15,7 @@
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/mode_runs.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -53,24 +54,12 @@ struct Case {
 const Case kCases[] = {
     {"texcoord1.gltf", false}, {"transform.gltf", true}, {"transform_texcoord1.gltf", true}};
 
-struct ModeRun {
-  const char* name;
-  render::Mode mode;
-  render::PathtraceDevice device;
-};
-
-const ModeRun kRuns[] = {
-    {"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto},
-    {"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto},
-    {"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl},
-    {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu}};
-
 class TextureCoordinatesTest : public GlTest {};
 
 TEST_F(TextureCoordinatesTest, SetAndTransformInEveryMode) {
   for (const Case& c : kCases) {
     const scene::Scene s = scene::loadGltf(testDataDir() + "/texcoords/" + c.file);
-    for (const ModeRun& run : kRuns) {
+    for (const ModeRun& run : kEveryMode) {
       SCOPED_TRACE(std::string(c.file) + ", " + run.name);
       render::RenderSettings rs;
       rs.mode = run.mode;

@@ -15,6 +15,7 @@
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/mode_runs.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -77,24 +78,12 @@ glm::vec3 expected(const Case& c, float s, float t) {
   return glm::mix(glm::mix(at(0, 0), at(1, 0), fx), glm::mix(at(0, 1), at(1, 1), fx), fy);
 }
 
-struct ModeRun {
-  const char* name;
-  render::Mode mode;
-  render::PathtraceDevice device;
-};
-
-const ModeRun kRuns[] = {
-    {"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto},
-    {"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto},
-    {"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl},
-    {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu}};
-
 class TextureSamplerTest : public GlTest {};
 
 TEST_F(TextureSamplerTest, WrapAndFilterInEveryMode) {
   for (const Case& c : kCases) {
     const scene::Scene s = scene::loadGltf(testDataDir() + "/samplers/" + c.file);
-    for (const ModeRun& run : kRuns) {
+    for (const ModeRun& run : kEveryMode) {
       SCOPED_TRACE(std::string(c.file) + ", " + run.name);
       render::RenderSettings rs;
       rs.mode = run.mode;

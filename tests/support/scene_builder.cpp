@@ -99,6 +99,15 @@ void SceneBuilder::addSphere(glm::vec3 centre, float radius, int rings, int mate
   addTriangles(t, material, transform);
 }
 
+void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4], const glm::vec2 (&uv)[4]) {
+  const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+  const auto first = static_cast<uint32_t>(s->vertices.size());
+  const auto firstIndex = static_cast<uint32_t>(s->indices.size());
+  for (int i = 0; i < 4; ++i) s->vertices.push_back({p[i], n, uv[i]});
+  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s->indices.push_back(first + i);
+  s->draws.push_back({firstIndex, 6, material, -1, -1});
+}
+
 scene::Scene SceneBuilder::finish() {
   scene_.path = "<test scene>";
   scene_.finalize();

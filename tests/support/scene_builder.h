@@ -32,6 +32,11 @@ class SceneBuilder {
   scene::Scene scene_;
 };
 
+// Adds the quad p[0..3] (counter-clockwise seen from its front) to s as one draw of
+// two triangles, with its flat normal and the given corner UVs.
+void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4],
+             const glm::vec2 (&uv)[4] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}});
+
 // Writes a copy of a .gltf (buffers embedded as data: URIs) whose scene sits under
 // a new root node with the given translation and uniform scale; returns its path
 // in a scratch directory. Cameras and lights move with the scene; point and spot
