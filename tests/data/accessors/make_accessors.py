@@ -28,11 +28,14 @@ indices 0..7) that gives every vertex its normal.
 Self-contained: buffers and the image are base64 data: URIs. Run from anywhere.
 """
 import base64
-import json
 import math
 import os
 import struct
 import zlib
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "animated"))
+from gltf_writer import write_next_to  # noqa: E402
 
 BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT, UNSIGNED_INT, FLOAT = 5120, 5121, 5122, 5123, 5125, 5126
 FORMAT = {BYTE: "b", UNSIGNED_BYTE: "B", SHORT: "h", UNSIGNED_SHORT: "H", UNSIGNED_INT: "I",
@@ -230,11 +233,7 @@ def sparse_scene(sparse):
 
 
 def write(name, g):
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
-    with open(out, "w") as f:
-        json.dump(g, f, indent=1)
-        f.write("\n")
-    print("wrote", out)
+    write_next_to(__file__, name, g)
 
 
 write("quantized.gltf", quantized_scene(True))

@@ -5,6 +5,7 @@ import base64
 import json
 import os
 import struct
+import zlib
 
 
 class Buffer:
@@ -55,4 +56,24 @@ def write(gltf, name):
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
     with open(out, "w") as f:
         json.dump(gltf, f, indent=1)
+    print("wrote", out)
+
+
+def png_rgba(width, height, pixels):
+    """An 8-bit RGBA PNG; pixels row by row, top first, (r, g, b, a) each."""
+    def chunk(kind, payload):
+        return (struct.pack(">I", len(payload)) + kind + payload
+                + struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF))
+    rows = b"".join(b"\0" + bytes(c for p in pixels[y * width:(y + 1) * width] for c in p)
+                    for y in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def write_next_to(script, name, gltf):
+    """Writes `gltf` as `name` in the folder of `script` (a generator's __file__)."""
+    out = os.path.join(os.path.dirname(os.path.abspath(script)), name)
+    with open(out, "w") as f:
+        json.dump(gltf, f, indent=1)
+        f.write("\n")
     print("wrote", out)

@@ -31,29 +31,15 @@ image from these numbers) and tests/scene/gltf_loader_test.cpp.
 Self-contained: buffers and the image are base64 data: URIs. Run from anywhere.
 """
 import base64
-import json
 import math
 import os
-import struct
 import sys
-import zlib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "animated"))
-from gltf_writer import Buffer, bounds  # noqa: E402
+from gltf_writer import Buffer, bounds, png_rgba, write_next_to  # noqa: E402
 
 FLOAT, UNSIGNED_SHORT = 5126, 5123
 NEAREST, REPEAT = 9728, 10497
-
-
-def png_rgba(width, height, pixels):
-    """An 8-bit RGBA PNG; pixels row by row, top first, (r, g, b, a) each."""
-    def chunk(kind, payload):
-        return (struct.pack(">I", len(payload)) + kind + payload
-                + struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF))
-    rows = b"".join(b"\0" + bytes(c for p in pixels[y * width:(y + 1) * width] for c in p)
-                    for y in range(height))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
 TEXELS = [(40, 40, 0, 255), (255, 40, 0, 255),     # top row: left, right
@@ -134,11 +120,7 @@ def occlusion(strength):
 
 
 def write(name, g):
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
-    with open(out, "w") as f:
-        json.dump(g, f, indent=1)
-        f.write("\n")
-    print("wrote", out)
+    write_next_to(__file__, name, g)
 
 
 write("texcoord1.gltf", scene(WRONG, RIGHT, {"texCoord": 1}))
