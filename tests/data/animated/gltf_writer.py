@@ -3,6 +3,7 @@ accessor, and the file written next to them with the buffer embedded (a base64
 data: URI), so each .gltf stands alone."""
 import base64
 import json
+import math
 import os
 import struct
 import zlib
@@ -77,3 +78,38 @@ def write_next_to(script, name, gltf):
         json.dump(gltf, f, indent=1)
         f.write("\n")
     print("wrote", out)
+
+
+def quad_primitive(buf, positions, texcoords):
+    """A quad facing +z (corners counter-clockwise), material 0: POSITION, NORMAL, then
+    each (attribute name, UVs) of `texcoords` in order, then its two triangles."""
+    attributes = {"POSITION": buf.add(positions, "<3f", "VEC3", 5126, minmax=bounds(positions)),
+                  "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", 5126)}
+    for name, uv in texcoords:
+        attributes[name] = buf.add(uv, "<2f", "VEC2", 5126)
+    return {"attributes": attributes,
+            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", 5123),
+            "material": 0}
+
+
+def quad_document(generator, prim, material, png, samplers=None):
+    """One textured quad seen by a camera at (0, 0, 2) whose square field of view it
+    fills (the texture tests' layout): the mesh of `prim`, `material`, texture 0 from
+    the PNG bytes `png`, with sampler 0 when `samplers` are given."""
+    g = {
+        "asset": {"version": "2.0", "generator": generator},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
+        "cameras": [{"type": "perspective",
+                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
+                                     "znear": 0.1, "zfar": 10.0}}],
+        "meshes": [{"primitives": [prim]}],
+        "materials": [material],
+    }
+    if samplers is not None:
+        g["samplers"] = samplers
+    g["textures"] = [{"source": 0, "sampler": 0} if samplers is not None else {"source": 0}]
+    g["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png).decode(),
+                    "mimeType": "image/png"}]
+    return g

@@ -17,15 +17,12 @@ Used by tests/render/texture_sampler_gltest.cpp, which computes the expected
 image from these numbers, and tests/scene/gltf_loader_test.cpp.
 Self-contained: buffers and the image are base64 data: URIs. Run from anywhere.
 """
-import base64
-import math
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "animated"))
-from gltf_writer import Buffer, bounds, png_rgba, write_next_to  # noqa: E402
+from gltf_writer import Buffer, png_rgba, quad_document, quad_primitive, write_next_to  # noqa: E402
 
-FLOAT, UNSIGNED_SHORT = 5126, 5123
 WRAP = {"repeat": 10497, "clamp": 33071, "mirror": 33648}
 FILTER = {"nearest": 9728, "linear": 9729}
 
@@ -38,32 +35,14 @@ def scene(sampler):
     buf = Buffer()
     pos = [(-1.0, -1.0, 0.0), (1.0, -1.0, 0.0), (1.0, 1.0, 0.0), (-1.0, 1.0, 0.0)]
     uv = [(-1.0, 2.0), (2.0, 2.0), (2.0, -1.0), (-1.0, -1.0)]
-    prim = {"attributes": {"POSITION": buf.add(pos, "<3f", "VEC3", FLOAT, minmax=bounds(pos)),
-                           "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
-                           "TEXCOORD_0": buf.add(uv, "<2f", "VEC2", FLOAT)},
-            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", UNSIGNED_SHORT),
-            "material": 0}
-    image = png_rgba(2, 2, TEXELS)
-    texture = {"source": 0}
-    g = {
-        "asset": {"version": "2.0", "generator": "voxgi make_samplers.py"},
-        "scene": 0,
-        "scenes": [{"nodes": [0, 1]}],
-        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
-        "cameras": [{"type": "perspective",
-                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
-                                     "znear": 0.1, "zfar": 10.0}}],
-        "meshes": [{"primitives": [prim]}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
-                                                "metallicFactor": 0, "roughnessFactor": 1},
-                       "emissiveFactor": [1, 1, 1],
-                       "emissiveTexture": {"index": 0}}],
-        "textures": [texture],
-        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode(),
-                    "mimeType": "image/png"}],
-    }
+    material = {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
+                                         "metallicFactor": 0, "roughnessFactor": 1},
+                "emissiveFactor": [1, 1, 1],
+                "emissiveTexture": {"index": 0}}
+    g = quad_document("voxgi make_samplers.py", quad_primitive(buf, pos, [("TEXCOORD_0", uv)]),
+                      material, png_rgba(2, 2, TEXELS))
     if sampler is not None:
-        texture["sampler"] = 0
+        g["textures"][0]["sampler"] = 0
         g["samplers"] = [sampler]
     return buf.finish(g)
 

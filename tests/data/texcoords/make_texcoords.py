@@ -30,15 +30,13 @@ Used by tests/render/texture_coordinates_gltest.cpp (which computes the expected
 image from these numbers) and tests/scene/gltf_loader_test.cpp.
 Self-contained: buffers and the image are base64 data: URIs. Run from anywhere.
 """
-import base64
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "animated"))
-from gltf_writer import Buffer, bounds, png_rgba, write_next_to  # noqa: E402
+from gltf_writer import Buffer, png_rgba, quad_document, quad_primitive, write_next_to  # noqa: E402
 
-FLOAT, UNSIGNED_SHORT = 5126, 5123
 NEAREST, REPEAT = 9728, 10497
 
 
@@ -52,36 +50,19 @@ WRONG = [(1.0 - s, 1.0 - t) for s, t in RIGHT]
 TRANSFORM = {"offset": [0.5, 1.0], "rotation": math.pi / 2, "scale": [2.0, 1.0]}
 
 
+SAMPLERS = [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT, "wrapT": REPEAT}]
+GENERATOR = "voxgi make_texcoords.py"
+
+
 def scene(uv0, uv1, texture_info, required=()):
     buf = Buffer()
-    attributes = {"POSITION": buf.add(POSITIONS, "<3f", "VEC3", FLOAT, minmax=bounds(POSITIONS)),
-                  "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
-                  "TEXCOORD_0": buf.add(uv0, "<2f", "VEC2", FLOAT)}
-    if uv1 is not None:
-        attributes["TEXCOORD_1"] = buf.add(uv1, "<2f", "VEC2", FLOAT)
-    prim = {"attributes": attributes,
-            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", UNSIGNED_SHORT),
-            "material": 0}
-    image = png_rgba(2, 2, TEXELS)
-    g = {
-        "asset": {"version": "2.0", "generator": "voxgi make_texcoords.py"},
-        "scene": 0,
-        "scenes": [{"nodes": [0, 1]}],
-        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
-        "cameras": [{"type": "perspective",
-                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
-                                     "znear": 0.1, "zfar": 10.0}}],
-        "meshes": [{"primitives": [prim]}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
-                                                "metallicFactor": 0, "roughnessFactor": 1},
-                       "emissiveFactor": [1, 1, 1],
-                       "emissiveTexture": dict(texture_info, index=0)}],
-        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT,
-                      "wrapT": REPEAT}],
-        "textures": [{"source": 0, "sampler": 0}],
-        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode(),
-                    "mimeType": "image/png"}],
-    }
+    texcoords = [("TEXCOORD_0", uv0)] + ([("TEXCOORD_1", uv1)] if uv1 is not None else [])
+    material = {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
+                                         "metallicFactor": 0, "roughnessFactor": 1},
+                "emissiveFactor": [1, 1, 1],
+                "emissiveTexture": dict(texture_info, index=0)}
+    g = quad_document(GENERATOR, quad_primitive(buf, POSITIONS, texcoords), material,
+                      png_rgba(2, 2, TEXELS), SAMPLERS)
     if required:
         g["extensionsUsed"] = list(required)
         g["extensionsRequired"] = list(required)
@@ -92,30 +73,12 @@ def scene(uv0, uv1, texture_info, required=()):
 
 def occlusion(strength):
     buf = Buffer()
-    prim = {"attributes": {"POSITION": buf.add(POSITIONS, "<3f", "VEC3", FLOAT, minmax=bounds(POSITIONS)),
-                           "NORMAL": buf.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
-                           "TEXCOORD_0": buf.add(RIGHT, "<2f", "VEC2", FLOAT)},
-            "indices": buf.add([0, 1, 2, 0, 2, 3], "<H", "SCALAR", UNSIGNED_SHORT),
-            "material": 0}
-    image = png_rgba(2, 1, [(0, 0, 0, 255), (255, 255, 255, 255)])
-    g = {
-        "asset": {"version": "2.0", "generator": "voxgi make_texcoords.py"},
-        "scene": 0,
-        "scenes": [{"nodes": [0, 1]}],
-        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.0, 0.0, 2.0]}],
-        "cameras": [{"type": "perspective",
-                     "perspective": {"yfov": 2.0 * math.atan(0.5), "aspectRatio": 1.0,
-                                     "znear": 0.1, "zfar": 10.0}}],
-        "meshes": [{"primitives": [prim]}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
-                                                "metallicFactor": 0, "roughnessFactor": 1},
-                       "occlusionTexture": {"index": 0, "strength": strength}}],
-        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT,
-                      "wrapT": REPEAT}],
-        "textures": [{"source": 0, "sampler": 0}],
-        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode(),
-                    "mimeType": "image/png"}],
-    }
+    material = {"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
+                                         "metallicFactor": 0, "roughnessFactor": 1},
+                "occlusionTexture": {"index": 0, "strength": strength}}
+    png = png_rgba(2, 1, [(0, 0, 0, 255), (255, 255, 255, 255)])
+    g = quad_document(GENERATOR, quad_primitive(buf, POSITIONS, [("TEXCOORD_0", RIGHT)]),
+                      material, png, SAMPLERS)
     return buf.finish(g)
 
 
