@@ -392,6 +392,33 @@ class Loader {
   }
 
   void readNodesAndAnimations() {
+    readNodes();
+    const size_t n = model_.nodes.size();
+    std::vector<char> animated(n, 0);
+    for (size_t a = 0; a < model_.animations.size(); ++a) {
+      const auto& anim = model_.animations[a];
+      for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
+        const std::string where = strf("animation %zu channel %zu", a, ci);
+        if (anim.channels[ci].target_path == "weights") {
+          warn_(where + ": morph target weights are not animated; skipped");
+          continue;
+        }
+        AnimationChannel c = readChannel(anim, anim.channels[ci], where);
+        scene_.animationDuration =
+            std::max(scene_.animationDuration, static_cast<double>(c.times.back()));
+        animated[static_cast<size_t>(c.node)] = 1;
+        scene_.animations.push_back(std::move(c));
+      }
+    }
+    // A node moves if it or an ancestor is animated (the graph is a forest here).
+    moving_.assign(n, 0);
+    for (size_t i = 0; i < n; ++i)
+      for (int a = static_cast<int>(i); a >= 0; a = scene_.nodes[static_cast<size_t>(a)].parent)
+        if (animated[static_cast<size_t>(a)]) moving_[i] = 1;
+  }
+
+  // Parents and local transforms: a matrix, or translation, rotation and scale.
+  void readNodes() {
     const size_t n = model_.nodes.size();
     scene_.nodes.resize(n);
     for (size_t i = 0; i < n; ++i) {
@@ -411,68 +438,58 @@ class Loader {
       if (node.scale.size() == 3)
         sn.scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
     }
-    std::vector<char> animated(n, 0);
-    for (size_t a = 0; a < model_.animations.size(); ++a) {
-      const auto& anim = model_.animations[a];
-      for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
-        const auto& ch = anim.channels[ci];
-        const std::string where = strf("animation %zu channel %zu", a, ci);
-        if (ch.target_path == "weights") {
-          warn_(where + ": morph target weights are not animated; skipped");
-          continue;
-        }
-        AnimationChannel c;
-        if (ch.target_path == "translation")
-          c.path = AnimationPath::kTranslation;
-        else if (ch.target_path == "rotation")
-          c.path = AnimationPath::kRotation;
-        else if (ch.target_path == "scale")
-          c.path = AnimationPath::kScale;
-        else
-          fail(where + ": unknown target path '" + ch.target_path + "'");
-        if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= n)
-          fail(strf("%s: node %d does not exist", where.c_str(), ch.target_node));
-        if (scene_.nodes[static_cast<size_t>(ch.target_node)].hasMatrix)
-          fail(strf("%s: node %d has a matrix and cannot be animated", where.c_str(),
-                    ch.target_node));
-        if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
-          fail(strf("%s: sampler %d does not exist", where.c_str(), ch.sampler));
-        const auto& sampler = anim.samplers[static_cast<size_t>(ch.sampler)];
-        c.node = ch.target_node;
-        c.step = sampler.interpolation == "STEP";
-        const bool cubic = sampler.interpolation == "CUBICSPLINE";
-        if (cubic) warn_(where + ": CUBICSPLINE is played back linearly");
-        const View in = accessor(sampler.input, "animation input", {TINYGLTF_TYPE_SCALAR},
-                                 {TINYGLTF_COMPONENT_TYPE_FLOAT});
-        const int type =
-            c.path == AnimationPath::kRotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
-        const View out =
-            accessor(sampler.output, "animation output", {type}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
-        const size_t per = cubic ? 3 : 1;
-        if (out.count != in.count * per) fail(where + ": input and output counts differ");
-        for (size_t k = 0; k < in.count; ++k) {
-          const float t = readComponent(in.data + k * in.stride, in.componentType, false);
-          if (!std::isfinite(t) || (k > 0 && t < c.times.back()))
-            fail(where + ": keyframe times must be finite and increasing");
-          c.times.push_back(t);
-          const unsigned char* q = out.data + (k * per + (cubic ? 1 : 0)) * out.stride;
-          glm::dvec4 v(0.0);
-          for (int comp = 0; comp < (type == TINYGLTF_TYPE_VEC4 ? 4 : 3); ++comp)
-            v[comp] = readComponent(q + 4 * static_cast<size_t>(comp), out.componentType, false);
-          if (!std::isfinite(v.x + v.y + v.z + v.w)) fail(where + ": NaN or Inf keyframe value");
-          c.values.push_back(v);
-        }
-        scene_.animationDuration =
-            std::max(scene_.animationDuration, static_cast<double>(c.times.back()));
-        animated[static_cast<size_t>(c.node)] = 1;
-        scene_.animations.push_back(std::move(c));
-      }
+  }
+
+  // A translation, rotation or scale channel, its target node and sampler checked.
+  AnimationChannel readChannel(const tinygltf::Animation& anim,
+                               const tinygltf::AnimationChannel& ch, const std::string& where) {
+    AnimationChannel c;
+    if (ch.target_path == "translation")
+      c.path = AnimationPath::kTranslation;
+    else if (ch.target_path == "rotation")
+      c.path = AnimationPath::kRotation;
+    else if (ch.target_path == "scale")
+      c.path = AnimationPath::kScale;
+    else
+      fail(where + ": unknown target path '" + ch.target_path + "'");
+    if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= model_.nodes.size())
+      fail(strf("%s: node %d does not exist", where.c_str(), ch.target_node));
+    if (scene_.nodes[static_cast<size_t>(ch.target_node)].hasMatrix)
+      fail(strf("%s: node %d has a matrix and cannot be animated", where.c_str(), ch.target_node));
+    if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
+      fail(strf("%s: sampler %d does not exist", where.c_str(), ch.sampler));
+    const auto& sampler = anim.samplers[static_cast<size_t>(ch.sampler)];
+    c.node = ch.target_node;
+    c.step = sampler.interpolation == "STEP";
+    readKeyframes(sampler, where, &c);
+    return c;
+  }
+
+  // The sampler's keyframe times and values into c; a cubic spline's tangents are
+  // skipped (played back linearly).
+  void readKeyframes(const tinygltf::AnimationSampler& sampler, const std::string& where,
+                     AnimationChannel* c) {
+    const bool cubic = sampler.interpolation == "CUBICSPLINE";
+    if (cubic) warn_(where + ": CUBICSPLINE is played back linearly");
+    const View in = accessor(sampler.input, "animation input", {TINYGLTF_TYPE_SCALAR},
+                             {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const int type = c->path == AnimationPath::kRotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+    const View out =
+        accessor(sampler.output, "animation output", {type}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const size_t per = cubic ? 3 : 1;
+    if (out.count != in.count * per) fail(where + ": input and output counts differ");
+    for (size_t k = 0; k < in.count; ++k) {
+      const float t = readComponent(in.data + k * in.stride, in.componentType, false);
+      if (!std::isfinite(t) || (k > 0 && t < c->times.back()))
+        fail(where + ": keyframe times must be finite and increasing");
+      c->times.push_back(t);
+      const unsigned char* q = out.data + (k * per + (cubic ? 1 : 0)) * out.stride;
+      glm::dvec4 v(0.0);
+      for (int comp = 0; comp < (type == TINYGLTF_TYPE_VEC4 ? 4 : 3); ++comp)
+        v[comp] = readComponent(q + 4 * static_cast<size_t>(comp), out.componentType, false);
+      if (!std::isfinite(v.x + v.y + v.z + v.w)) fail(where + ": NaN or Inf keyframe value");
+      c->values.push_back(v);
     }
-    // A node moves if it or an ancestor is animated (the graph is a forest here).
-    moving_.assign(n, 0);
-    for (size_t i = 0; i < n; ++i)
-      for (int a = static_cast<int>(i); a >= 0; a = scene_.nodes[static_cast<size_t>(a)].parent)
-        if (animated[static_cast<size_t>(a)]) moving_[i] = 1;
   }
 
   // The bounds cover every pose: sampled at each keyframe and 64 steps between.
