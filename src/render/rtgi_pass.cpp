@@ -170,69 +170,116 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
   // The G-buffer drawn last frame becomes the previous one.
   current_ ^= 1;
-  const bool reprojecting = previousViewProj != nullptr && frameIndex > 0;
   buildOptionalStages();
-  const bool specular = settings_.specular;
+  const FramePlan plan = planFrame(ctx, gs, frameIndex, previousViewProj != nullptr);
+  gpu::RtgiParams p = frameParams(ctx, gs, cameraPosition, frameIndex, previousViewProj, plan);
+  glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
+  drawGBuffer(ctx, gs);
+  bindFrameInputs(gs, octree, accum);
+  if (plan.reprojecting) reproject(ctx, plan.gx, plan.gy, accum, gs.materials());
+  lastTraced_ = plan.everyPixel ? 1.0 : 1.0 / plan.interleave;
+  if (plan.listed) selectPixels(ctx, frameIndex, plan, &p);
+  traceLight(ctx, gs, plan);
+  accumulateFrame(ctx, plan);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  denoised_ = false;
+  if (settings_.denoise && shown_) denoise(ctx, plan.gx, plan.gy, accum);
+  finishFrame(plan);
+}
+
+RtgiPass::FramePlan RtgiPass::planFrame(const FrameContext& ctx, const GpuScene& gs, int frameIndex,
+                                        bool moved) const {
+  if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
+      (settings_.interleave & (settings_.interleave - 1)) != 0)
+    throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
+  FramePlan f;
+  f.reprojecting = moved && frameIndex > 0;
   // Without shadow rays the direct stage is cheap unshadowed light, run only when
   // there is light to add.
-  const bool shadows = settings_.features.shadows;
-  const bool direct =
-      shadows || gs.lightCount() > 0 || (settings_.features.emission && gs.emitterCount() > 0);
+  f.shadows = settings_.features.shadows;
+  f.direct =
+      f.shadows || gs.lightCount() > 0 || (settings_.features.emission && gs.emitterCount() > 0);
+  // This frame's interleave: the setting's, except on the first frame of a sparse
+  // start under a frame budget, which takes the pattern nearest below the budget's
+  // share (a restart costs what the budget allows; every pixel where it allows all).
+  f.interleave = settings_.interleave;
+  if (frameIndex == 0 && settings_.sparseStart && settings_.select != Settings::Select::kPattern)
+    while (f.interleave > 1 && 2.0 / f.interleave <= traceFraction_ + 1e-9) f.interleave /= 2;
+  // Every pixel traces without interleaving, and on the first frame unless it starts
+  // sparse.
+  f.everyPixel = f.interleave <= 1 || (frameIndex == 0 && !settings_.sparseStart);
+  // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
+  // built by the select stage, dispatched indirectly.
+  f.listed = settings_.select != Settings::Select::kPattern && frameIndex > 0;
+  // A sparse start: until every pixel has had its turn (n frames; a budget's list
+  // includes the pattern), the variant that lends traced light to those still
+  // waiting. It is a separate program because a SIMD software rasterizer would run
+  // the lending code, masked, for every pixel of every frame. A frame after a move
+  // lends too, to the pixels that lost their history, and starts from the
+  // reprojected mean (RTGI_REPROJECTED).
+  f.lends = !f.everyPixel &&
+            ((settings_.sparseStart && frameIndex < settings_.interleave) || f.reprojecting);
+  f.gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
+  f.gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
+  f.pixelsTotal = uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height);
+  const uint64_t tracing = f.everyPixel ? f.pixelsTotal
+                                        : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
+                                              static_cast<uint32_t>((ctx.height + 3) / 4) *
+                                              static_cast<uint32_t>(16 / f.interleave);
+  const uint64_t groups = (tracing + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup;
+  f.tx = static_cast<GLuint>(std::min<uint64_t>(groups, 65535));
+  f.ty = static_cast<GLuint>((groups + f.tx - 1) / f.tx);
+  return f;
+}
+
+gpu::RtgiParams RtgiPass::frameParams(const FrameContext& ctx, const GpuScene& gs,
+                                      const glm::vec3& cameraPosition, int frameIndex,
+                                      const glm::mat4* previousViewProj,
+                                      const FramePlan& plan) const {
   gpu::RtgiParams p{};
   p.frame = glm::uvec4(static_cast<uint32_t>(frameIndex), settings_.seed,
                        static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
-  const uint32_t flags = (direct ? gpu::kRtgiHasDirect : 0u) |
+  const uint32_t flags = (plan.direct ? gpu::kRtgiHasDirect : 0u) |
                          (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
-                         (specular ? gpu::kRtgiHasSpecular : 0u);
+                         (settings_.specular ? gpu::kRtgiHasSpecular : 0u);
   p.counts = glm::uvec4(
       static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
       static_cast<uint32_t>(std::clamp(settings_.exactEmitters, 0, gpu::kMaxExactEmitters)));
   p.camera = glm::vec4(cameraPosition, 1.0f);
   p.denoise = glm::vec4(settings_.denoiseLuminance, settings_.denoisePlane, 0.0f, 0.0f);
-  if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
-      (settings_.interleave & (settings_.interleave - 1)) != 0)
-    throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
-  // This frame's interleave: the setting's, except on the first frame of a sparse
-  // start under a frame budget, which takes the pattern nearest below the budget's
-  // share (a restart costs what the budget allows; every pixel where it allows all).
-  int frameInterleave = settings_.interleave;
-  if (frameIndex == 0 && settings_.sparseStart && settings_.select != Settings::Select::kPattern)
-    while (frameInterleave > 1 && 2.0 / frameInterleave <= traceFraction_ + 1e-9)
-      frameInterleave /= 2;
-  p.work = glm::uvec4(static_cast<uint32_t>(frameInterleave), 0u, 0u,
+  p.work = glm::uvec4(static_cast<uint32_t>(plan.interleave), 0u, 0u,
                       settings_.sparseStart ? gpu::kRtgiSparseStart : 0u);
-  if (reprojecting) {
+  if (plan.reprojecting) {
     for (int i = 0; i < 4; ++i) p.previousViewProj[i] = (*previousViewProj)[i];
     const auto cap = static_cast<float>(std::max(settings_.historyCap, 0));
     p.history = glm::vec4(cap, std::min(cap, static_cast<float>(kGlossyHistory)), 0.0f,
                           std::min(cap, static_cast<float>(kEdgeHistory)));
   }
-  // Every pixel traces without interleaving, and on the first frame unless it starts
-  // sparse.
-  const bool everyPixel = frameInterleave <= 1 || (frameIndex == 0 && !settings_.sparseStart);
-  glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
+  return p;
+}
 
-  {
-    gl::StageScope stage(ctx.timer, "gbuffer");
-    const GLuint fbo = fbo_[current_].id();
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, ctx.width, ctx.height);
-    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (GLint i = 0; i < 5; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
-    const float one = 1.0f;
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glUseProgram(gbuffer_.id());
-    glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-    drawSceneGeometry(gs);
-    glDisable(GL_DEPTH_TEST);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  }
+void RtgiPass::drawGBuffer(FrameContext& ctx, const GpuScene& gs) {
+  gl::StageScope stage(ctx.timer, "gbuffer");
+  const GLuint fbo = fbo_[current_].id();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, ctx.width, ctx.height);
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (GLint i = 0; i < 5; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glUseProgram(gbuffer_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
+  drawSceneGeometry(gs);
+  glDisable(GL_DEPTH_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
 
+void RtgiPass::bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, GLuint accum) {
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
   if (octree) octree->bind();
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
@@ -253,110 +300,93 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   // Declared by the tracing stages and accumulate; read only when a list is used.
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
-  const auto gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
-  const auto gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
-  if (reprojecting) reproject(ctx, gx, gy, accum, gs.materials());
-  // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
-  // built by the select stage, dispatched indirectly.
-  const int n = frameInterleave;
-  const uint64_t pixelsTotal =
-      uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height);
-  const bool listed = settings_.select != Settings::Select::kPattern && frameIndex > 0;
-  lastTraced_ = everyPixel ? 1.0 : 1.0 / n;
-  if (listed) {
-    const double patternShare = 1.0 / n;
-    const double extraShare = std::max(0.0, traceFraction_ - patternShare);
-    float level = 0.0f;
-    uint32_t kind = gpu::kSelectUniform;
-    if (settings_.select == Settings::Select::kMask) {
-      kind = gpu::kSelectMask;
-      // The mask changes slowly as the image converges: it is recomputed every
-      // kMaskPeriod frames; the threshold follows the budget every frame.
-      if (!maskValid_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
-        runMask(ctx, gx, gy);
-      level =
-          traceFraction_ >= 1.0
-              ? -1.0f  // every pixel
-              : maskThreshold(static_cast<uint64_t>(extraShare * static_cast<double>(pixelsTotal)));
-    } else {
-      level = static_cast<float>(std::min(1.0, extraShare / (1.0 - patternShare)));
-    }
-    p.work.y = std::bit_cast<uint32_t>(level);
-    p.work.z = kind;
-    glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
-    gl::StageScope stage(ctx.timer, "select");
-    const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
-    glNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
-    glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
-    glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_R8UI);
-    glUseProgram(programs_.get({{"render/rtgi_select.comp"}, {}}).id());
-    glDispatchCompute(gx, gy, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
-                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
+}
+
+void RtgiPass::selectPixels(FrameContext& ctx, int frameIndex, const FramePlan& plan,
+                            gpu::RtgiParams* p) {
+  const double patternShare = 1.0 / plan.interleave;
+  const double extraShare = std::max(0.0, traceFraction_ - patternShare);
+  float level = 0.0f;
+  uint32_t kind = gpu::kSelectUniform;
+  if (settings_.select == Settings::Select::kMask) {
+    kind = gpu::kSelectMask;
+    // The mask changes slowly as the image converges: it is recomputed every
+    // kMaskPeriod frames; the threshold follows the budget every frame.
+    if (!maskValid_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
+      runMask(ctx, plan.gx, plan.gy);
+    level = traceFraction_ >= 1.0 ? -1.0f  // every pixel
+                                  : maskThreshold(static_cast<uint64_t>(
+                                        extraShare * static_cast<double>(plan.pixelsTotal)));
+  } else {
+    level = static_cast<float>(std::min(1.0, extraShare / (1.0 - patternShare)));
   }
-  const uint64_t tracing =
-      everyPixel ? uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height)
-                 : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
-                       static_cast<uint32_t>((ctx.height + 3) / 4) * static_cast<uint32_t>(16 / n);
-  const uint64_t groups = (tracing + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup;
-  const auto tx = static_cast<GLuint>(std::min<uint64_t>(groups, 65535));
-  const auto ty = static_cast<GLuint>((groups + tx - 1) / tx);
-  auto run = [&](const char* name, const gl::Program& program) {
-    gl::StageScope stage(ctx.timer, name);
-    glUseProgram(program.id());
-    if (&program == &accumulate_ || &program == accumulateVariant_)
-      glDispatchCompute(gx, gy, 1);
-    else if (listed)
-      glDispatchComputeIndirect(0);
-    else
-      glDispatchCompute(tx, ty, 1);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  };
+  p->work.y = std::bit_cast<uint32_t>(level);
+  p->work.z = kind;
+  glNamedBufferSubData(params_.id(), 0, sizeof(*p), p);
+  gl::StageScope stage(ctx.timer, "select");
+  const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
+  glNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
+  glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
+  glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
+  glUseProgram(programs_.get({{"render/rtgi_select.comp"}, {}}).id());
+  glDispatchCompute(plan.gx, plan.gy, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
+}
+
+void RtgiPass::runStage(FrameContext& ctx, const char* name, const gl::Program& program,
+                        const FramePlan& plan) {
+  gl::StageScope stage(ctx.timer, name);
+  glUseProgram(program.id());
+  if (&program == &accumulate_ || &program == accumulateVariant_)
+    glDispatchCompute(plan.gx, plan.gy, 1);
+  else if (plan.listed)
+    glDispatchComputeIndirect(0);
+  else
+    glDispatchCompute(plan.tx, plan.ty, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+void RtgiPass::traceLight(FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
   if (bvh_) bindBvh(gs);
-  if (direct) run(shadows ? "shadows" : "direct", directProgram(gs));
-  if (settings_.indirect) run("indirect", indirectProgram(gs));
-  if (specular) run("specular", specularProgram(gs));
+  if (plan.direct) runStage(ctx, plan.shadows ? "shadows" : "direct", directProgram(gs), plan);
+  if (settings_.indirect) runStage(ctx, "indirect", indirectProgram(gs), plan);
+  if (settings_.specular) runStage(ctx, "specular", specularProgram(gs), plan);
   if (bvh_) unbindBvh();
-  // A sparse start: until every pixel has had its turn (n frames; a budget's list
-  // includes the pattern), the variant that lends traced light to those still
-  // waiting. It is a separate program because a SIMD software rasterizer would run
-  // the lending code, masked, for every pixel of every frame. A frame after a move
-  // lends too, to the pixels that lost their history, and starts from the
-  // reprojected mean (RTGI_REPROJECTED).
-  const bool lends =
-      !everyPixel && ((settings_.sparseStart && frameIndex < settings_.interleave) || reprojecting);
+}
+
+void RtgiPass::accumulateFrame(FrameContext& ctx, const FramePlan& plan) {
   if (settings_.denoise) {
     // The moments use the mask's image units (rtgi_shared.h): bound here, after it ran.
     glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
     glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RG32F);
   }
-  if (lends || reprojecting || settings_.denoise) {
+  if (plan.lends || plan.reprojecting || settings_.denoise) {
     std::vector<std::string> defines = settings_.features.defines();
     if (settings_.denoise) defines.emplace_back("RTGI_MOMENTS");
-    if (lends) defines.emplace_back("RTGI_SPARSE_START");
-    if (reprojecting) {
+    if (plan.lends) defines.emplace_back("RTGI_SPARSE_START");
+    if (plan.reprojecting) {
       defines.emplace_back("RTGI_REPROJECTED");
       glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                          GL_RGBA32F);
     }
     const gl::Program& variant = programs_.get({{"render/rtgi_accumulate.comp"}, defines});
     accumulateVariant_ = &variant;
-    run("accumulate", variant);
+    runStage(ctx, "accumulate", variant, plan);
   } else {
-    run("accumulate", accumulate_);
+    runStage(ctx, "accumulate", accumulate_, plan);
   }
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  denoised_ = false;
-  if (settings_.denoise && shown_) denoise(ctx, gx, gy, accum);
-  if (listed) {
+}
+
+void RtgiPass::finishFrame(const FramePlan& plan) {
+  if (plan.listed) {
     gpu::PixelListHeader header{};
     glGetNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
-    lastTraced_ = static_cast<double>(header.count.x) / static_cast<double>(pixelsTotal);
+    lastTraced_ = static_cast<double>(header.count.x) / static_cast<double>(plan.pixelsTotal);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   }
   for (GLuint u = 0; u <= gpu::kReprojectedImage; ++u)

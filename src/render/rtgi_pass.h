@@ -138,6 +138,39 @@ class RtgiPass {
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
 
  private:
+  // This frame's choices, from the settings, the scene and the frame (execute).
+  struct FramePlan {
+    bool reprojecting = false;  // after a camera move, not on the first frame
+    bool shadows = false;       // the direct stage traces shadow rays
+    bool direct = false;        // the direct stage runs
+    int interleave = 1;         // this frame's (a sparse start's first may differ)
+    bool everyPixel = false;    // every pixel traces this frame
+    bool listed = false;        // the select stage lists the pixels that trace
+    bool lends = false;         // accumulate lends light to pixels not yet traced
+    GLuint gx = 0, gy = 0;      // groups of the per-pixel stages
+    GLuint tx = 0, ty = 0;      // groups of the tracing stages, by pattern
+    uint64_t pixelsTotal = 0;
+  };
+  FramePlan planFrame(const FrameContext& ctx, const GpuScene& gs, int frameIndex,
+                      bool moved) const;
+  gpu::RtgiParams frameParams(const FrameContext& ctx, const GpuScene& gs,
+                              const glm::vec3& cameraPosition, int frameIndex,
+                              const glm::mat4* previousViewProj, const FramePlan& plan) const;
+  // The gbuffer stage, into fbo_[current_].
+  void drawGBuffer(FrameContext& ctx, const GpuScene& gs);
+  // The parameters, scene buffers, G-buffer and images the compute stages read.
+  void bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, GLuint accum);
+  // The select stage (frame budget): the list of pixels that trace; sets the
+  // selection's level and kind in `p` and uploads it.
+  void selectPixels(FrameContext& ctx, int frameIndex, const FramePlan& plan, gpu::RtgiParams* p);
+  // One timed compute stage over the pixels that trace (accumulate: every pixel).
+  void runStage(FrameContext& ctx, const char* name, const gl::Program& program,
+                const FramePlan& plan);
+  // The shadows (or direct), indirect and specular stages.
+  void traceLight(FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
+  void accumulateFrame(FrameContext& ctx, const FramePlan& plan);
+  // The traced share of a listed frame, and the units the frame bound, unbound.
+  void finishFrame(const FramePlan& plan);
   void resize(int width, int height);
   // The mask stage (edges, blur, histogram), and the threshold that selects at most
   // `extra` pixels of it.
