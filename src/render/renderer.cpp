@@ -333,6 +333,30 @@ bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
 
 void Renderer::renderFrame(const scene::Camera& camera) {
   const auto frameStart = std::chrono::steady_clock::now();
+  const bool reproject = followCamera(camera);
+  const glm::mat4 previousViewProj = uploadFrameUniforms(camera);
+  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  const SceneUpdate update = updateVoxels(ctx);
+  executeMode(ctx, camera, reproject ? &previousViewProj : nullptr);
+  if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
+    tonemap_.executeMask(ctx, rtgi_->maskTexture(), ldrFbo_.id());
+  else
+    tonemap_.execute(ctx, shownHdr(), ldrFbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  stages_ = timer_.resolve();
+  if (update.voxelized || update.built) recordSceneStages(update.voxelized);
+  // The budget learns from frames that trace their share; the first frame of an
+  // accumulation traces every pixel and a scene build is start-up, not frame cost.
+  if (budget_ && settings_.mode == Mode::kRtgi && accumulated_ > 0 &&
+      (settings_.revoxelize || (!update.voxelized && !update.built)))
+    budget_->update(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
+            .count());
+  ++accumulated_;
+}
+
+bool Renderer::followCamera(const scene::Camera& camera) {
   // A camera move restarts accumulation, except in rtgi with reprojection, whose
   // pixels carry their history over to where their surfaces now are (as after a
   // mesh move, geometryChanged()).
@@ -350,6 +374,10 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   geometryUnsettled_ = geometryUnsettled_ || meshesMoved_;
   meshesMoved_ = false;
   lastCamera_ = camera;
+  return reproject;
+}
+
+glm::mat4 Renderer::uploadFrameUniforms(const scene::Camera& camera) {
   gpu::GpuFrame frame{};
   const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
   glm::mat4 projection = camera.projection(aspect);
@@ -371,16 +399,19 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   frame.counts = glm::vec4(static_cast<float>(gpuScene_.lightCount()),
                            static_cast<float>(gpuScene_.emitterCount()), 0.0f, 0.0f);
   glNamedBufferSubData(frameUniforms_.id(), 0, sizeof(frame), &frame);
+  return previousViewProj;
+}
 
-  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
-  const bool voxelizing = usesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
-  if (voxelizing) {
+Renderer::SceneUpdate Renderer::updateVoxels(FrameContext& ctx) {
+  SceneUpdate update;
+  update.voxelized = usesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
+  if (update.voxelized) {
     voxelize_->execute(ctx, gpuScene_);
     voxelized_ = true;
     octreeBuilt_ = false;
   }
-  const bool building = usesOctree(settings_.mode) && !octreeBuilt_;
-  if (building) {
+  update.built = usesOctree(settings_.mode) && !octreeBuilt_;
+  if (update.built) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
     octreeBuilt_ = true;
@@ -394,6 +425,11 @@ void Renderer::renderFrame(const scene::Camera& camera) {
     // camera does.
     octree_->refine(ctx, gpuScene_);
   }
+  return update;
+}
+
+void Renderer::executeMode(FrameContext& ctx, const scene::Camera& camera,
+                           const glm::mat4* previousViewProj) {
   switch (settings_.mode) {
     case Mode::kRaster:
       raster_->execute(ctx, gpuScene_, hdrFbo_.id());
@@ -407,7 +443,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
     case Mode::kRtgi:
       if (budget_) rtgi_->setTraceFraction(budget_->fraction());
       rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id(),
-                     reproject ? &previousViewProj : nullptr);
+                     previousViewProj);
       break;
     case Mode::kPathtrace:
       // Progressive: this frame's samples join those since accumulation restarted.
@@ -416,33 +452,19 @@ void Renderer::renderFrame(const scene::Camera& camera) {
       pathtrace_->execute(ctx, settings_.spp, hdr_.id(), progress_);
       break;
   }
-  if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
-    tonemap_.executeMask(ctx, rtgi_->maskTexture(), ldrFbo_.id());
-  else
-    tonemap_.execute(ctx, shownHdr(), ldrFbo_.id());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glFinish();
-  stages_ = timer_.resolve();
-  if (voxelizing || building) {
-    if (voxelizing) sceneStages_.clear();
-    for (const gl::StageTime& t : stages_) {
-      if (t.name != "voxelize" && t.name != "octree" && t.name != "inject") continue;
-      auto same = std::find_if(sceneStages_.begin(), sceneStages_.end(),
-                               [&](const gl::StageTime& s) { return s.name == t.name; });
-      if (same != sceneStages_.end())
-        *same = t;
-      else
-        sceneStages_.push_back(t);
-    }
+}
+
+void Renderer::recordSceneStages(bool voxelized) {
+  if (voxelized) sceneStages_.clear();
+  for (const gl::StageTime& t : stages_) {
+    if (t.name != "voxelize" && t.name != "octree" && t.name != "inject") continue;
+    auto same = std::find_if(sceneStages_.begin(), sceneStages_.end(),
+                             [&](const gl::StageTime& s) { return s.name == t.name; });
+    if (same != sceneStages_.end())
+      *same = t;
+    else
+      sceneStages_.push_back(t);
   }
-  // The budget learns from frames that trace their share; the first frame of an
-  // accumulation traces every pixel and a scene build is start-up, not frame cost.
-  if (budget_ && settings_.mode == Mode::kRtgi && accumulated_ > 0 &&
-      (settings_.revoxelize || (!voxelizing && !building)))
-    budget_->update(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
-            .count());
-  ++accumulated_;
 }
 
 namespace {

@@ -36,6 +36,7 @@
 #include "gl/stage_timer.h"
 #include "render/dvr_pass.h"
 #include "render/frame_budget.h"
+#include "render/frame_context.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
 #include "render/pathtracer.h"
@@ -242,6 +243,24 @@ class Renderer {
   // The HDR image shown: rtgi's denoised one when it denoises, else the target.
   GLuint shownHdr() const;
 
+  // The steps of renderFrame. followCamera: restarts or keeps the accumulation
+  // after a camera or mesh move (true: rtgi reprojects its history).
+  bool followCamera(const scene::Camera& camera);
+  // This frame's uniforms (jittered in rtgi); returns the previous frame's
+  // view-projection, without jitter.
+  glm::mat4 uploadFrameUniforms(const scene::Camera& camera);
+  // Which of the scene stages ran this frame (updateVoxels).
+  struct SceneUpdate {
+    bool voxelized = false;  // voxelize
+    bool built = false;      // octree and inject
+  };
+  // Voxelizes, builds the octree, injects or refines its light, as the mode needs.
+  SceneUpdate updateVoxels(FrameContext& ctx);
+  // The mode's pass, into the HDR target.
+  void executeMode(FrameContext& ctx, const scene::Camera& camera,
+                   const glm::mat4* previousViewProj);
+  // Keeps the latest times of the scene stages (sceneStages()).
+  void recordSceneStages(bool voxelized);
   void createTargets();
   // Builds the BVH at its first use (the "bvh" start-up stage).
   std::shared_ptr<const GpuBvh> sharedBvh();
