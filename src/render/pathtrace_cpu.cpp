@@ -56,6 +56,32 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
       embree_(std::make_unique<Embree>()),
       camera_(scene.camera) {
   if (textured_) buildPtTextures(scene, &textureTable_, &texels_);
+  buildTriangles(scene);
+  const int threads =
+      settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
+  embree_->arena = std::make_unique<tbb::task_arena>(threads);
+
+  const auto start = std::chrono::steady_clock::now();
+  embree_->device = rtcNewDevice(nullptr);
+  if (!embree_->device)
+    throw Error(strf("pathtrace cpu: Embree could not create a device (error %d)",
+                     static_cast<int>(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(embree_->device, embreeError, nullptr);
+  embree_->scene = rtcNewScene(embree_->device);
+  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
+  if (!pt_.triangles.empty()) attachGeometry(scene);
+  embree_->arena->execute([&] { rtcCommitScene(embree_->scene); });
+  checkDevice(embree_->device, "build the BVH");
+  bvhMs_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  logDebug(
+      strf("pathtrace cpu: Embree BVH of %zu triangles in %.1f ms; %zu emissive triangles, "
+           "%d threads",
+           pt_.triangles.size(), bvhMs_, pt_.emitters.size(), threads));
+}
+
+void CpuPathtracer::buildTriangles(const scene::Scene& scene) {
   triangles_.resize(pt_.triangles.size());
   for (size_t t = 0; t < triangles_.size(); ++t) {
     const BvhTriangle& tri = pt_.triangles[t];
@@ -89,56 +115,36 @@ CpuPathtracer::CpuPathtracer(const scene::Scene& scene, const PathtraceSettings&
       for (size_t k = 0; k < 3; ++k)
         cornerTangents_[3 * t + k] = scene.tangents[scene.indices[pt_.firstIndex[t] + k]];
   }
-  const int threads =
-      settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
-  embree_->arena = std::make_unique<tbb::task_arena>(threads);
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  embree_->device = rtcNewDevice(nullptr);
-  if (!embree_->device)
-    throw Error(strf("pathtrace cpu: Embree could not create a device (error %d)",
-                     static_cast<int>(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(embree_->device, embreeError, nullptr);
-  embree_->scene = rtcNewScene(embree_->device);
-  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
+void CpuPathtracer::attachGeometry(const scene::Scene& scene) {
   const size_t count = pt_.triangles.size();
-  if (count > 0) {
-    RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
-    checkDevice(embree_->device, "allocate the triangle buffers");
-    for (size_t t = 0; t < count; ++t) {
-      const BvhTriangle& tri = pt_.triangles[t];
-      const glm::vec3 corners[3] = {tri.v0, tri.v1, tri.v2};
-      for (int c = 0; c < 3; ++c) {
-        const size_t k = 3 * t + static_cast<size_t>(c);
-        vertices[3 * k] = corners[c].x;
-        vertices[3 * k + 1] = corners[c].y;
-        vertices[3 * k + 2] = corners[c].z;
-        indices[k] = static_cast<uint32_t>(k);
-      }
+  RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
+  checkDevice(embree_->device, "allocate the triangle buffers");
+  for (size_t t = 0; t < count; ++t) {
+    const BvhTriangle& tri = pt_.triangles[t];
+    const glm::vec3 corners[3] = {tri.v0, tri.v1, tri.v2};
+    for (int c = 0; c < 3; ++c) {
+      const size_t k = 3 * t + static_cast<size_t>(c);
+      vertices[3 * k] = corners[c].x;
+      vertices[3 * k + 1] = corners[c].y;
+      vertices[3 * k + 2] = corners[c].z;
+      indices[k] = static_cast<uint32_t>(k);
     }
-    masked_ = ptReadsAlphaMasks(scene, settings_.alpha);
-    if (masked_) {
-      rtcSetGeometryUserData(geometry, this);
-      rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
-      rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
-    }
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(embree_->scene, geometry);
-    rtcReleaseGeometry(geometry);
   }
-  embree_->arena->execute([&] { rtcCommitScene(embree_->scene); });
-  checkDevice(embree_->device, "build the BVH");
-  bvhMs_ =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  logDebug(
-      strf("pathtrace cpu: Embree BVH of %zu triangles in %.1f ms; %zu emissive triangles, "
-           "%d threads",
-           count, bvhMs_, pt_.emitters.size(), threads));
+  masked_ = ptReadsAlphaMasks(scene, settings_.alpha);
+  if (masked_) {
+    rtcSetGeometryUserData(geometry, this);
+    rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
+    rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(embree_->scene, geometry);
+  rtcReleaseGeometry(geometry);
 }
 
 CpuPathtracer::~CpuPathtracer() = default;
@@ -238,82 +244,33 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
   for (int depth = 1; depth <= maxDepth; ++depth) {
     Hit hit;
     if (!intersect(o, d, &hit)) break;  // black background
-    const Triangle& T = triangles_[hit.triangle];
-    const vec2 bc = hit.bc;
-    const GpuMaterial m =
-        textured_ ? texturedMaterial(tables, materials_[static_cast<size_t>(T.material)],
-                                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2)
-                  : materials_[static_cast<size_t>(T.material)];
-    const vec4 baseColor =
-        colored_ ? m.baseColor * vertexColor(hit.triangle, bc.x, bc.y) : m.baseColor;
-    const vec3 p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
-    vec3 ng = T.ng;
-    const bool front = dot(ng, d) < 0.0f;
-    const vec3 emission(m.emission);
-    if (emission != vec3(0.0f) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
+    Surface s = surfaceAt(tables, hit, d);
+    const vec3 emission(s.m.emission);
+    if (emission != vec3(0.0f) && (s.front || (s.m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0f;
-      const float areaPdf = T.emitterAreaPdf;
+      const float areaPdf = triangles_[hit.triangle].emitterAreaPdf;
       if (!lastDelta && lightsByNee && areaPdf > 0.0f)
-        w = emissionMisWeight(lastPdf, areaPdf, hit.t, abs(dot(ng, d)));
+        w = emissionMisWeight(lastPdf, areaPdf, hit.t, abs(dot(s.ng, d)));
       result += throughput * emission * w;
     }
     if (depth == maxDepth) break;
 
-    // Shade on the side the ray arrived from.
-    vec3 ns = normalize((1.0f - bc.x - bc.y) * T.n0 + bc.x * T.n1 + bc.y * T.n2);
-    if (!front) {
-      ng = -ng;
-      ns = -ns;
-    }
+    orientSurface(tables, hit, &s);
     const vec3 wo = -d;
-    if (dot(ns, wo) <= 0.0f || !(dot(ns, ns) > 0.5f)) ns = ng;  // past the silhouette
-    if (normalMapped_ && (m.flags & kMaterialHasNormalTexture) != 0u) {
-      // The normal map, then the back-facing rule (normal_map_shared.h), as the GL
-      // device does; light below ng is rejected below.
-      const vec4* c = cornerTangents_.data() + 3 * static_cast<size_t>(hit.triangle);
-      vec4 tangent = (1.0f - bc.x - bc.y) * c[0] + bc.x * c[1] + bc.y * c[2];
-      if (!front) tangent.w = -tangent.w;
-      ns = bendShadingNormal(
-          mappedNormal(tables, m, ns, tangent,
-                       (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2),
-          wo);
-    }
-    const Bsdf bsdf = makeBsdf(vec3(baseColor), m.params.x, m.params.y, dot(ns, wo));
+    const Bsdf bsdf = makeBsdf(vec3(s.baseColor), s.m.params.x, s.m.params.y, dot(s.ns, wo));
     if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) break;  // reflects nothing
 
-    const vec3 origin = p + ng * eps;
+    const vec3 origin = s.p + s.ng * eps;
     if (bsdf.kind == kBsdfMirror) {
-      d = reflect(d, ns);
-      if (dot(d, ng) <= 0.0f) break;
+      d = reflect(d, s.ns);
+      if (dot(d, s.ng) <= 0.0f) break;
       throughput *= bsdf.base;
       lastDelta = true;
     } else {
-      if (lightsByNee) {
-        const float u0 = pcgNext01(rng);
-        const float u1 = pcgNext01(rng);
-        const float u2 = pcgNext01(rng);
-        const EmitterSample ls = sampleEmitter(tables, p, emitterCount, u0, u1, u2);
-        if (ls.pdfLight > 0.0f) {
-          float pdfBsdf = 0.0f;
-          const vec3 f = evalBsdf(bsdf, ns, wo, ls.wi, pdfBsdf);
-          if (f != vec3(0.0f) && dot(ng, ls.wi) > 0.0f &&
-              !occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps))
-            result +=
-                throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
-        }
-      }
-      for (const GpuLight& light : lights_) {
-        const PunctualSample ls = samplePunctual(light, p);
-        if (ls.radiance == vec3(0.0f) || dot(ng, ls.wi) <= 0.0f) continue;
-        float pdf = 0.0f;
-        const vec3 f = evalBsdf(bsdf, ns, wo, ls.wi, pdf);
-        if (f == vec3(0.0f)) continue;
-        if (occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps)) continue;
-        result += throughput * f * ls.radiance;
-      }
+      addDirectLight(tables, bsdf, s, origin, throughput, rng, &result);
       vec3 wi;
-      if (!sampleBsdf(bsdf, ns, wo, rng, wi) || dot(wi, ng) <= 0.0f) break;
-      const vec3 f = evalBsdf(bsdf, ns, wo, wi, lastPdf);
+      if (!sampleBsdf(bsdf, s.ns, wo, rng, wi) || dot(wi, s.ng) <= 0.0f) break;
+      const vec3 f = evalBsdf(bsdf, s.ns, wo, wi, lastPdf);
       if (!(lastPdf > 0.0f)) break;
       throughput *= f / lastPdf;
       d = wi;
@@ -328,6 +285,81 @@ glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const
     }
   }
   return result;
+}
+
+CpuPathtracer::Surface CpuPathtracer::surfaceAt(const gpu::PtTables& tables, const Hit& hit,
+                                                const glm::vec3& d) const {
+  using namespace gpu;
+  const Triangle& T = triangles_[hit.triangle];
+  const vec2 bc = hit.bc;
+  Surface s;
+  s.m = textured_ ? texturedMaterial(tables, materials_[static_cast<size_t>(T.material)],
+                                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2)
+                  : materials_[static_cast<size_t>(T.material)];
+  s.baseColor = colored_ ? s.m.baseColor * vertexColor(hit.triangle, bc.x, bc.y) : s.m.baseColor;
+  s.p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
+  s.ng = T.ng;
+  s.front = dot(s.ng, d) < 0.0f;
+  s.wo = -d;
+  return s;
+}
+
+void CpuPathtracer::orientSurface(const gpu::PtTables& tables, const Hit& hit, Surface* s) const {
+  using namespace gpu;
+  const Triangle& T = triangles_[hit.triangle];
+  const vec2 bc = hit.bc;
+  // Shade on the side the ray arrived from.
+  vec3 ns = normalize((1.0f - bc.x - bc.y) * T.n0 + bc.x * T.n1 + bc.y * T.n2);
+  if (!s->front) {
+    s->ng = -s->ng;
+    ns = -ns;
+  }
+  const vec3 wo = s->wo;
+  if (dot(ns, wo) <= 0.0f || !(dot(ns, ns) > 0.5f)) ns = s->ng;  // past the silhouette
+  if (normalMapped_ && (s->m.flags & kMaterialHasNormalTexture) != 0u) {
+    // The normal map, then the back-facing rule (normal_map_shared.h), as the GL
+    // device does; light below ng is rejected below.
+    const vec4* c = cornerTangents_.data() + 3 * static_cast<size_t>(hit.triangle);
+    vec4 tangent = (1.0f - bc.x - bc.y) * c[0] + bc.x * c[1] + bc.y * c[2];
+    if (!s->front) tangent.w = -tangent.w;
+    ns = bendShadingNormal(mappedNormal(tables, s->m, ns, tangent,
+                                        (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2),
+                           wo);
+  }
+  s->ns = ns;
+}
+
+void CpuPathtracer::addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf,
+                                   const Surface& s, const glm::vec3& origin,
+                                   const glm::vec3& throughput, uint32_t& rng,
+                                   glm::vec3* result) const {
+  using namespace gpu;
+  const float eps = pt_.epsilon;
+  const auto emitterCount = static_cast<uint>(pt_.emitters.size());
+  const vec3 wo = s.wo;
+  if (settings_.nextEventEstimation && emitterCount > 0) {
+    const float u0 = pcgNext01(rng);
+    const float u1 = pcgNext01(rng);
+    const float u2 = pcgNext01(rng);
+    const EmitterSample ls = sampleEmitter(tables, s.p, emitterCount, u0, u1, u2);
+    if (ls.pdfLight > 0.0f) {
+      float pdfBsdf = 0.0f;
+      const vec3 f = evalBsdf(bsdf, s.ns, wo, ls.wi, pdfBsdf);
+      if (f != vec3(0.0f) && dot(s.ng, ls.wi) > 0.0f &&
+          !occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps))
+        *result +=
+            throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
+    }
+  }
+  for (const GpuLight& light : lights_) {
+    const PunctualSample ls = samplePunctual(light, s.p);
+    if (ls.radiance == vec3(0.0f) || dot(s.ng, ls.wi) <= 0.0f) continue;
+    float pdf = 0.0f;
+    const vec3 f = evalBsdf(bsdf, s.ns, wo, ls.wi, pdf);
+    if (f == vec3(0.0f)) continue;
+    if (occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps)) continue;
+    *result += throughput * f * ls.radiance;
+  }
 }
 
 void CpuPathtracer::allocate(int width, int height) {

@@ -27,6 +27,11 @@
 
 struct RTCFilterFunctionNArguments;  // Embree
 
+namespace voxgi::gpu {
+struct Bsdf;
+struct PtTables;
+}  // namespace voxgi::gpu
+
 namespace voxgi::render {
 
 class CpuPathtracer final : public Pathtracer {
@@ -81,6 +86,27 @@ class CpuPathtracer final : public Pathtracer {
   bool intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const;
   bool occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const;
   glm::vec3 radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const;
+  // The steps of radiance(). The surface a path hits, as the kernel shades it.
+  struct Surface {
+    gpu::GpuMaterial m;   // textured
+    glm::vec4 baseColor;  // times the vertex colour
+    glm::vec3 p;          // the hit point
+    glm::vec3 ng;         // the triangle's normal; after orientSurface, on the ray's side
+    glm::vec3 ns;         // the shading normal (orientSurface)
+    glm::vec3 wo;         // toward the ray's origin
+    bool front = false;   // the ray arrived on ng's side
+  };
+  Surface surfaceAt(const gpu::PtTables& tables, const Hit& hit, const glm::vec3& d) const;
+  // Turns ng and ns to the side the ray arrived from; ns past the silhouette, then
+  // normal-mapped.
+  void orientSurface(const gpu::PtTables& tables, const Hit& hit, Surface* s) const;
+  // Next-event estimation and the punctual lights at s, added to *result.
+  void addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf, const Surface& s,
+                      const glm::vec3& origin, const glm::vec3& throughput, uint32_t& rng,
+                      glm::vec3* result) const;
+  // The constructor's steps: triangles_ and the corner arrays; the Embree geometry.
+  void buildTriangles(const scene::Scene& scene);
+  void attachGeometry(const scene::Scene& scene);
   // The vertex colour at barycentrics (u, v) of triangle t; white without colours.
   glm::vec4 vertexColor(uint32_t t, float u, float v) const;
   void tracePass(int firstSample);
