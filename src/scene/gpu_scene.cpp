@@ -102,6 +102,18 @@ std::vector<float> GpuScene::emitterPowerCdf(const std::vector<gpu::GpuEmitter>&
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
   hasOcclusion_ = std::any_of(s.materials.begin(), s.materials.end(),
                               [](const Material& m) { return m.occlusionTexture >= 0; });
+  bytes_ = createGeometry(s);
+  bytes_ += createShadingBuffers(s);
+  createTextures(s);
+  bytes_ += textureBytes_;
+  sampler_ = gl::createSampler();
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+size_t GpuScene::createGeometry(const Scene& s) {
   const auto vbytes = static_cast<GLsizeiptr>(s.vertices.size() * sizeof(Vertex));
   const auto ibytes = static_cast<GLsizeiptr>(s.indices.size() * sizeof(uint32_t));
   // Animated scenes rewrite their vertices (updateGeometry); others never do.
@@ -130,6 +142,11 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao, a, 0);
   }
+  return static_cast<size_t>(vbytes + ibytes) + createOptionalStreams(s);
+}
+
+size_t GpuScene::createOptionalStreams(const Scene& s) {
+  const GLuint vao = vao_.id();
   size_t cbytes = 0;
   if (s.hasVertexColors()) {
     // A stream of its own, bound only here: scenes without colours carry none.
@@ -151,6 +168,10 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glVertexArrayAttribFormat(vao, gpu::kTangentAttribute, 4, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao, gpu::kTangentAttribute, 3);
   }
+  return cbytes;
+}
+
+size_t GpuScene::createShadingBuffers(const Scene& s) {
   const auto mats = packMaterials(s);
   const auto lights = packLights(s);
   const auto emitters = packEmitters(buildEmitters(s));
@@ -169,9 +190,11 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
                                  s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
-  bytes_ = static_cast<size_t>(vbytes + ibytes) + cbytes + mats.size() * sizeof(gpu::GpuMaterial) +
-           lights.size() * sizeof(gpu::GpuLight) + emitters.size() * sizeof(gpu::GpuEmitter);
+  return mats.size() * sizeof(gpu::GpuMaterial) + lights.size() * sizeof(gpu::GpuLight) +
+         emitters.size() * sizeof(gpu::GpuEmitter);
+}
 
+void GpuScene::createTextures(const Scene& s) {
   for (const Texture& t : s.textures) {
     gl::Texture tex = gl::createTexture(GL_TEXTURE_2D);
     const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(t.width, t.height))));
@@ -194,12 +217,6 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
     glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_T, t.wrapT);
     samplers_.push_back(std::move(sampler));
   }
-  bytes_ += textureBytes_;
-  sampler_ = gl::createSampler();
-  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
 void GpuScene::setDefaultColor() const {

@@ -74,6 +74,16 @@ class GpuScene {
   static std::vector<float> emitterPowerCdf(const std::vector<gpu::GpuEmitter>& e);
 
  private:
+  // The constructor's steps, each returning the bytes it uploaded (createTextures:
+  // textureBytes_). The vertex and index buffers and the vertex array:
+  size_t createGeometry(const Scene& s);
+  // The colour and tangent streams of scenes that have them:
+  size_t createOptionalStreams(const Scene& s);
+  // Materials, lights, emitters and the emitters' power CDF:
+  size_t createShadingBuffers(const Scene& s);
+  // The textures with their mip chains and the file's samplers:
+  void createTextures(const Scene& s);
+
   const Scene& scene_;
   gl::Buffer vertices_, indices_, colors_, tangents_, materials_, lights_, emitters_, emitterCdf_;
   // Animated meshes: the vertices as the last frame drew them (attribute
