@@ -23,6 +23,8 @@
 
 namespace voxgi::render {
 
+struct PtScene;
+
 class GpuBvh {
  public:
   // `textures`: whether base-colour textures may be read (the effect plan's); the
@@ -58,6 +60,13 @@ class GpuBvh {
   GLuint textureTable() const { return textureTable_.id(); }
 
  private:
+  // A buffer of `bytes` (counted in gpuBytes_).
+  gl::Buffer upload(const void* data, size_t bytes);
+  // `buffer` as RGBA32UI texels; throws beyond this GL's buffer texture limit.
+  gl::Texture bufferTexels(const gl::Buffer& buffer, size_t bytes, GLint maxTexels) const;
+  // Corner UVs, every texture's texels and the table of where each starts.
+  void uploadTextures(const scene::Scene& s, const PtScene& pt, GLint maxTexels);
+
   Bvh bvh_;
   double buildMs_ = 0.0;
   bool textured_ = false;
