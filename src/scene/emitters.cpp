@@ -27,6 +27,98 @@ int normalBucket(const glm::vec3& n) {
   return face * 9 + bin(u) * 3 + bin(v);
 }
 
+// Any texel index to the texel the sampler reads there (wrapTexel takes [-1, 2n]).
+int wrapAny(int i, int extent, uint32_t mode) {
+  if (mode != gpu::kTextureClampToEdge) i = ((i % (2 * extent)) + 2 * extent) % (2 * extent);
+  return gpu::wrapTexel(i, extent, mode);
+}
+
+// An emissive texture as the shared texel reads see it: its texels, table entry and
+// wrap modes, and each byte value decoded as the shared texel read decodes it.
+struct EmissiveTexels {
+  const Texture* tex = nullptr;
+  int w = 0, h = 0;
+  gpu::PtTables tables;
+  glm::uvec4 entry{0u};
+  uint32_t wrapS = 0, wrapT = 0;
+  std::array<float, 256> decoded{};
+};
+
+// `texels` holds the texels that the result's tables point to.
+EmissiveTexels emissiveTexels(const Texture& tex, std::vector<uint32_t>* texels) {
+  EmissiveTexels e;
+  e.tex = &tex;
+  e.w = tex.width;
+  e.h = tex.height;
+  const size_t n = static_cast<size_t>(e.w) * static_cast<size_t>(e.h);
+  VOXGI_CHECK_EQ(tex.rgba8.size(), n * 4);
+  texels->resize(n);
+  std::memcpy(texels->data(), tex.rgba8.data(), n * 4);
+  e.tables = gpu::PtTables{nullptr, texels->data(), nullptr};
+  e.entry =
+      glm::uvec4(0u, static_cast<uint32_t>(e.w), static_cast<uint32_t>(e.h), tex.tableFlags());
+  e.wrapS = (e.entry.w >> gpu::kTextureWrapSShift) & 3u;
+  e.wrapT = (e.entry.w >> gpu::kTextureWrapTShift) & 3u;
+  for (uint32_t v = 0; v < 256; ++v) {
+    const gpu::PtTables one{nullptr, &v, nullptr};
+    e.decoded[v] = gpu::srgbTexel(one, glm::uvec4(0u, 1u, 1u, e.entry.w), glm::ivec2(0)).r;
+  }
+  return e;
+}
+
+// The mean of the texels whose centres lie in the triangle of texel-space corners q
+// (texel (i, j) has its centre at (i, j); wrapped as the sampler wraps them), and
+// how many there are (none for a degenerate or huge triangle).
+size_t texelCentreMean(const EmissiveTexels& e, const glm::vec2 q[3], glm::dvec3* mean) {
+  const glm::vec2 lo = glm::min(q[0], glm::min(q[1], q[2]));
+  const glm::vec2 hi = glm::max(q[0], glm::max(q[1], q[2]));
+  const float area2 = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
+  glm::dvec3 sum(0.0);
+  size_t count = 0;
+  const double box =
+      (std::floor(static_cast<double>(hi.x)) - std::ceil(static_cast<double>(lo.x)) + 1.0) *
+      (std::floor(static_cast<double>(hi.y)) - std::ceil(static_cast<double>(lo.y)) + 1.0);
+  if (area2 != 0.0f && std::isfinite(area2) && box < 16.0 * 1024.0 * 1024.0) {
+    const float sign = area2 > 0.0f ? 1.0f : -1.0f;
+    for (int y = static_cast<int>(std::ceil(lo.y)); y <= static_cast<int>(std::floor(hi.y)); ++y)
+      for (int x = static_cast<int>(std::ceil(lo.x)); x <= static_cast<int>(std::floor(hi.x));
+           ++x) {
+        const glm::vec2 p(static_cast<float>(x), static_cast<float>(y));
+        bool inside = true;
+        for (int k = 0; k < 3 && inside; ++k) {
+          const glm::vec2 edge = q[(k + 1) % 3] - q[k], r = p - q[k];
+          inside = sign * (edge.x * r.y - edge.y * r.x) >= 0.0f;
+        }
+        if (!inside) continue;
+        const int tx = wrapAny(x, e.w, e.wrapS), ty = wrapAny(y, e.h, e.wrapT);
+        const uint8_t* c = &e.tex->rgba8[(static_cast<size_t>(ty) * static_cast<size_t>(e.w) +
+                                          static_cast<size_t>(tx)) *
+                                         4];
+        sum += glm::dvec3(e.decoded[c[0]], e.decoded[c[1]], e.decoded[c[2]]);
+        ++count;
+      }
+  }
+  if (count > 0) *mean = sum / static_cast<double>(count);
+  return count;
+}
+
+// The bilinear texture at a grid of 8 x 8 points, spread by the path tracer's
+// uniform map from the unit square to the triangle of UVs a, b, c
+// (pathtrace_shading.h), averaged.
+glm::vec3 sampledMean(const EmissiveTexels& e, const glm::vec2& a, const glm::vec2& b,
+                      const glm::vec2& c) {
+  constexpr int kGrid = 8;
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j) {
+      const float sq = std::sqrt((static_cast<float>(i) + 0.5f) / kGrid);
+      const float u2 = (static_cast<float>(j) + 0.5f) / kGrid;
+      const glm::vec2 uv = a + (b - a) * (sq * (1.0f - u2)) + (c - a) * (sq * u2);
+      sum += glm::dvec3(glm::vec3(gpu::sampleTexture(e.tables, e.entry, uv)));
+    }
+  return glm::vec3(sum / static_cast<double>(kGrid * kGrid));
+}
+
 }  // namespace
 
 void measureEmissiveTextures(Scene* scene) {
@@ -38,85 +130,23 @@ void measureEmissiveTextures(Scene* scene) {
     const Material& m = scene->materials[static_cast<size_t>(d.material)];
     if (m.emissiveTexture < 0 || static_cast<size_t>(m.emissiveTexture) >= scene->textures.size())
       continue;
-    const Texture& tex = scene->textures[static_cast<size_t>(m.emissiveTexture)];
-    const int w = tex.width, h = tex.height;
-    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
-    VOXGI_CHECK_EQ(tex.rgba8.size(), n * 4);
-    texels.resize(n);
-    std::memcpy(texels.data(), tex.rgba8.data(), n * 4);
-    const gpu::PtTables tables{nullptr, texels.data(), nullptr};
-    const glm::uvec4 entry(0u, static_cast<uint32_t>(w), static_cast<uint32_t>(h),
-                           tex.tableFlags());
-    const uint32_t wrapS = (entry.w >> gpu::kTextureWrapSShift) & 3u;
-    const uint32_t wrapT = (entry.w >> gpu::kTextureWrapTShift) & 3u;
-    // Any texel index to the texel the sampler reads there (wrapTexel takes [-1, 2n]).
-    auto wrap = [](int i, int extent, uint32_t mode) {
-      if (mode != gpu::kTextureClampToEdge) i = ((i % (2 * extent)) + 2 * extent) % (2 * extent);
-      return gpu::wrapTexel(i, extent, mode);
-    };
-    // Each byte value decoded as the shared texel read decodes it.
-    std::array<float, 256> decoded;
-    for (uint32_t v = 0; v < 256; ++v) {
-      const gpu::PtTables one{nullptr, &v, nullptr};
-      decoded[v] = gpu::srgbTexel(one, glm::uvec4(0u, 1u, 1u, entry.w), glm::ivec2(0)).r;
-    }
+    const EmissiveTexels e =
+        emissiveTexels(scene->textures[static_cast<size_t>(m.emissiveTexture)], &texels);
     const size_t tris = d.indexCount / 3;
     d.emissiveMean.resize(tris);
     for (size_t t = 0; t < tris; ++t) {
       const uint32_t* idx = &scene->indices[d.firstIndex + t * 3];
       // Corners in texel space: texel (i, j) has its centre at (i, j).
       glm::vec2 q[3];
-      for (int k = 0; k < 3; ++k) q[k] = scene->vertices[idx[k]].uv * glm::vec2(w, h) - 0.5f;
-      // The texels whose centres lie in the triangle (wrapped as the sampler wraps them).
-      const glm::vec2 lo = glm::min(q[0], glm::min(q[1], q[2]));
-      const glm::vec2 hi = glm::max(q[0], glm::max(q[1], q[2]));
-      const float area2 =
-          (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
-      glm::dvec3 sum(0.0);
-      size_t count = 0;
-      const double box =
-          (std::floor(static_cast<double>(hi.x)) - std::ceil(static_cast<double>(lo.x)) + 1.0) *
-          (std::floor(static_cast<double>(hi.y)) - std::ceil(static_cast<double>(lo.y)) + 1.0);
-      if (area2 != 0.0f && std::isfinite(area2) && box < 16.0 * 1024.0 * 1024.0) {
-        const float sign = area2 > 0.0f ? 1.0f : -1.0f;
-        for (int y = static_cast<int>(std::ceil(lo.y)); y <= static_cast<int>(std::floor(hi.y));
-             ++y)
-          for (int x = static_cast<int>(std::ceil(lo.x)); x <= static_cast<int>(std::floor(hi.x));
-               ++x) {
-            const glm::vec2 p(static_cast<float>(x), static_cast<float>(y));
-            bool inside = true;
-            for (int k = 0; k < 3 && inside; ++k) {
-              const glm::vec2 e = q[(k + 1) % 3] - q[k], r = p - q[k];
-              inside = sign * (e.x * r.y - e.y * r.x) >= 0.0f;
-            }
-            if (!inside) continue;
-            const int tx = wrap(x, w, wrapS), ty = wrap(y, h, wrapT);
-            const uint8_t* c = &tex.rgba8[(static_cast<size_t>(ty) * static_cast<size_t>(w) +
-                                           static_cast<size_t>(tx)) *
-                                          4];
-            sum += glm::dvec3(decoded[c[0]], decoded[c[1]], decoded[c[2]]);
-            ++count;
-          }
-      }
-      if (count >= 4) {
-        d.emissiveMean[t] = glm::vec3(sum / static_cast<double>(count));
+      for (int k = 0; k < 3; ++k) q[k] = scene->vertices[idx[k]].uv * glm::vec2(e.w, e.h) - 0.5f;
+      glm::dvec3 mean(0.0);
+      if (texelCentreMean(e, q, &mean) >= 4) {
+        d.emissiveMean[t] = glm::vec3(mean);
         continue;
       }
-      // Fewer than four texel centres inside: the bilinear texture at a grid of 8 x 8
-      // points, spread by the path tracer's uniform map from the unit square to the
-      // triangle (pathtrace_shading.h).
-      const glm::vec2 a = scene->vertices[idx[0]].uv, b = scene->vertices[idx[1]].uv,
-                      c = scene->vertices[idx[2]].uv;
-      constexpr int kGrid = 8;
-      sum = glm::dvec3(0.0);
-      for (int i = 0; i < kGrid; ++i)
-        for (int j = 0; j < kGrid; ++j) {
-          const float sq = std::sqrt((static_cast<float>(i) + 0.5f) / kGrid);
-          const float u2 = (static_cast<float>(j) + 0.5f) / kGrid;
-          const glm::vec2 uv = a + (b - a) * (sq * (1.0f - u2)) + (c - a) * (sq * u2);
-          sum += glm::dvec3(glm::vec3(gpu::sampleTexture(tables, entry, uv)));
-        }
-      d.emissiveMean[t] = glm::vec3(sum / static_cast<double>(kGrid * kGrid));
+      // Fewer than four texel centres inside: the texture sampled over the triangle.
+      d.emissiveMean[t] = sampledMean(e, scene->vertices[idx[0]].uv, scene->vertices[idx[1]].uv,
+                                      scene->vertices[idx[2]].uv);
     }
     measured += tris;
   }
