@@ -60,6 +60,15 @@ bool hasGlExtension(const char* name) {
   return false;
 }
 
+// Emission is stored in fixed point relative to the scene's brightest emitter:
+// the scale that maps it to 1.
+float emissionScaleOf(const scene::Scene& s) {
+  float maxEmission = 0.0f;
+  for (const scene::Material& m : s.materials)
+    maxEmission = std::max({maxEmission, m.emission.r, m.emission.g, m.emission.b});
+  return maxEmission > 0.0f ? 1.0f / maxEmission : 1.0f;
+}
+
 }  // namespace
 
 uint32_t initialListCapacity(int resolution) {
@@ -350,12 +359,7 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   const int n = settings_.resolution;
   gridOrigin_ = s.scale.gridOrigin;
   voxelSize_ = s.scale.gridSize / static_cast<float>(n);
-
-  // Emission in fixed point relative to the scene's brightest emitter.
-  float maxEmission = 0.0f;
-  for (const scene::Material& m : s.materials)
-    maxEmission = std::max({maxEmission, m.emission.r, m.emission.g, m.emission.b});
-  const float emissionScale = maxEmission > 0.0f ? 1.0f / maxEmission : 1.0f;
+  const float emissionScale = emissionScaleOf(s);
   params_.gridOrigin = glm::vec4(gridOrigin_, voxelSize_);
   params_.gridInfo = glm::vec4(static_cast<float>(n), emissionScale, 1.0f / emissionScale, 0.0f);
 
@@ -363,6 +367,19 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   if (settings_.inspectSums) clearSums();
   nextEpoch();  // uploads params_
 
+  gpu::VoxelStats out = rasterUntilItFits(gs);
+  params_.limits.z = out.listCount;  // slots to resolve
+  glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
+  dispatch(resolve_, out.listCount);
+  glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+  listed_ = out.listCount;  // the rounds above made room for every one
+  recordStats(out);
+  if (!settings_.keepSums && !settings_.inspectSums) keepListOnly();
+  stats_.bytes = kBytesPerListEntry * uint64_t{capacity_};
+}
+
+gpu::VoxelStats VoxelizePass::rasterUntilItFits(const scene::GpuScene& gs) {
+  const int n = settings_.resolution;
   raster(gs);
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
@@ -389,11 +406,10 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
     raster(gs);
     glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
   }
-  params_.limits.z = out.listCount;  // slots to resolve
-  glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
-  dispatch(resolve_, out.listCount);
-  glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  listed_ = out.listCount;  // the rounds above made room for every one
+  return out;
+}
+
+void VoxelizePass::recordStats(const gpu::VoxelStats& out) {
   stats_.occupied = listed_;
   stats_.smallTriangles = out.smallTriangles;
   stats_.rasterTriangles = 0;
@@ -404,30 +420,30 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
       stats_.rasterTriangles += commands[i] / 3;
   }
   stats_.checksum = (static_cast<uint64_t>(out.checksumXor) << 32) | out.checksumSum;
-  const uint64_t b = bricksPerAxis(n);
+  const uint64_t b = bricksPerAxis(settings_.resolution);
   stats_.peakBytes = b * b * b * 4 + kBytesPerBrick * brickCapacity_ +
                      (kBytesPerSlot + kBytesPerListEntry) * uint64_t{capacity_} +
                      (settings_.smallTrianglesInCompute ? largeIndexBytes_ : 0);
-  if (!settings_.keepSums && !settings_.inspectSums) {
-    // Only the list stays resident, trimmed to the voxels it holds.
-    for (gl::Buffer* buffer :
-         {&brickMap_, &pool_, &sumsA_, &sumsN_, &sumsE_, &largeIndices_, &drawCommands_})
-      buffer->reset();
-    if (listed_ < capacity_) {
-      const uint32_t keep = std::max<uint32_t>(listed_, 1);
-      gl::Buffer list = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 4, nullptr);
-      gl::Buffer attributes = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 16, nullptr);
-      if (listed_ > 0) {
-        glCopyNamedBufferSubData(list_.id(), list.id(), 0, 0, static_cast<GLsizeiptr>(listed_) * 4);
-        glCopyNamedBufferSubData(attributes_.id(), attributes.id(), 0, 0,
-                                 static_cast<GLsizeiptr>(listed_) * 16);
-      }
-      list_ = std::move(list);
-      attributes_ = std::move(attributes);
-      capacity_ = keep;
+}
+
+void VoxelizePass::keepListOnly() {
+  // Only the list stays resident, trimmed to the voxels it holds.
+  for (gl::Buffer* buffer :
+       {&brickMap_, &pool_, &sumsA_, &sumsN_, &sumsE_, &largeIndices_, &drawCommands_})
+    buffer->reset();
+  if (listed_ < capacity_) {
+    const uint32_t keep = std::max<uint32_t>(listed_, 1);
+    gl::Buffer list = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 4, nullptr);
+    gl::Buffer attributes = gl::createBuffer(static_cast<GLsizeiptr>(keep) * 16, nullptr);
+    if (listed_ > 0) {
+      glCopyNamedBufferSubData(list_.id(), list.id(), 0, 0, static_cast<GLsizeiptr>(listed_) * 4);
+      glCopyNamedBufferSubData(attributes_.id(), attributes.id(), 0, 0,
+                               static_cast<GLsizeiptr>(listed_) * 16);
     }
+    list_ = std::move(list);
+    attributes_ = std::move(attributes);
+    capacity_ = keep;
   }
-  stats_.bytes = kBytesPerListEntry * uint64_t{capacity_};
 }
 
 template <typename T>

@@ -130,6 +130,13 @@ class VoxelizePass {
   void rasterSmall(const scene::GpuScene& gs);  // the compute path
   void bindSlots();
   void dispatch(const gl::Program& program, uint64_t invocations);
+  // The steps of execute(): rasters, growing the slots and bricks and rastering
+  // again until every voxel fits; returns the last raster's counters.
+  gpu::VoxelStats rasterUntilItFits(const scene::GpuScene& gs);
+  // stats_ but bytes, from the resolve's counters.
+  void recordStats(const gpu::VoxelStats& out);
+  // Frees all but the list and its attributes, trimmed to the voxels listed.
+  void keepListOnly();
 
   Settings settings_;
   const gl::Program& voxelize_;
