@@ -1,0 +1,76 @@
+// Stage medians, the stats header and the stage table without GL: stages keep
+// the order they were first seen, medians are per stage, the header's keys come
+// in the order every stats file writes them.
+#include "app/stage_report.h"
+
+#include <gtest/gtest.h>
+
+namespace voxgi::app {
+namespace {
+
+StageTimes threeFrames() {
+  StageTimes t;
+  t.add(10.0, {{"shadow", 1.0, 0.0}, {"gbuffer", 2.0, 0.0}});
+  t.add(30.0, {{"shadow", 3.0, 0.0}, {"gbuffer", 4.0, 0.0}, {"tonemap", 0.5, 0.0}});
+  t.add(20.0, {{"shadow", 2.0, 0.0}, {"gbuffer", 8.0, 0.0}});
+  return t;
+}
+
+TEST(StageTimes, MediansPerStageInFirstSeenOrder) {
+  const StageTimes t = threeFrames();
+  EXPECT_EQ(t.order(), (std::vector<std::string>{"shadow", "gbuffer", "tonemap"}));
+  EXPECT_DOUBLE_EQ(t.frameMedian(), 20.0);
+  EXPECT_EQ(t.frameMs(), (std::vector<double>{10.0, 30.0, 20.0}));
+  EXPECT_DOUBLE_EQ(t.median("shadow"), 2.0);
+  EXPECT_DOUBLE_EQ(t.median("gbuffer"), 4.0);
+  EXPECT_DOUBLE_EQ(t.median("tonemap"), 0.5);
+  EXPECT_TRUE(t.has("tonemap"));
+  EXPECT_FALSE(t.has("voxelize"));
+  EXPECT_DOUBLE_EQ(t.median("voxelize"), 0.0);
+}
+
+TEST(StageTimes, EmptyRunHasZeroMediansAndNoStages) {
+  const StageTimes t;
+  EXPECT_DOUBLE_EQ(t.frameMedian(), 0.0);
+  EXPECT_EQ(t.json().dump(), "{}");
+  EXPECT_EQ(t.table("synchronous"), "  stage              ms   (synchronous)\n");
+  EXPECT_EQ(t.columnHeads(), "");
+}
+
+TEST(StageTimes, JsonKeepsStageOrder) {
+  EXPECT_EQ(threeFrames().json().dump(), R"({"shadow":2.0,"gbuffer":4.0,"tonemap":0.5})");
+}
+
+TEST(StageTimes, TableAndColumns) {
+  const StageTimes t = threeFrames();
+  EXPECT_EQ(t.table("gpu-queries"),
+            "  stage              ms   (gpu-queries)\n"
+            "  shadow           2.00\n"
+            "  gbuffer          4.00\n"
+            "  tonemap          0.50\n");
+  EXPECT_EQ(t.columnHeads(), "     shadow    gbuffer    tonemap");
+  EXPECT_EQ(t.columnMedians(), "        2.0        4.0        0.5");
+}
+
+TEST(StatsHeader, KeysInOrderCommandOnlyWhenGiven) {
+  StatsHeader h{"", "room.gltf", "rtgi", 64, 32, "egl", "llvmpipe", "4.5"};
+  nlohmann::ordered_json j = statsHeaderJson(h);
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : j.items()) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"voxgi_version", "scene", "mode", "size", "backend",
+                                            "renderer", "gl_version"}));
+  EXPECT_EQ(j["size"].dump(), R"({"width":64,"height":32})");
+  EXPECT_EQ(j["scene"], "room.gltf");
+  EXPECT_EQ(j["gl_version"], "4.5");
+  EXPECT_FALSE(j["voxgi_version"].get<std::string>().empty());
+
+  h.command = "view";
+  j = statsHeaderJson(h);
+  auto it = j.begin();
+  ++it;
+  EXPECT_EQ(it.key(), "command");
+  EXPECT_EQ(j["command"], "view");
+}
+
+}  // namespace
+}  // namespace voxgi::app
