@@ -5,11 +5,11 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include <nlohmann/json.hpp>
 
 #include "app/cli.h"
+#include "app/stage_report.h"
 #include "core/statistics.h"
 #include "gl/debug.h"
 #include "image/image.h"
@@ -78,14 +78,8 @@ nlohmann::ordered_json effectsJson(const scene::EffectPlan& plan) {
   return out;
 }
 
-}  // namespace
-
-int runRender(const RenderOptions& o) {
-  if (o.verbose) setLogLevel(LogLevel::kDebug);
-  if (o.quiet) setLogLevel(LogLevel::kError);
-  const auto start = Clock::now();
-
-  // Everything that can be refused without GL is refused before any work.
+// Everything that can be refused without GL is refused before any work.
+void checkOutputs(const RenderOptions& o) {
   for (const std::string& out : o.outputs) {
     image::checkWritable(out);
     image::formatForPath(out);
@@ -97,16 +91,10 @@ int runRender(const RenderOptions& o) {
     if (o.render.mode != render::Mode::kRtgi || o.render.targetFps <= 0.0)
       throw UsageError("--out-mask: the work mask exists in rtgi with --target-fps only");
   }
-  const std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
+}
 
-  gl::ContextOptions co;
-  co.backend = o.backend;
-  co.width = o.render.width;
-  co.height = o.render.height;
-  auto context = gl::Context::create(co);
-  render::checkImageSize(o.render.width, o.render.height);
-
-  const auto loadStart = Clock::now();
+// The scene posed at --time, seen from --look-from when it is given.
+scene::Scene loadScene(const std::string& scenePath, const RenderOptions& o) {
   scene::Scene scene = scene::loadGltf(scenePath);
   scene.pose(o.time);
   if (o.lookFrom) {
@@ -119,35 +107,29 @@ int runRender(const RenderOptions& o) {
     scene.fitClipPlanes();
     scene.poseCamera = false;  // the viewpoint stays put; meshes and lights still move
   }
-  const double loadMs = msSince(loadStart);
+  return scene;
+}
 
-  gl::ProgramCache programs(shaderRoot());
-  const bool pathtrace = o.render.mode == render::Mode::kPathtrace;
-  render::Renderer renderer(programs, scene, o.render);
-  const scene::EffectPlan& plan = renderer.effects();
-  if (!o.quiet) {
-    std::printf("effects: %s%s\n", plan.summary().c_str(),
-                pathtrace ? " [pathtrace, the reference, renders every effect]" : "");
-    std::fflush(stdout);
-  }
-  // Untimed warm-up: drivers compile shader variants at first draw (llvmpipe
-  // JIT-compiles them), which is start-up cost, not frame cost. The path tracer
-  // warms up on one work group, not a whole image.
-  renderer.warmUp();
-  const double startupMs = msSince(start);
-  ProgressBar bar(static_cast<int64_t>(o.render.width) * o.render.height);
-  if (pathtrace && o.progress && !o.quiet && isatty(STDERR_FILENO)) {
-    renderer.setProgress([&bar](int done, int total) { bar.update(done, total); });
-  }
+// What a render measured, for the stats file and the console summary.
+struct RenderRecord {
+  std::string scenePath;
+  double loadMs = 0.0, startupMs = 0.0, totalMs = 0.0;
+  StageTimes times;
+  std::vector<double> traced;  // rtgi: each frame's traced share of the pixels
+  double samplesPerSecond = 0.0;
+  int glErrors = 0;
 
-  std::vector<double> frameMs, traced;
-  std::map<std::string, std::vector<double>> stageMs;
-  std::vector<std::string> stageOrder;
+  double tracedMedian() const { return traced.empty() ? 1.0 : median(traced); }
+};
+
+// The timed frames: frame f shows time + f / fps when the scene is animated.
+void renderFrames(const RenderOptions& o, scene::Scene& scene, render::Renderer& renderer,
+                  ProgressBar& bar, RenderRecord& record) {
   for (int f = 0; f < o.frames; ++f) {
     const auto t = Clock::now();
     // Frame f shows time + f / fps, with the animation effect (else the first pose
     // stays): meshes, lights and the camera along its path.
-    if (scene.animated() && plan.has("animation") && f > 0) {
+    if (scene.animated() && renderer.effects().has("animation") && f > 0) {
       scene.pose(o.time + f / o.fps);
       renderer.posed();
     }
@@ -155,15 +137,14 @@ int runRender(const RenderOptions& o) {
     // Only the last frame is written: the frames before it need no denoising.
     renderer.setFrameShown(f + 1 == o.frames);
     renderer.renderFrame();
-    frameMs.push_back(msSince(t));
-    if (const render::RtgiPass* rt = renderer.rtgi()) traced.push_back(rt->lastTracedFraction());
-    for (const gl::StageTime& s : renderer.lastStages()) {
-      if (!stageMs.count(s.name)) stageOrder.push_back(s.name);
-      stageMs[s.name].push_back(s.gpuMs);
-    }
+    const double ms = msSince(t);
+    if (const render::RtgiPass* rt = renderer.rtgi())
+      record.traced.push_back(rt->lastTracedFraction());
+    record.times.add(ms, renderer.lastStages());
   }
-  const double totalMs = msSince(start) - startupMs;
+}
 
+void writeImages(const RenderOptions& o, const render::Renderer& renderer) {
   for (const std::string& out : o.outputs) {
     if (image::formatForPath(out) == image::Format::kPng) {
       const auto px = renderer.readDisplay();
@@ -173,104 +154,80 @@ int runRender(const RenderOptions& o) {
       image::writeExr(out, o.render.width, o.render.height, px.data());
     }
   }
+}
 
-  if (!o.maskOutput.empty()) {
-    const render::RtgiPass* rt = renderer.rtgi();
-    const std::vector<float> mask = rt->readMask();
-    if (mask.empty())
-      throw Error("--out-mask: no work mask was computed (render more than 1 frame)");
-    std::vector<float> rgba;
-    rgba.reserve(mask.size() * 4);
-    for (float m : mask) rgba.insert(rgba.end(), {m, m, m, 1.0f});
-    if (image::formatForPath(o.maskOutput) == image::Format::kPng) {
-      std::vector<uint8_t> px;
-      px.reserve(rgba.size());
-      for (float v : rgba)
-        px.push_back(static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f));
-      image::writePng(o.maskOutput, rt->maskWidth(), rt->maskHeight(), px.data());
-    } else {
-      image::writeExr(o.maskOutput, rt->maskWidth(), rt->maskHeight(), rgba.data());
-    }
+// The rtgi work mask as a grey image.
+void writeMask(const std::string& path, const render::RtgiPass& rt) {
+  const std::vector<float> mask = rt.readMask();
+  if (mask.empty()) throw Error("--out-mask: no work mask was computed (render more than 1 frame)");
+  std::vector<float> rgba;
+  rgba.reserve(mask.size() * 4);
+  for (float m : mask) rgba.insert(rgba.end(), {m, m, m, 1.0f});
+  if (image::formatForPath(path) == image::Format::kPng) {
+    std::vector<uint8_t> px;
+    px.reserve(rgba.size());
+    for (float v : rgba)
+      px.push_back(static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f));
+    image::writePng(path, rt.maskWidth(), rt.maskHeight(), px.data());
+  } else {
+    image::writeExr(path, rt.maskWidth(), rt.maskHeight(), rgba.data());
   }
+}
 
-  const int glErrors = gl::debugErrorCount();
-  const auto& gs = renderer.gpuScene();
-  nlohmann::ordered_json stats;
-  stats["voxgi_version"] = VOXGI_VERSION;
-  stats["scene"] = scenePath;
-  stats["mode"] = render::modeName(o.render.mode);
-  stats["size"] = {{"width", o.render.width}, {"height", o.render.height}};
-  stats["backend"] = gl::backendName(context->backend());
-  stats["renderer"] = context->renderer();
-  stats["gl_version"] = context->version();
-  stats["frames"] = o.frames;
-  stats["frame_ms"] = median(frameMs);
-  stats["total_ms"] = totalMs;
-  stats["startup_ms"] = startupMs;
-  stats["load_ms"] = loadMs;
-  nlohmann::ordered_json startupStages = nlohmann::ordered_json::object();
-  for (const gl::StageTime& st : renderer.startupStages()) startupStages[st.name] = st.cpuMs;
-  stats["startup_stages"] = startupStages;
-  // Pixel samples (whole paths) per second of wall clock, over the median frame.
-  const double samplesPerSecond = pathtrace && median(frameMs) > 0.0
-                                      ? static_cast<double>(o.render.width) * o.render.height *
-                                            o.render.spp / (median(frameMs) * 1e-3)
-                                      : 0.0;
-  if (pathtrace) {
-    stats["spp"] = o.render.spp;
-    stats["samples_per_second"] = samplesPerSecond;
-    stats["seed"] = o.render.pathtrace.seed;
-    stats["max_depth"] = o.render.pathtrace.maxDepth;
-    stats["rr_depth"] = o.render.pathtrace.rrDepth;
-    stats["pt_device"] = render::pathtraceDeviceName(renderer.pathtrace()->device());
-    stats["bvh_nodes"] = renderer.pathtrace()->bvhNodes();
-    stats["emissive_triangles"] = renderer.pathtrace()->emissiveTriangles();
-    const uint64_t truncated = renderer.pathtrace()->truncatedPaths();
-    stats["truncated_paths"] = truncated;
-    if (truncated > 0)
-      logWarning(
-          strf("pathtrace: %llu of the last frame's paths ran out of loop budget and were "
-               "cut short (the image is biased dark)",
-               static_cast<unsigned long long>(truncated)));
-  }
-  if (o.render.mode == render::Mode::kRtgi) {
-    stats["interleave"] = renderer.rtgi()->settings().interleave;
-    stats["reproject"] = renderer.rtgi()->settings().reproject;
-    stats["history_cap"] = renderer.rtgi()->settings().historyCap;
-    stats["denoise"] = renderer.rtgi()->settings().denoise;
-    stats["rays"] = renderer.rtgi()->raysHitTriangles() ? "triangles" : "voxels";
-    stats["indirect"] = renderer.rtgi()->settings().indirectMethod ==
-                                render::RtgiPass::Settings::IndirectMethod::kCones
-                            ? "cones"
-                            : "rays";
-    stats["reflections"] = !renderer.rtgi()->settings().specular ? "none"
-                           : renderer.rtgi()->tracesTriangles()  ? "triangles"
-                                                                 : "voxels";
-    stats["traced_fraction"] = traced.empty() ? 1.0 : median(traced);
-    if (o.render.targetFps > 0.0)
-      stats["budget"] = {{"target_fps", o.render.targetFps},
-                         {"target_ms", 1000.0 / o.render.targetFps},
-                         {"select", renderer.rtgi()->settings().select ==
-                                            render::RtgiPass::Settings::Select::kUniform
-                                        ? "uniform"
-                                        : "mask"},
-                         {"frame_ms_median", median(frameMs)},
-                         {"frame_ms_each", frameMs},
-                         {"traced_fraction_each", traced},
-                         {"traced_fraction_median", traced.empty() ? 1.0 : median(traced)}};
-  }
-  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& name : stageOrder) stages[name] = median(stageMs[name]);
-  stats["stages"] = stages;
-  stats["stage_timing"] = gl::stageTimingMethod();
+void addPathtraceStats(nlohmann::ordered_json& stats, const RenderOptions& o,
+                       const render::Renderer& renderer, const RenderRecord& record) {
+  stats["spp"] = o.render.spp;
+  stats["samples_per_second"] = record.samplesPerSecond;
+  stats["seed"] = o.render.pathtrace.seed;
+  stats["max_depth"] = o.render.pathtrace.maxDepth;
+  stats["rr_depth"] = o.render.pathtrace.rrDepth;
+  stats["pt_device"] = render::pathtraceDeviceName(renderer.pathtrace()->device());
+  stats["bvh_nodes"] = renderer.pathtrace()->bvhNodes();
+  stats["emissive_triangles"] = renderer.pathtrace()->emissiveTriangles();
+  const uint64_t truncated = renderer.pathtrace()->truncatedPaths();
+  stats["truncated_paths"] = truncated;
+  if (truncated > 0)
+    logWarning(
+        strf("pathtrace: %llu of the last frame's paths ran out of loop budget and were "
+             "cut short (the image is biased dark)",
+             static_cast<unsigned long long>(truncated)));
+}
+
+void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const render::RtgiPass& rt,
+                  const RenderRecord& record) {
+  using Settings = render::RtgiPass::Settings;
+  stats["interleave"] = rt.settings().interleave;
+  stats["reproject"] = rt.settings().reproject;
+  stats["history_cap"] = rt.settings().historyCap;
+  stats["denoise"] = rt.settings().denoise;
+  stats["rays"] = rt.raysHitTriangles() ? "triangles" : "voxels";
+  stats["indirect"] =
+      rt.settings().indirectMethod == Settings::IndirectMethod::kCones ? "cones" : "rays";
+  stats["reflections"] = !rt.settings().specular ? "none"
+                         : rt.tracesTriangles()  ? "triangles"
+                                                 : "voxels";
+  stats["traced_fraction"] = record.tracedMedian();
+  if (o.render.targetFps > 0.0)
+    stats["budget"] = {
+        {"target_fps", o.render.targetFps},
+        {"target_ms", 1000.0 / o.render.targetFps},
+        {"select", rt.settings().select == Settings::Select::kUniform ? "uniform" : "mask"},
+        {"frame_ms_median", record.times.frameMedian()},
+        {"frame_ms_each", record.times.frameMs()},
+        {"traced_fraction_each", record.traced},
+        {"traced_fraction_median", record.tracedMedian()}};
+}
+
+void addSceneStats(nlohmann::ordered_json& stats, const RenderOptions& o, const scene::Scene& scene,
+                   const render::Renderer& renderer) {
   stats["triangles"] = scene.triangleCount();
   stats["materials"] = scene.materials.size();
   stats["textures"] = scene.textures.size();
   stats["lights"] = scene.lights.size();
-  stats["emitters"] = gs.emitterCount();
+  stats["emitters"] = renderer.gpuScene().emitterCount();
   stats["default_light"] = scene.defaultLight;
   stats["animated"] = scene.animated();
-  stats["effects"] = effectsJson(plan);
+  stats["effects"] = effectsJson(renderer.effects());
   if (scene.animated()) {
     stats["time"] = o.time;
     stats["fps"] = o.fps;
@@ -280,7 +237,11 @@ int runRender(const RenderOptions& o) {
                                            [](const scene::Light& l) { return l.moves; });
   }
   stats["scene_warnings"] = scene.warnings;
-  stats["gpu_scene_bytes"] = gs.bytes();
+}
+
+void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
+                    const render::Renderer& renderer) {
+  stats["gpu_scene_bytes"] = renderer.gpuScene().bytes();
   const render::Renderer::TextureMemory tm = renderer.textureMemory();
   stats["texture_bytes"] = {
       {"gpu", tm.gpu()}, {"gl_textures", tm.glTextures},   {"bvh_texels", tm.bvhTexels},
@@ -310,62 +271,151 @@ int runRender(const RenderOptions& o) {
                        {"refine_rays", o.render.octree.refineRays},
                        {"estimates", tree->estimates()}};
   }
+}
+
+// The stats file's contents, in the order the keys are written.
+nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& context,
+                                   const scene::Scene& scene, const render::Renderer& renderer,
+                                   const RenderRecord& record) {
+  nlohmann::ordered_json stats = statsHeaderJson(
+      {"", record.scenePath, render::modeName(o.render.mode), o.render.width, o.render.height,
+       gl::backendName(context.backend()), context.renderer(), context.version()});
+  stats["frames"] = o.frames;
+  stats["frame_ms"] = record.times.frameMedian();
+  stats["total_ms"] = record.totalMs;
+  stats["startup_ms"] = record.startupMs;
+  stats["load_ms"] = record.loadMs;
+  nlohmann::ordered_json startupStages = nlohmann::ordered_json::object();
+  for (const gl::StageTime& st : renderer.startupStages()) startupStages[st.name] = st.cpuMs;
+  stats["startup_stages"] = startupStages;
+  if (o.render.mode == render::Mode::kPathtrace) addPathtraceStats(stats, o, renderer, record);
+  if (o.render.mode == render::Mode::kRtgi) addRtgiStats(stats, o, *renderer.rtgi(), record);
+  const nlohmann::ordered_json stages = record.times.json();
+  stats["stages"] = stages;
+  stats["stage_timing"] = gl::stageTimingMethod();
+  addSceneStats(stats, o, scene, renderer);
+  addMemoryStats(stats, o, renderer);
   // Stages run once per scene (in the untimed warm-up frame): that run's time.
   for (const gl::StageTime& st : renderer.sceneStages())
     if (!stages.contains(st.name)) stats["stages"][st.name] = st.gpuMs;
-  stats["gl_errors"] = glErrors;
+  stats["gl_errors"] = record.glErrors;
+  return stats;
+}
+
+// Voxel grid and octree sizes, below the stage table.
+void printVoxelSummary(const render::Renderer& renderer) {
+  if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
+    const voxel::VoxelGridStats& vs = grid->stats();
+    std::printf("  voxels %d^3: %u occupied, %.1f MiB resident, %.1f MiB while voxelizing\n",
+                vs.resolution, vs.occupied, static_cast<double>(vs.bytes) / (1 << 20),
+                static_cast<double>(vs.peakBytes) / (1 << 20));
+  }
+  if (const voxel::Octree* tree = renderer.octree()) {
+    const voxel::OctreeStats& os = tree->stats();
+    std::printf("  octree depth %d: %u nodes, %.1f MiB (%.1f%% of the dense grid's %.1f MiB)\n",
+                os.depth, os.nodes, static_cast<double>(os.bytes) / (1 << 20),
+                100.0 * static_cast<double>(os.bytes) / static_cast<double>(os.denseBytes),
+                static_cast<double>(os.denseBytes) / (1 << 20));
+    std::printf("  voxel light: %s bounces, %d estimates per voxel, %.1f MiB to refine it\n",
+                tree->allBounces() ? "all" : std::to_string(tree->settings().bounces).c_str(),
+                tree->estimates(), static_cast<double>(os.refineBytes) / (1 << 20));
+  }
+}
+
+void printOutputs(const RenderOptions& o) {
+  for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
+  if (!o.maskOutput.empty()) std::printf("wrote %s\n", o.maskOutput.c_str());
+  if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
+  if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");
+}
+
+// The console summary: scene, stage table, sizes, timings and what was written.
+void printSummary(const RenderOptions& o, const gl::Context& context, const scene::Scene& scene,
+                  const render::Renderer& renderer, const RenderRecord& record) {
+  std::printf("%s: %zu triangles, %zu materials, %zu lights%s, %d emitter groups\n",
+              record.scenePath.c_str(), scene.triangleCount(), scene.materials.size(),
+              scene.lights.size(), scene.defaultLight ? " (default light added)" : "",
+              renderer.gpuScene().emitterCount());
+  std::printf("%s %dx%d on %s (%s)\n", render::modeName(o.render.mode), o.render.width,
+              o.render.height, gl::backendName(context.backend()), context.renderer().c_str());
+  std::fputs(record.times.table(gl::stageTimingMethod()).c_str(), stdout);
+  for (const gl::StageTime& st : renderer.sceneStages())
+    if (!record.times.has(st.name))
+      std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
+                  st.name.c_str(), st.gpuMs);
+  printVoxelSummary(renderer);
+  std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", record.times.frameMedian(),
+              o.frames);
+  if (o.render.mode == render::Mode::kPathtrace)
+    std::printf("  %d spp, %.2f M samples/s (pixel samples, whole paths)\n", o.render.spp,
+                record.samplesPerSecond * 1e-6);
+  std::printf("  load %.1f ms, start-up %.1f ms", record.loadMs, record.startupMs);
+  for (const gl::StageTime& st : renderer.startupStages())
+    std::printf(" (%s %.1f ms)", st.name.c_str(), st.cpuMs);
+  std::printf("\n");
+  if (o.render.targetFps > 0.0)
+    std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",
+                1000.0 / o.render.targetFps, record.times.frameMedian(), record.tracedMedian());
+  printOutputs(o);
+}
+
+}  // namespace
+
+int runRender(const RenderOptions& o) {
+  if (o.verbose) setLogLevel(LogLevel::kDebug);
+  if (o.quiet) setLogLevel(LogLevel::kError);
+  const auto start = Clock::now();
+  checkOutputs(o);
+  RenderRecord record;
+  record.scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
+
+  gl::ContextOptions co;
+  co.backend = o.backend;
+  co.width = o.render.width;
+  co.height = o.render.height;
+  auto context = gl::Context::create(co);
+  render::checkImageSize(o.render.width, o.render.height);
+
+  const auto loadStart = Clock::now();
+  scene::Scene scene = loadScene(record.scenePath, o);
+  record.loadMs = msSince(loadStart);
+
+  gl::ProgramCache programs(shaderRoot());
+  const bool pathtrace = o.render.mode == render::Mode::kPathtrace;
+  render::Renderer renderer(programs, scene, o.render);
+  if (!o.quiet) {
+    std::printf("effects: %s%s\n", renderer.effects().summary().c_str(),
+                pathtrace ? " [pathtrace, the reference, renders every effect]" : "");
+    std::fflush(stdout);
+  }
+  // Untimed warm-up: drivers compile shader variants at first draw (llvmpipe
+  // JIT-compiles them), which is start-up cost, not frame cost. The path tracer
+  // warms up on one work group, not a whole image.
+  renderer.warmUp();
+  record.startupMs = msSince(start);
+  ProgressBar bar(static_cast<int64_t>(o.render.width) * o.render.height);
+  if (pathtrace && o.progress && !o.quiet && isatty(STDERR_FILENO)) {
+    renderer.setProgress([&bar](int done, int total) { bar.update(done, total); });
+  }
+
+  renderFrames(o, scene, renderer, bar, record);
+  record.totalMs = msSince(start) - record.startupMs;
+
+  writeImages(o, renderer);
+  if (!o.maskOutput.empty()) writeMask(o.maskOutput, *renderer.rtgi());
+
+  record.glErrors = gl::debugErrorCount();
+  // Pixel samples (whole paths) per second of wall clock, over the median frame.
+  const double frameMedian = record.times.frameMedian();
+  if (pathtrace && frameMedian > 0.0)
+    record.samplesPerSecond =
+        static_cast<double>(o.render.width) * o.render.height * o.render.spp / (frameMedian * 1e-3);
+  const nlohmann::ordered_json stats = renderStats(o, *context, scene, renderer, record);
   if (!o.stats.empty()) image::writeText(o.stats, stats.dump(2) + "\n");
 
-  if (!o.quiet) {
-    std::printf("%s: %zu triangles, %zu materials, %zu lights%s, %d emitter groups\n",
-                scenePath.c_str(), scene.triangleCount(), scene.materials.size(),
-                scene.lights.size(), scene.defaultLight ? " (default light added)" : "",
-                gs.emitterCount());
-    std::printf("%s %dx%d on %s (%s)\n", render::modeName(o.render.mode), o.render.width,
-                o.render.height, gl::backendName(context->backend()), context->renderer().c_str());
-    std::printf("  %-10s %10s   (%s)\n", "stage", "ms", gl::stageTimingMethod());
-    for (const std::string& name : stageOrder)
-      std::printf("  %-10s %10.2f\n", name.c_str(), median(stageMs[name]));
-    for (const gl::StageTime& st : renderer.sceneStages())
-      if (!stageMs.count(st.name))
-        std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
-                    st.name.c_str(), st.gpuMs);
-    if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
-      const voxel::VoxelGridStats& vs = grid->stats();
-      std::printf("  voxels %d^3: %u occupied, %.1f MiB resident, %.1f MiB while voxelizing\n",
-                  vs.resolution, vs.occupied, static_cast<double>(vs.bytes) / (1 << 20),
-                  static_cast<double>(vs.peakBytes) / (1 << 20));
-    }
-    if (const voxel::Octree* tree = renderer.octree()) {
-      const voxel::OctreeStats& os = tree->stats();
-      std::printf("  octree depth %d: %u nodes, %.1f MiB (%.1f%% of the dense grid's %.1f MiB)\n",
-                  os.depth, os.nodes, static_cast<double>(os.bytes) / (1 << 20),
-                  100.0 * static_cast<double>(os.bytes) / static_cast<double>(os.denseBytes),
-                  static_cast<double>(os.denseBytes) / (1 << 20));
-      std::printf("  voxel light: %s bounces, %d estimates per voxel, %.1f MiB to refine it\n",
-                  tree->allBounces() ? "all" : std::to_string(tree->settings().bounces).c_str(),
-                  tree->estimates(), static_cast<double>(os.refineBytes) / (1 << 20));
-    }
-    std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", median(frameMs),
-                o.frames);
-    if (pathtrace)
-      std::printf("  %d spp, %.2f M samples/s (pixel samples, whole paths)\n", o.render.spp,
-                  samplesPerSecond * 1e-6);
-    std::printf("  load %.1f ms, start-up %.1f ms", loadMs, startupMs);
-    for (const gl::StageTime& st : renderer.startupStages())
-      std::printf(" (%s %.1f ms)", st.name.c_str(), st.cpuMs);
-    std::printf("\n");
-    if (o.render.targetFps > 0.0)
-      std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",
-                  1000.0 / o.render.targetFps, median(frameMs),
-                  traced.empty() ? 1.0 : median(traced));
-    for (const std::string& out : o.outputs) std::printf("wrote %s\n", out.c_str());
-    if (!o.maskOutput.empty()) std::printf("wrote %s\n", o.maskOutput.c_str());
-    if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
-    if (o.outputs.empty()) std::printf("(no --out given: no image written)\n");
-  }
-  if (glErrors > 0) {
-    logError(strf("%d GL error(s) during the render; first: %s", glErrors,
+  if (!o.quiet) printSummary(o, *context, scene, renderer, record);
+  if (record.glErrors > 0) {
+    logError(strf("%d GL error(s) during the render; first: %s", record.glErrors,
                   gl::lastDebugError().c_str()));
     return 1;
   }
