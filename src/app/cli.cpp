@@ -90,7 +90,10 @@ std::string benchHelp() {
          "                    as for render (default mode points, size 256x256)\n";
 }
 
-std::string renderHelp() {
+namespace {
+
+// The render help: usage and the options every mode takes.
+std::string renderHelpGeneral() {
   return "usage: voxgi render [SCENE.gltf|SCENE.glb] [options]\n"
          "\n"
          "Renders SCENE (default: the built-in Cornell room) and prints per-stage timings.\n"
@@ -136,8 +139,11 @@ std::string renderHelp() {
          "                    forcing one on makes it run\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
-         "  -h, --help        this text\n"
-         "\n"
+         "  -h, --help        this text\n";
+}
+
+std::string renderHelpRtgi() {
+  return "\n"
          "rtgi and dvr:\n"
          "  --bounces N       diffuse bounces of indirect light: all (default) or 0..16.\n"
          "                    The pixel's ray gives one, the voxels hold the rest; with\n"
@@ -186,8 +192,11 @@ std::string renderHelp() {
          "  --inject-rays N   shadow rays per voxel towards emissive surfaces in the first\n"
          "                    estimate of the voxels' light (default 4; refinement adds more)\n"
          "  --bounce-rays N   rays per voxel for each voxel bounce of that estimate (default 4)\n"
-         "  --seed S          random seed (as for pathtrace)\n"
-         "\n"
+         "  --seed S          random seed (as for pathtrace)\n";
+}
+
+std::string renderHelpPathtrace() {
+  return "\n"
          "pathtrace:\n"
          "  --spp N           samples per pixel of one frame (default 64: enough to judge\n"
          "                    an image; the references of tools/sweep use 2048)\n"
@@ -199,7 +208,13 @@ std::string renderHelp() {
          "                    gl in a compute shader; auto takes cpu when GL is a software\n"
          "                    renderer (llvmpipe, softpipe) and gl on a GPU\n"
          "  --pt-threads N    cpu device: worker threads (default: one per core)\n"
-         "  --no-progress     no progress bar (shown on stderr only when it is a terminal)\n"
+         "  --no-progress     no progress bar (shown on stderr only when it is a terminal)\n";
+}
+
+}  // namespace
+
+std::string renderHelp() {
+  return renderHelpGeneral() + renderHelpRtgi() + renderHelpPathtrace() +
          "\n"
          "Exit status: 0 on success, 1 on bad input or a failed render, 2 on a usage error.\n";
 }
