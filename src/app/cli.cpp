@@ -317,10 +317,14 @@ std::string checkHelp() {
 
 namespace {
 
-// The options `render` and `view` share (mode, size, tonemap, voxels); true if `a`
-// was one of them. `value` returns the option's argument.
-bool parseRenderSetting(const std::string& a, const std::function<std::string()>& value,
-                        render::RenderSettings* rs) {
+bool parseOnOff(const std::string& option, const std::string& v) {
+  if (v != "on" && v != "off") throw UsageError(option + ": expected on or off, got '" + v + "'");
+  return v == "on";
+}
+
+// Mode, size and display: true if `a` was one of them.
+bool parseImageSetting(const std::string& a, const std::function<std::string()>& value,
+                       render::RenderSettings* rs) {
   if (a == "--mode") {
     const std::string m = value();
     auto mode = render::parseMode(m);
@@ -340,7 +344,26 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     auto op = render::parseTonemap(t);
     if (!op) throw UsageError("--tonemap: unknown operator '" + t + "' (clamp, aces)");
     rs->tonemap.op = *op;
-  } else if (a == "--voxels") {
+  } else if (a == "--no-jitter") {
+    rs->jitter = false;
+  } else if (a == "--effects") {
+    const std::string v = value();
+    try {
+      scene::checkOverrides(v);
+    } catch (const Error& e) {
+      throw UsageError(e.what());
+    }
+    rs->effects += (rs->effects.empty() ? "" : ",") + v;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The voxel grid and the octree's light: true if `a` was one of them.
+bool parseVoxelSetting(const std::string& a, const std::function<std::string()>& value,
+                       render::RenderSettings* rs) {
+  if (a == "--voxels") {
     rs->voxels = parseInt("--voxels", value(), 32, 512);
   } else if (a == "--revoxelize") {
     rs->revoxelize = true;
@@ -356,11 +379,23 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
     if (v != "all" && (r.ec != std::errc() || r.ptr != v.data() + v.size() || n < 0 || n > 16))
       throw UsageError("--bounces: '" + v + "' is neither all nor an integer in [0, 16]");
     rs->octree.bounces = v == "all" ? voxel::Octree::Settings::kAllBounces : n;
-  } else if (a == "--no-jitter") {
-    rs->jitter = false;
   } else if (a == "--refine-rays") {
     rs->octree.refineRays = parseInt("--refine-rays", value(), 0, 1024);
-  } else if (a == "--interleave") {
+  } else if (a == "--inject-rays") {
+    rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
+  } else if (a == "--bounce-rays") {
+    rs->octree.bounceRays = parseInt("--bounce-rays", value(), 1, 1024);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// rtgi's rays, history and frame budget: true if `a` was one of them.
+bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& value,
+                      render::RenderSettings* rs) {
+  using Settings = render::RtgiPass::Settings;
+  if (a == "--interleave") {
     const int n = parseInt("--interleave", value(), 1, 16);
     if ((n & (n - 1)) != 0) throw UsageError("--interleave: must be 1, 2, 4, 8 or 16");
     rs->rtgi.interleave = n;
@@ -378,46 +413,37 @@ bool parseRenderSetting(const std::string& a, const std::function<std::string()>
   } else if (a == "--indirect") {
     const std::string v = value();
     if (v == "rays")
-      rs->rtgi.indirectMethod = render::RtgiPass::Settings::IndirectMethod::kRays;
+      rs->rtgi.indirectMethod = Settings::IndirectMethod::kRays;
     else if (v == "cones")
-      rs->rtgi.indirectMethod = render::RtgiPass::Settings::IndirectMethod::kCones;
+      rs->rtgi.indirectMethod = Settings::IndirectMethod::kCones;
     else
       throw UsageError("--indirect: unknown method '" + v + "' (rays, cones)");
   } else if (a == "--reproject") {
-    const std::string v = value();
-    if (v != "on" && v != "off")
-      throw UsageError("--reproject: expected on or off, got '" + v + "'");
-    rs->rtgi.reproject = v == "on";
+    rs->rtgi.reproject = parseOnOff("--reproject", value());
   } else if (a == "--denoise") {
-    const std::string v = value();
-    if (v != "on" && v != "off") throw UsageError("--denoise: expected on or off, got '" + v + "'");
-    rs->rtgi.denoise = v == "on";
+    rs->rtgi.denoise = parseOnOff("--denoise", value());
   } else if (a == "--history-cap") {
     rs->rtgi.historyCap = parseInt("--history-cap", value(), 1, 1 << 20);
   } else if (a == "--budget-select") {
     const std::string v = value();
     if (v == "mask")
-      rs->rtgi.select = render::RtgiPass::Settings::Select::kMask;
+      rs->rtgi.select = Settings::Select::kMask;
     else if (v == "uniform")
-      rs->rtgi.select = render::RtgiPass::Settings::Select::kUniform;
+      rs->rtgi.select = Settings::Select::kUniform;
     else
       throw UsageError("--budget-select: unknown '" + v + "' (mask, uniform)");
-  } else if (a == "--inject-rays") {
-    rs->octree.injectRays = parseInt("--inject-rays", value(), 1, 1024);
-  } else if (a == "--bounce-rays") {
-    rs->octree.bounceRays = parseInt("--bounce-rays", value(), 1, 1024);
-  } else if (a == "--effects") {
-    const std::string v = value();
-    try {
-      scene::checkOverrides(v);
-    } catch (const Error& e) {
-      throw UsageError(e.what());
-    }
-    rs->effects += (rs->effects.empty() ? "" : ",") + v;
   } else {
     return false;
   }
   return true;
+}
+
+// The options `render` and `view` share (mode, size, tonemap, voxels); true if `a`
+// was one of them. `value` returns the option's argument.
+bool parseRenderSetting(const std::string& a, const std::function<std::string()>& value,
+                        render::RenderSettings* rs) {
+  return parseImageSetting(a, value, rs) || parseVoxelSetting(a, value, rs) ||
+         parseRtgiSetting(a, value, rs);
 }
 
 Invocation parseView(const std::vector<std::string>& args) {
@@ -521,65 +547,120 @@ Invocation parseCompare(const std::vector<std::string>& args) {
   return inv;
 }
 
-}  // namespace
+// "128,256": the voxel grid resolutions `bench` measures.
+std::vector<int> parseVoxelList(const std::string& v) {
+  std::vector<int> voxels;
+  size_t start = 0;
+  while (start <= v.size()) {
+    const size_t comma = v.find(',', start);
+    const std::string item =
+        v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    voxels.push_back(parseInt("--voxels", item, 32, 512));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return voxels;
+}
 
-Invocation parseCommandLine(const std::vector<std::string>& args) {
+// The render options, plus a list of resolutions and a JSON file.
+Invocation parseBench(const std::vector<std::string>& args) {
   Invocation inv;
-  if (args.empty()) return inv;
-  const std::string& cmd = args[0];
-  if (cmd == "-h" || cmd == "--help" || cmd == "help") return inv;
-  if (cmd == "--version" || cmd == "-V") {
-    inv.command = Command::kVersion;
-    return inv;
-  }
-  if (cmd == "view") return parseView(args);
-  if (cmd == "bench") {
-    // The render options, plus a list of resolutions and a JSON file.
-    std::vector<std::string> rest = {"render",  "--mode",   "points", "--size",
-                                     "256x256", "--frames", "5"};
-    BenchOptions bench;
-    bench.voxels = {128, 256};
-    for (size_t i = 1; i < args.size(); ++i) {
-      const std::string& a = args[i];
-      if (a == "-h" || a == "--help") {
-        inv.helpTopic = "bench";
-        return inv;
-      }
-      if (a == "--voxels" || a == "--json") {
-        if (i + 1 >= args.size()) throw UsageError(a + ": needs a value");
-        const std::string v = args[++i];
-        if (a == "--json") {
-          bench.json = v;
-          continue;
-        }
-        bench.voxels.clear();
-        size_t start = 0;
-        while (start <= v.size()) {
-          const size_t comma = v.find(',', start);
-          const std::string item =
-              v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-          bench.voxels.push_back(parseInt("--voxels", item, 32, 512));
-          if (comma == std::string::npos) break;
-          start = comma + 1;
-        }
-        continue;
-      }
-      if (a == "--out" || a == "--stats" || a == "--revoxelize")
-        throw UsageError(a + ": not a bench option (see voxgi bench --help)");
-      rest.push_back(a);
+  std::vector<std::string> rest = {"render",  "--mode",   "points", "--size",
+                                   "256x256", "--frames", "5"};
+  BenchOptions bench;
+  bench.voxels = {128, 256};
+  for (size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      inv.helpTopic = "bench";
+      return inv;
     }
-    bench.render = parseCommandLine(rest).render;
-    inv.bench = bench;
-    inv.command = Command::kBench;
-    return inv;
+    if (a == "--voxels" || a == "--json") {
+      if (i + 1 >= args.size()) throw UsageError(a + ": needs a value");
+      const std::string v = args[++i];
+      if (a == "--json")
+        bench.json = v;
+      else
+        bench.voxels = parseVoxelList(v);
+      continue;
+    }
+    if (a == "--out" || a == "--stats" || a == "--revoxelize")
+      throw UsageError(a + ": not a bench option (see voxgi bench --help)");
+    rest.push_back(a);
   }
-  if (cmd == "compare") return parseCompare(args);
-  if (cmd == "check") return parseCheck(args);
-  if (cmd != "render") {
-    if (!cmd.empty() && cmd[0] == '-')
-      throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");
-    throw UsageError("unknown command '" + cmd + "' (see voxgi --help)");
+  bench.render = parseCommandLine(rest).render;
+  inv.bench = bench;
+  inv.command = Command::kBench;
+  return inv;
+}
+
+// The path tracer's samples, seed, depths and device: true if `a` was one of them.
+bool parsePathtraceOption(const std::string& a, const std::function<std::string()>& value,
+                          render::RenderSettings& rs) {
+  if (a == "--spp") {
+    rs.spp = parseInt("--spp", value(), 1, 1 << 20);
+  } else if (a == "--seed") {
+    const auto seed = static_cast<uint32_t>(parseInt("--seed", value(), 0, 2147483647));
+    rs.pathtrace.seed = seed;
+    rs.rtgi.seed = seed;
+    rs.octree.seed = seed;
+  } else if (a == "--max-depth") {
+    rs.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
+  } else if (a == "--rr-depth") {
+    rs.pathtrace.rrDepth = parseInt("--rr-depth", value(), 1, 1024);
+  } else if (a == "--pt-device") {
+    const std::string d = value();
+    if (d != "auto" && d != "cpu" && d != "gl")
+      throw UsageError("--pt-device: expected auto, cpu or gl, got '" + d + "'");
+    rs.pathtrace.device = render::parsePathtraceDevice(d);
+  } else if (a == "--pt-threads") {
+    rs.pathtrace.threads = parseInt("--pt-threads", value(), 1, 1024);
+  } else {
+    return false;
   }
+  return true;
+}
+
+// The options only `render` takes (outputs, frames, backend, animation time, the
+// path tracer's): true if `a` was one of them.
+bool parseRenderOnlyOption(const std::string& a, const std::function<std::string()>& value,
+                           RenderOptions& o) {
+  if (a == "--out" || a == "-o") {
+    o.outputs.push_back(value());
+  } else if (a == "--stats") {
+    o.stats = value();
+  } else if (a == "--out-mask") {
+    o.maskOutput = value();
+  } else if (a == "--frames") {
+    o.frames = parseInt("--frames", value(), 1, 100000);
+  } else if (a == "--backend") {
+    const std::string b = value();
+    auto backend = gl::parseBackend(b);
+    if (!backend) throw UsageError("--backend: unknown backend '" + b + "' (egl, osmesa, glfw)");
+    o.backend = *backend;
+  } else if (a == "--time") {
+    o.time = parseFloat("--time", value());
+  } else if (a == "--fps") {
+    o.fps = parseFloat("--fps", value());
+    if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
+  } else if (a == "--look-from") {
+    o.lookFrom = parseVec3("--look-from", value());
+  } else if (a == "--look-at") {
+    o.lookAt = parseVec3("--look-at", value());
+  } else if (a == "--no-progress") {
+    o.progress = false;
+  } else if (a == "--verbose" || a == "-v") {
+    o.verbose = true;
+  } else if (a == "--quiet" || a == "-q") {
+    o.quiet = true;
+  } else {
+    return parsePathtraceOption(a, value, o.render);
+  }
+  return true;
+}
+
+Invocation parseRender(const std::vector<std::string>& args) {
+  Invocation inv;
   inv.command = Command::kRender;
   RenderOptions& o = inv.render;
   o.render.width = 512;
@@ -597,53 +678,7 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
       inv.command = Command::kHelp;
       inv.helpTopic = "render";
       return inv;
-    } else if (parseRenderSetting(a, value, &o.render)) {
-    } else if (a == "--out" || a == "-o") {
-      o.outputs.push_back(value());
-    } else if (a == "--stats") {
-      o.stats = value();
-    } else if (a == "--out-mask") {
-      o.maskOutput = value();
-    } else if (a == "--frames") {
-      o.frames = parseInt("--frames", value(), 1, 100000);
-    } else if (a == "--backend") {
-      const std::string b = value();
-      auto backend = gl::parseBackend(b);
-      if (!backend) throw UsageError("--backend: unknown backend '" + b + "' (egl, osmesa, glfw)");
-      o.backend = *backend;
-    } else if (a == "--time") {
-      o.time = parseFloat("--time", value());
-    } else if (a == "--fps") {
-      o.fps = parseFloat("--fps", value());
-      if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
-    } else if (a == "--spp") {
-      o.render.spp = parseInt("--spp", value(), 1, 1 << 20);
-    } else if (a == "--seed") {
-      const auto seed = static_cast<uint32_t>(parseInt("--seed", value(), 0, 2147483647));
-      o.render.pathtrace.seed = seed;
-      o.render.rtgi.seed = seed;
-      o.render.octree.seed = seed;
-    } else if (a == "--max-depth") {
-      o.render.pathtrace.maxDepth = parseInt("--max-depth", value(), 1, 1024);
-    } else if (a == "--rr-depth") {
-      o.render.pathtrace.rrDepth = parseInt("--rr-depth", value(), 1, 1024);
-    } else if (a == "--pt-device") {
-      const std::string d = value();
-      if (d != "auto" && d != "cpu" && d != "gl")
-        throw UsageError("--pt-device: expected auto, cpu or gl, got '" + d + "'");
-      o.render.pathtrace.device = render::parsePathtraceDevice(d);
-    } else if (a == "--pt-threads") {
-      o.render.pathtrace.threads = parseInt("--pt-threads", value(), 1, 1024);
-    } else if (a == "--look-from") {
-      o.lookFrom = parseVec3("--look-from", value());
-    } else if (a == "--look-at") {
-      o.lookAt = parseVec3("--look-at", value());
-    } else if (a == "--no-progress") {
-      o.progress = false;
-    } else if (a == "--verbose" || a == "-v") {
-      o.verbose = true;
-    } else if (a == "--quiet" || a == "-q") {
-      o.quiet = true;
+    } else if (parseRenderSetting(a, value, &o.render) || parseRenderOnlyOption(a, value, o)) {
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "' (see voxgi render --help)");
     } else if (o.scene.empty()) {
@@ -658,6 +693,29 @@ Invocation parseCommandLine(const std::vector<std::string>& args) {
   if (o.lookFrom && *o.lookFrom == *o.lookAt)
     throw UsageError("--look-from and --look-at: the same point");
   return inv;
+}
+
+}  // namespace
+
+Invocation parseCommandLine(const std::vector<std::string>& args) {
+  Invocation inv;
+  if (args.empty()) return inv;
+  const std::string& cmd = args[0];
+  if (cmd == "-h" || cmd == "--help" || cmd == "help") return inv;
+  if (cmd == "--version" || cmd == "-V") {
+    inv.command = Command::kVersion;
+    return inv;
+  }
+  if (cmd == "view") return parseView(args);
+  if (cmd == "bench") return parseBench(args);
+  if (cmd == "compare") return parseCompare(args);
+  if (cmd == "check") return parseCheck(args);
+  if (cmd != "render") {
+    if (!cmd.empty() && cmd[0] == '-')
+      throw UsageError("unknown option '" + cmd + "' (see voxgi --help)");
+    throw UsageError("unknown command '" + cmd + "' (see voxgi --help)");
+  }
+  return parseRender(args);
 }
 
 }  // namespace voxgi::app
