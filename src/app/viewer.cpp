@@ -1,5 +1,4 @@
 #include "app/viewer.h"
-#include "core/statistics.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -13,7 +12,6 @@
 #include <ctime>
 #include <deque>
 #include <filesystem>
-#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +19,7 @@
 #include "app/fly_camera.h"
 #include "app/imgui_layer.h"
 #include "app/screenshot.h"
+#include "app/stage_report.h"
 #include "gl/debug.h"
 #include "image/image.h"
 #include "scene/gltf_loader.h"
@@ -149,7 +148,25 @@ class Viewer {
   // Returns whether the user moved or turned the camera.
   bool flyCamera(float seconds);
   void animate(double seconds);
+  // run()'s steps: refuse bad outputs, load, open the window, start the renderer,
+  // loop until an end, then write what was asked for.
+  std::optional<ScreenshotPaths> checkOutputs() const;
+  void loadScene();
+  void openWindow();
+  void startRenderer();
+  std::string loop();
+  // One frame drawn into a w x h window, with its timings recorded.
+  void drawFrame(int w, int h);
+  int finish(const std::optional<ScreenshotPaths>& named, const std::string& endedBy);
+
   void drawPanel();
+  void drawModes(const render::RenderSettings& rs);
+  void drawShaderStatus();
+  void drawEffectPlan();
+  void drawSceneFacts();
+  void drawMemory();
+  void drawCamera();
+  void drawRunControls();
   void drawKnobs();
   void drawTimings();
   void takeScreenshot(const ScreenshotPaths& paths);
@@ -191,9 +208,7 @@ class Viewer {
   std::string sceneError_;
   std::vector<std::string> screenshots_;
   std::deque<FrameSample> history_;
-  std::vector<double> frameMs_;
-  std::map<std::string, std::vector<double>> stageMs_;
-  std::vector<std::string> stageOrder_;
+  StageTimes times_;
 };
 
 void Viewer::onKey(GLFWwindow* w, int key, int, int action, int) {
@@ -442,105 +457,86 @@ void Viewer::drawTimings() {
   ImGui::PopItemWidth();
 }
 
-void Viewer::drawPanel() {
-  ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(360.0f, 0.0f), ImGuiCond_FirstUseEver);
-  // Never taller than the window, so nothing is out of reach (it scrolls instead).
-  const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 16.0f, 100.0f);
-  ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 100.0f), ImVec2(4096.0f, maxHeight));
-  ImGui::Begin("voxgi view (tab hides)");
-  const render::RenderSettings& rs = renderer_->settings();
-  ImGui::TextWrapped("%s", context_->renderer().c_str());
-  ImGui::Text("GL %s, glfw", context_->version().c_str());
-  const double lastMs = history_.empty() ? 0.0 : history_.back().frameMs;
-  ImGui::Text("%dx%d, %.1f ms per frame", rs.width, rs.height, lastMs);
-  ImGui::Text("frame %d, %d accumulated", frame_ + 1, renderer_->accumulatedFrames());
+void Viewer::drawModes(const render::RenderSettings& rs) {
+  for (int slot = 1; slot <= kModeSlots; ++slot) {
+    const char* name = modeForSlot(slot);
+    const auto mode = name ? render::parseMode(name) : std::nullopt;
+    const std::string label =
+        strf("%d %s%s", slot, name ? name : "reserved", mode ? "" : "  (not in this build)");
+    if (!mode) ImGui::BeginDisabled();
+    if (ImGui::RadioButton(label.c_str(), mode && *mode == rs.mode)) selectSlot(slot);
+    if (!mode) ImGui::EndDisabled();
+  }
+  if (!modeMessage_.empty())
+    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", modeMessage_.c_str());
+}
 
-  if (ImGui::CollapsingHeader("Mode (keys 1-6)", ImGuiTreeNodeFlags_DefaultOpen)) {
-    for (int slot = 1; slot <= kModeSlots; ++slot) {
-      const char* name = modeForSlot(slot);
-      const auto mode = name ? render::parseMode(name) : std::nullopt;
-      const std::string label =
-          strf("%d %s%s", slot, name ? name : "reserved", mode ? "" : "  (not in this build)");
-      if (!mode) ImGui::BeginDisabled();
-      if (ImGui::RadioButton(label.c_str(), mode && *mode == rs.mode)) selectSlot(slot);
-      if (!mode) ImGui::EndDisabled();
-    }
-    if (!modeMessage_.empty())
-      ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", modeMessage_.c_str());
-  }
-  if (ImGui::CollapsingHeader("Knobs", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Text("size %dx%d (follows the window)", rs.width, rs.height);
-    drawKnobs();
-    ImGui::TextDisabled("keys: + - exposure, t tonemap");
-  }
-  if (ImGui::CollapsingHeader("Frame time per stage (GPU)", ImGuiTreeNodeFlags_DefaultOpen))
-    drawTimings();
-  if (ImGui::CollapsingHeader("Shaders (hot reload)", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::TextWrapped("%s: %zu programs", programs_->root().string().c_str(), programs_->size());
-    ImGui::Text("reloads: %d ok, %d failed", reloadsOk_, reloadsFailed_);
-    if (!shaderError_.empty()) {
-      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
-      ImGui::TextWrapped("%s", shaderError_.c_str());
-      ImGui::PopStyleColor();
-      ImGui::TextDisabled("the last good program keeps running");
-    }
-  }
-  if (!sceneError_.empty()) {
+void Viewer::drawShaderStatus() {
+  ImGui::TextWrapped("%s: %zu programs", programs_->root().string().c_str(), programs_->size());
+  ImGui::Text("reloads: %d ok, %d failed", reloadsOk_, reloadsFailed_);
+  if (!shaderError_.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
-    ImGui::TextWrapped("%s", sceneError_.c_str());
+    ImGui::TextWrapped("%s", shaderError_.c_str());
     ImGui::PopStyleColor();
-    ImGui::TextDisabled("the last good scene stays");
+    ImGui::TextDisabled("the last good program keeps running");
   }
-  if (ImGui::CollapsingHeader("Effect plan", ImGuiTreeNodeFlags_DefaultOpen)) {
-    const scene::EffectPlan& plan = renderer_->effects();
-    for (const std::string& name : scene::effectNames()) {
-      auto skip = plan.skipped.find(name);
-      if (skip == plan.skipped.end())
-        ImGui::Text("on   %s", name.c_str());
-      else
-        ImGui::TextDisabled("off  %s: %s", name.c_str(), skip->second.c_str());
-    }
-    ImGui::TextDisabled("--effects +name,-name overrides; pathtrace renders every effect");
+}
+
+void Viewer::drawEffectPlan() {
+  const scene::EffectPlan& plan = renderer_->effects();
+  for (const std::string& name : scene::effectNames()) {
+    auto skip = plan.skipped.find(name);
+    if (skip == plan.skipped.end())
+      ImGui::Text("on   %s", name.c_str());
+    else
+      ImGui::TextDisabled("off  %s: %s", name.c_str(), skip->second.c_str());
   }
-  if (ImGui::CollapsingHeader("Scene facts")) {
-    const scene::Scene& s = *scene_;
-    const SceneFacts f(s);
-    ImGui::TextDisabled("what the effect plan is derived from");
-    ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(), s.materials.size(),
-                s.textures.size());
-    ImGui::Text("lights: %d directional, %d point, %d spot%s", f.directional, f.point, f.spot,
-                s.defaultLight ? " (default light added)" : "");
-    ImGui::Text("emissive materials: %d (%d emitter groups)", f.emissiveMaterials,
-                renderer_->gpuScene().emitterCount());
-    ImGui::Text("alpha: %d masked, %d blended materials", f.maskedMaterials, f.blendedMaterials);
-    const glm::vec3 e = s.bounds.extent();
-    ImGui::Text("bounds %.3g x %.3g x %.3g", e.x, e.y, e.z);
+  ImGui::TextDisabled("--effects +name,-name overrides; pathtrace renders every effect");
+}
+
+void Viewer::drawSceneFacts() {
+  const scene::Scene& s = *scene_;
+  const SceneFacts f(s);
+  ImGui::TextDisabled("what the effect plan is derived from");
+  ImGui::Text("%zu triangles, %zu materials, %zu textures", s.triangleCount(), s.materials.size(),
+              s.textures.size());
+  ImGui::Text("lights: %d directional, %d point, %d spot%s", f.directional, f.point, f.spot,
+              s.defaultLight ? " (default light added)" : "");
+  ImGui::Text("emissive materials: %d (%d emitter groups)", f.emissiveMaterials,
+              renderer_->gpuScene().emitterCount());
+  ImGui::Text("alpha: %d masked, %d blended materials", f.maskedMaterials, f.blendedMaterials);
+  const glm::vec3 e = s.bounds.extent();
+  ImGui::Text("bounds %.3g x %.3g x %.3g", e.x, e.y, e.z);
+}
+
+void Viewer::drawMemory() {
+  ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
+  const render::Renderer::TextureMemory tm = renderer_->textureMemory();
+  ImGui::Text("textures: %s on the GPU, %s on the CPU", mib(tm.gpu()).c_str(),
+              mib(tm.cpu()).c_str());
+  ImGui::Text("render targets: %s", mib(renderer_->targetBytes()).c_str());
+  if (const voxel::VoxelizePass* grid = renderer_->voxelGrid()) {
+    const voxel::VoxelGridStats& v = grid->stats();
+    ImGui::Text("voxel grid %d^3: %u occupied, %s resident, %s while voxelizing", v.resolution,
+                v.occupied, mib(v.bytes).c_str(), mib(v.peakBytes).c_str());
+  } else {
+    ImGui::Text("voxel structures: none (no mode used so far reads voxels)");
   }
-  if (ImGui::CollapsingHeader("Memory")) {
-    ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
-    const render::Renderer::TextureMemory tm = renderer_->textureMemory();
-    ImGui::Text("textures: %s on the GPU, %s on the CPU", mib(tm.gpu()).c_str(),
-                mib(tm.cpu()).c_str());
-    ImGui::Text("render targets: %s", mib(renderer_->targetBytes()).c_str());
-    if (const voxel::VoxelizePass* grid = renderer_->voxelGrid()) {
-      const voxel::VoxelGridStats& v = grid->stats();
-      ImGui::Text("voxel grid %d^3: %u occupied, %s resident, %s while voxelizing", v.resolution,
-                  v.occupied, mib(v.bytes).c_str(), mib(v.peakBytes).c_str());
-    } else {
-      ImGui::Text("voxel structures: none (no mode used so far reads voxels)");
-    }
-  }
-  if (ImGui::CollapsingHeader("Camera")) {
-    const scene::Camera& c = camera_->camera();
-    ImGui::Text("position %.3g %.3g %.3g", c.position.x, c.position.y, c.position.z);
-    ImGui::Text("forward %.3f %.3f %.3f", c.forward.x, c.forward.y, c.forward.z);
-    ImGui::Text("speed %.3g units/s (Shift x4, Ctrl x1/4)", camera_->speed());
-    ImGui::TextDisabled("WASD move, Q/E down/up, right mouse look, r reset");
-    if (scene_->cameraMoves)
-      ImGui::Text(followPath_ ? "following the file's camera path (flying leaves it)"
-                              : "free camera (r returns to the camera path)");
-  }
+}
+
+void Viewer::drawCamera() {
+  const scene::Camera& c = camera_->camera();
+  ImGui::Text("position %.3g %.3g %.3g", c.position.x, c.position.y, c.position.z);
+  ImGui::Text("forward %.3f %.3f %.3f", c.forward.x, c.forward.y, c.forward.z);
+  ImGui::Text("speed %.3g units/s (Shift x4, Ctrl x1/4)", camera_->speed());
+  ImGui::TextDisabled("WASD move, Q/E down/up, right mouse look, r reset");
+  if (scene_->cameraMoves)
+    ImGui::Text(followPath_ ? "following the file's camera path (flying leaves it)"
+                            : "free camera (r returns to the camera path)");
+}
+
+// Animation clock, frame budget, work mask, denoiser and the screenshot button.
+void Viewer::drawRunControls() {
   if (scene_->animated())
     ImGui::Text("animation %.2f s of %.2f s",
                 std::fmod(animationTime_, std::max(scene_->animationDuration, 1e-9)),
@@ -560,26 +556,55 @@ void Viewer::drawPanel() {
     ImGui::SameLine();
     ImGui::TextDisabled("%s", fs::path(screenshots_.back()).filename().string().c_str());
   }
+}
+
+void Viewer::drawPanel() {
+  ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(360.0f, 0.0f), ImGuiCond_FirstUseEver);
+  // Never taller than the window, so nothing is out of reach (it scrolls instead).
+  const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 16.0f, 100.0f);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(200.0f, 100.0f), ImVec2(4096.0f, maxHeight));
+  ImGui::Begin("voxgi view (tab hides)");
+  const render::RenderSettings& rs = renderer_->settings();
+  ImGui::TextWrapped("%s", context_->renderer().c_str());
+  ImGui::Text("GL %s, glfw", context_->version().c_str());
+  const double lastMs = history_.empty() ? 0.0 : history_.back().frameMs;
+  ImGui::Text("%dx%d, %.1f ms per frame", rs.width, rs.height, lastMs);
+  ImGui::Text("frame %d, %d accumulated", frame_ + 1, renderer_->accumulatedFrames());
+
+  if (ImGui::CollapsingHeader("Mode (keys 1-6)", ImGuiTreeNodeFlags_DefaultOpen)) drawModes(rs);
+  if (ImGui::CollapsingHeader("Knobs", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Text("size %dx%d (follows the window)", rs.width, rs.height);
+    drawKnobs();
+    ImGui::TextDisabled("keys: + - exposure, t tonemap");
+  }
+  if (ImGui::CollapsingHeader("Frame time per stage (GPU)", ImGuiTreeNodeFlags_DefaultOpen))
+    drawTimings();
+  if (ImGui::CollapsingHeader("Shaders (hot reload)", ImGuiTreeNodeFlags_DefaultOpen))
+    drawShaderStatus();
+  if (!sceneError_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.4f, 1.0f));
+    ImGui::TextWrapped("%s", sceneError_.c_str());
+    ImGui::PopStyleColor();
+    ImGui::TextDisabled("the last good scene stays");
+  }
+  if (ImGui::CollapsingHeader("Effect plan", ImGuiTreeNodeFlags_DefaultOpen)) drawEffectPlan();
+  if (ImGui::CollapsingHeader("Scene facts")) drawSceneFacts();
+  if (ImGui::CollapsingHeader("Memory")) drawMemory();
+  if (ImGui::CollapsingHeader("Camera")) drawCamera();
+  drawRunControls();
   ImGui::End();
 }
 
 void Viewer::writeStats(const std::string& endedBy) {
-  nlohmann::ordered_json stats;
   const render::RenderSettings& rs = renderer_->settings();
-  stats["voxgi_version"] = VOXGI_VERSION;
-  stats["command"] = "view";
-  stats["scene"] = scenePath_;
-  stats["mode"] = render::modeName(rs.mode);
-  stats["size"] = {{"width", rs.width}, {"height", rs.height}};
-  stats["backend"] = gl::backendName(context_->backend());
-  stats["renderer"] = context_->renderer();
-  stats["gl_version"] = context_->version();
+  nlohmann::ordered_json stats = statsHeaderJson(
+      {"view", scenePath_, render::modeName(rs.mode), rs.width, rs.height,
+       gl::backendName(context_->backend()), context_->renderer(), context_->version()});
   stats["frames"] = frame_;
   stats["ended_by"] = endedBy;
-  stats["frame_ms"] = median(frameMs_);
-  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& name : stageOrder_) stages[name] = median(stageMs_[name]);
-  stats["stages"] = stages;
+  stats["frame_ms"] = times_.frameMedian();
+  stats["stages"] = times_.json();
   stats["exposure"] = rs.tonemap.exposure;
   stats["tonemap"] = render::tonemapName(rs.tonemap.op);
   stats["resizes"] = resizes_;
@@ -608,8 +633,8 @@ void Viewer::writeStats(const std::string& endedBy) {
   image::writeText(options_.stats, stats.dump(2) + "\n");
 }
 
-int Viewer::run() {
-  // Everything that can be refused without a window is refused first.
+// Everything that can be refused without a window is refused first.
+std::optional<ScreenshotPaths> Viewer::checkOutputs() const {
   std::optional<ScreenshotPaths> named;
   if (!options_.screenshot.empty()) {
     named = screenshotPathsFor(options_.screenshot);
@@ -619,10 +644,16 @@ int Viewer::run() {
   if (!options_.screenshotDir.empty() && !fs::is_directory(options_.screenshotDir))
     throw Error(options_.screenshotDir + ": not a folder (--screenshot-dir)");
   if (!options_.stats.empty()) image::checkWritable(options_.stats);
+  return named;
+}
+
+void Viewer::loadScene() {
   scenePath_ = options_.scene.empty() ? defaultScenePath() : options_.scene;
   sceneStamp_ = fileStamp(scenePath_);
   scene_ = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+}
 
+void Viewer::openWindow() {
   // X11 keeps a window's sides in 16 bits and truncates larger ones instead of
   // refusing them (the software rasterizer then fails at the first swap, in Xlib);
   // no GL here renders a side over 16384 anyway. Refused before any window opens;
@@ -641,7 +672,10 @@ int Viewer::run() {
   context_ = gl::Context::create(co);
   window_ = static_cast<GLFWwindow*>(context_->nativeWindow());
   glfwSwapInterval(1);
+}
 
+// The renderer at the window's size, the fly camera, the key callback and the panel.
+void Viewer::startRenderer() {
   render::RenderSettings settings = options_.render;
   glfwGetFramebufferSize(window_, &settings.width, &settings.height);
   settings.width = std::max(settings.width, 1);
@@ -670,24 +704,18 @@ int Viewer::run() {
   glfwSetKeyCallback(window_, &Viewer::onKey);
   imgui_ = std::make_unique<ImGuiLayer>(window_);
   panel_ = options_.panel;
-
-  std::optional<StopSignals> signals(std::in_place);
-
   logInfo(strf("view: %s in a %dx%d window on %s; mode %s", scenePath_.c_str(), settings.width,
                settings.height, context_->renderer().c_str(),
                render::modeName(options_.render.mode)));
-  std::string endedBy = "window";
+}
+
+// Frames until a signal, the window closing or --frames; returns which ended it.
+std::string Viewer::loop() {
   lastReload_ = lastFrame_ = Clock::now();
   while (true) {
-    if (gStopSignal) {
-      endedBy = "signal";
-      break;
-    }
-    if (context_->shouldClose()) break;
-    if (options_.frames > 0 && frame_ >= options_.frames) {
-      endedBy = "frames";
-      break;
-    }
+    if (gStopSignal) return "signal";
+    if (context_->shouldClose()) return "window";
+    if (options_.frames > 0 && frame_ >= options_.frames) return "frames";
     glfwPollEvents();
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
@@ -704,40 +732,41 @@ int Viewer::run() {
     while (nextScripted_ < options_.keys.size() && options_.keys[nextScripted_].frame <= frame_ + 1)
       pendingActions_.push_back(options_.keys[nextScripted_++].action);
     for (const Action& a : std::exchange(pendingActions_, {})) apply(a);
-    if (context_->shouldClose()) break;
+    if (context_->shouldClose()) return "window";
     checkFiles();
-
-    const auto start = Clock::now();
-    const double elapsed = msBetween(lastFrame_, start) * 1e-3;
-    const float seconds = std::min(static_cast<float>(elapsed), kMaxStepSeconds);
-    lastFrame_ = start;
-    imgui_->beginFrame();
-    // The first frame shows the first pose (t = 0), as `render` does.
-    if (frame_ > 0) animate(elapsed);
-    if (flyCamera(seconds) && followPath_) {
-      followPath_ = false;
-      logInfo(strf("view: frame %d: free camera (r returns to the camera path)", frame_));
-    }
-    renderer_->renderFrame(camera_->camera());
-    glBlitNamedFramebuffer(renderer_->displayFramebuffer(), 0, 0, 0, w, h, 0, 0, w, h,
-                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    if (panel_) drawPanel();
-    imgui_->endFrame();
-    context_->swapBuffers();
-    ++frame_;
-
-    const double ms = msBetween(start, Clock::now());
-    frameMs_.push_back(ms);
-    for (const gl::StageTime& s : renderer_->lastStages()) {
-      if (!stageMs_.count(s.name)) stageOrder_.push_back(s.name);
-      stageMs_[s.name].push_back(s.gpuMs);
-    }
-    history_.push_back({start, ms, renderer_->lastStages()});
-    while (msBetween(history_.front().when, start) > kGraphSeconds * 1000.0) history_.pop_front();
-    if (frame_ == 1) logInfo(strf("view: first frame in %.1f ms", ms));
+    drawFrame(w, h);
   }
-  signals.reset();
+}
 
+void Viewer::drawFrame(int w, int h) {
+  const auto start = Clock::now();
+  const double elapsed = msBetween(lastFrame_, start) * 1e-3;
+  const float seconds = std::min(static_cast<float>(elapsed), kMaxStepSeconds);
+  lastFrame_ = start;
+  imgui_->beginFrame();
+  // The first frame shows the first pose (t = 0), as `render` does.
+  if (frame_ > 0) animate(elapsed);
+  if (flyCamera(seconds) && followPath_) {
+    followPath_ = false;
+    logInfo(strf("view: frame %d: free camera (r returns to the camera path)", frame_));
+  }
+  renderer_->renderFrame(camera_->camera());
+  glBlitNamedFramebuffer(renderer_->displayFramebuffer(), 0, 0, 0, w, h, 0, 0, w, h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  if (panel_) drawPanel();
+  imgui_->endFrame();
+  context_->swapBuffers();
+  ++frame_;
+
+  const double ms = msBetween(start, Clock::now());
+  times_.add(ms, renderer_->lastStages());
+  history_.push_back({start, ms, renderer_->lastStages()});
+  while (msBetween(history_.front().when, start) > kGraphSeconds * 1000.0) history_.pop_front();
+  if (frame_ == 1) logInfo(strf("view: first frame in %.1f ms", ms));
+}
+
+// The screenshot and stats asked for, the summary line, and the exit status.
+int Viewer::finish(const std::optional<ScreenshotPaths>& named, const std::string& endedBy) {
   if (named) {
     if (frame_ == 0) renderer_->renderFrame(camera_->camera());
     takeScreenshot(*named);
@@ -746,7 +775,7 @@ int Viewer::run() {
   const int glErrors = gl::debugErrorCount();
   if (!options_.quiet) {
     std::printf("view: %d frames (ended by %s), median %.1f ms; shader reloads %d ok, %d failed\n",
-                frame_, endedBy.c_str(), median(frameMs_), reloadsOk_, reloadsFailed_);
+                frame_, endedBy.c_str(), times_.frameMedian(), reloadsOk_, reloadsFailed_);
     if (!options_.stats.empty()) std::printf("wrote %s\n", options_.stats.c_str());
   }
   imgui_.reset();
@@ -756,6 +785,17 @@ int Viewer::run() {
     return 1;
   }
   return 0;
+}
+
+int Viewer::run() {
+  const std::optional<ScreenshotPaths> named = checkOutputs();
+  loadScene();
+  openWindow();
+  startRenderer();
+  std::optional<StopSignals> signals(std::in_place);
+  const std::string endedBy = loop();
+  signals.reset();
+  return finish(named, endedBy);
 }
 
 }  // namespace
