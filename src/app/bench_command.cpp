@@ -4,18 +4,56 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <map>
 
 #include <nlohmann/json.hpp>
 
 #include "app/cli.h"
-#include "core/statistics.h"
+#include "app/stage_report.h"
 #include "gl/debug.h"
 #include "image/image.h"
 #include "scene/gltf_loader.h"
 
 namespace voxgi::app {
-namespace {}  // namespace
+namespace {
+
+// One row of the table and of the JSON: the stage medians at one grid resolution
+// (0: the mode reads no voxels). The first row prints the table's heading.
+nlohmann::ordered_json benchRun(const RenderOptions& o, gl::ProgramCache& programs,
+                                const scene::Scene& scene, int n, bool heading) {
+  render::RenderSettings rs = o.render;
+  if (n > 0) rs.voxels = n;
+  rs.revoxelize = true;
+  rs.voxelChecksum = false;  // not shown
+  render::Renderer renderer(programs, scene, rs);
+  renderer.renderFrame();  // warm-up: shader variants compile at first use
+  StageTimes times;
+  for (int f = 0; f < o.frames; ++f) {
+    const auto t = std::chrono::steady_clock::now();
+    renderer.renderFrame();
+    times.add(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count(),
+        renderer.lastStages());
+  }
+  if (heading)
+    std::printf("  %-8s%s %10s %10s\n", "voxels", times.columnHeads().c_str(), "frame", "occupied");
+  nlohmann::ordered_json run;
+  run["voxels"] = n;
+  std::printf("  %-8s%s", n > 0 ? std::to_string(n).c_str() : "-", times.columnMedians().c_str());
+  run["stages"] = times.json();
+  run["frame_ms"] = times.frameMedian();
+  if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
+    run["occupied"] = grid->stats().occupied;
+    run["bytes"] = grid->stats().bytes;
+    run["peak_bytes"] = grid->stats().peakBytes;
+    std::printf(" %10.1f %10u\n", times.frameMedian(), grid->stats().occupied);
+  } else {
+    std::printf(" %10.1f %10s\n", times.frameMedian(), "-");
+  }
+  std::fflush(stdout);
+  return run;
+}
+
+}  // namespace
 
 int runBench(const BenchOptions& b) {
   const RenderOptions& o = b.render;
@@ -30,7 +68,6 @@ int runBench(const BenchOptions& b) {
   const scene::Scene scene = scene::loadGltf(scenePath);
   gl::ProgramCache programs(shaderRoot());
 
-  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
   std::printf(
       "%s: %zu triangles; %s %dx%d on %s (%s), %d frames per row, stage ms are medians "
       "(%s)\n",
@@ -38,56 +75,11 @@ int runBench(const BenchOptions& b) {
       o.render.height, gl::backendName(context->backend()), context->renderer().c_str(), o.frames,
       gl::stageTimingMethod());
   std::printf("effects: %s\n", render::effectPlan(scene, o.render).summary().c_str());
-  bool header = false;
   std::vector<int> resolutions = b.voxels;
   if (!render::modeUsesVoxels(o.render.mode)) resolutions = {0};
-  for (int n : resolutions) {
-    render::RenderSettings rs = o.render;
-    if (n > 0) rs.voxels = n;
-    rs.revoxelize = true;
-    rs.voxelChecksum = false;  // not shown
-    render::Renderer renderer(programs, scene, rs);
-    renderer.renderFrame();  // warm-up: shader variants compile at first use
-    std::vector<std::string> order;
-    std::map<std::string, std::vector<double>> ms;
-    std::vector<double> frameMs;
-    for (int f = 0; f < o.frames; ++f) {
-      const auto t = std::chrono::steady_clock::now();
-      renderer.renderFrame();
-      frameMs.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count());
-      for (const gl::StageTime& s : renderer.lastStages()) {
-        if (!ms.count(s.name)) order.push_back(s.name);
-        ms[s.name].push_back(s.gpuMs);
-      }
-    }
-    if (!header) {
-      std::printf("  %-8s", "voxels");
-      for (const std::string& name : order) std::printf(" %10s", name.c_str());
-      std::printf(" %10s %10s\n", "frame", "occupied");
-      header = true;
-    }
-    nlohmann::ordered_json run;
-    run["voxels"] = n;
-    nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-    std::printf("  %-8s", n > 0 ? std::to_string(n).c_str() : "-");
-    for (const std::string& name : order) {
-      stages[name] = median(ms[name]);
-      std::printf(" %10.1f", median(ms[name]));
-    }
-    run["stages"] = stages;
-    run["frame_ms"] = median(frameMs);
-    if (const voxel::VoxelizePass* grid = renderer.voxelGrid()) {
-      run["occupied"] = grid->stats().occupied;
-      run["bytes"] = grid->stats().bytes;
-      run["peak_bytes"] = grid->stats().peakBytes;
-      std::printf(" %10.1f %10u\n", median(frameMs), grid->stats().occupied);
-    } else {
-      std::printf(" %10.1f %10s\n", median(frameMs), "-");
-    }
-    std::fflush(stdout);
-    runs.push_back(run);
-  }
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  for (int n : resolutions) runs.push_back(benchRun(o, programs, scene, n, runs.empty()));
+
   nlohmann::ordered_json out;
   out["voxgi_version"] = VOXGI_VERSION;
   out["scene"] = scenePath;
