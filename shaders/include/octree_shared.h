@@ -22,6 +22,7 @@
 #ifndef VOXGI_OCTREE_SHARED_H
 #define VOXGI_OCTREE_SHARED_H
 
+#include "bindings_shared.h"
 #include "gpu_types.h"
 
 #ifdef __cplusplus
@@ -31,22 +32,6 @@ namespace voxgi::gpu {
 VOXGI_CONST uint kOctreeMaxDepth = 9u;  // 512^3
 VOXGI_CONST uint kOctreeLeafOccupied = 0x80000000u;
 VOXGI_CONST uint kOctreeGroupSize = 64u;
-
-// Bindings (SSBOs unless noted).
-VOXGI_CONST uint kOctreeParamsBinding = 2u;  // uniform block
-VOXGI_CONST uint kOctreeNodeBinding = 5u;
-VOXGI_CONST uint kOctreeRadianceBinding = 6u;
-VOXGI_CONST uint kOctreeMaterialBinding = 7u;
-VOXGI_CONST uint kOctreeEmissionBinding = 8u;
-VOXGI_CONST uint kOctreeCounterBinding = 9u;
-VOXGI_CONST uint kOctreeScratchBinding = 10u;  // radiance of the previous bounce; the estimate
-                                               // the average pass blends in
-VOXGI_CONST uint kOctreeLightCdfBinding = 11u;
-VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, while bouncing
-VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
-VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
-VOXGI_CONST uint kOctreeNodeTexUnit = 8u;     // texture unit: the node words as r32ui
-VOXGI_CONST uint kOctreeMeanBinding = 18u;    // vec4 per node: the running mean of the radiance
 
 struct OctreeParams {
   vec4 origin;  // xyz world corner of the root cube, w voxel size

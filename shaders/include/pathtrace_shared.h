@@ -8,40 +8,12 @@
 #ifndef VOXGI_PATHTRACE_SHARED_H
 #define VOXGI_PATHTRACE_SHARED_H
 
+#include "bindings_shared.h"
 #include "gpu_types.h"
 
 #ifdef __cplusplus
 namespace voxgi::gpu {
 #endif
-
-// Binding points (SSBOs; the uniform block is kPtParamsBinding).
-VOXGI_CONST uint kPtShadingBinding = 5u;
-VOXGI_CONST uint kPtEmissiveBinding = 6u;
-VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
-// Textures (unless VOXGI_NO_TEXTURES): uvec4 per texture of the scene, x first
-// texel in kPtTexelTexUnit, y width, z height, w 1 if sRGB-encoded (colour).
-VOXGI_CONST uint kPtTextureBinding = 8u;
-// Vertex colours (VOXGI_BVH_COLORS): vec4 per triangle corner, three a triangle,
-// BVH order (COLOR_0, RGBA).
-VOXGI_CONST uint kPtColorBinding = 9u;
-// Tangents for normal maps (VOXGI_BVH_TANGENTS): vec4 per triangle corner (xyz, w
-// handedness), three a triangle, BVH order.
-VOXGI_CONST uint kPtTangentBinding = 10u;
-VOXGI_CONST uint kPtParamsBinding = 1u;
-// Texture units: the BVH nodes and the triangles, read as RGBA32UI buffer textures
-// (a struct is sizeof / 16 texels; floats as their bit patterns). On llvmpipe a
-// texelFetch from a buffer texture costs much less than the same load from an SSBO.
-VOXGI_CONST uint kPtNodeTexUnit = 0u;
-VOXGI_CONST uint kPtTriangleTexUnit = 1u;
-// Texture coordinates of each triangle's corners, in BVH order: two RGBA32UI texels
-// a triangle, (u0, v0, u1, v1) and (u2, v2, 0, 0), floats as bits.
-VOXGI_CONST uint kPtUvTexUnit = 2u;
-// Every texture's RGBA8 texels, one R32UI texel each, rows top first.
-VOXGI_CONST uint kPtTexelTexUnit = 3u;
-// Image units: the running sum, its Kahan compensation, and the resolved mean.
-VOXGI_CONST uint kPtSumImage = 0u;
-VOXGI_CONST uint kPtCompensationImage = 1u;
-VOXGI_CONST uint kPtOutputImage = 2u;
 
 // Work group: 8x8 pixels (the kernel's local size). On llvmpipe a group runs on one
 // thread, 8 lanes at a time.

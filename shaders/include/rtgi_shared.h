@@ -2,76 +2,18 @@
 #ifndef VOXGI_RTGI_SHARED_H
 #define VOXGI_RTGI_SHARED_H
 
+#include "bindings_shared.h"
 #include "gpu_types.h"
 
 #ifdef __cplusplus
 namespace voxgi::gpu {
 #endif
 
-VOXGI_CONST uint kRtgiParamsBinding = 3u;  // uniform block
-// G-buffer, read as textures (texelFetch).
-VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 + material where covered
-VOXGI_CONST uint kGNormalUnit = 5u;    // rgba16f: shading normal (towards the viewer), w roughness
-VOXGI_CONST uint kGAlbedoUnit = 6u;    // rgba8: base colour, w metallic
-// rgba16f: emitted radiance; w the surface's own normal in scenes with normal maps
-// (packSurfaceNormal of normal_map_shared.h), else 0.
-VOXGI_CONST uint kGEmissionUnit = 7u;
-// The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): nodes and triangles as
-// buffer textures, and the per-triangle shading data (GpuPtShading) as an SSBO.
-VOXGI_CONST uint kRtgiBvhNodeUnit = 0u;
-VOXGI_CONST uint kRtgiBvhTriangleUnit = 1u;
-VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
-// Base-colour textures at the hit (a textured BVH, unless VOXGI_NO_TEXTURES): corner
-// UVs and texels as the path tracer reads them (kPtUvTexUnit, kPtTexelTexUnit), and
-// the table of textures (uvec4 each, see kPtTextureBinding) as an SSBO.
-VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
-VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
-VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
-// Vertex colours at the hit (RTGI_BVH_COLORS: the scene has them, the plan reads
-// them): the BVH's corner colours (see kPtColorBinding) as an SSBO.
-VOXGI_CONST uint kRtgiBvhColorBinding = 21u;
-// Tangents at the hit (RTGI_BVH_TANGENTS: the scene has normal maps, the plan reads
-// them): the BVH's corner tangents (see kPtTangentBinding) as an SSBO.
-VOXGI_CONST uint kRtgiBvhTangentBinding = 22u;
-// Reprojection (a frame after the camera moved): the running mean as it was before
-// this frame (the accumulation target, read as a texture), the previous frame's
-// G-buffer position and normal, and the reprojected mean (rgba32f image) that
-// accumulate then reads in place of the target.
-VOXGI_CONST uint kHistoryUnit = 9u;
-VOXGI_CONST uint kReprojectedImage = 8u;
-// rgba16f: the surface point's world position last frame less this frame's (moving
-// meshes; 0 elsewhere).
-VOXGI_CONST uint kGMotionUnit = 12u;
-VOXGI_CONST uint kGPreviousPositionUnit = 10u;
-VOXGI_CONST uint kGPreviousNormalUnit = 11u;
-// Images written by the per-pixel stages and read by accumulate.
-VOXGI_CONST uint kDirectImage = 0u;
-VOXGI_CONST uint kIndirectImage = 1u;
-VOXGI_CONST uint kSpecularImage = 2u;
-VOXGI_CONST uint kAccumImage = 3u;  // the running mean (the renderer's HDR target)
-// Work mask (frame budget): edges of the noisy image, the blurred mask, and which
-// pixels trace this frame; the list of those pixels and a histogram of the mask.
-VOXGI_CONST uint kEdgeImage = 4u;              // r16f
-VOXGI_CONST uint kMaskImage = 5u;              // r16f, in [0, 1)
-VOXGI_CONST uint kTracedImage = 6u;            // r8ui: 1 where the pixel traces this frame
-VOXGI_CONST uint kMaskKeyImage = 7u;           // rgba32ui: what the edges compare, per pixel
-VOXGI_CONST uint kPixelListBinding = 15u;      // SSBO: PixelList
-VOXGI_CONST uint kMaskHistogramBinding = 16u;  // SSBO: uint[kMaskBins]
 VOXGI_CONST uint kMaskBins = 256u;
 // Denoiser (RtgiPass::Settings::denoise). Accumulate keeps, beside each pixel's mean,
 // the running mean of its samples' luminance and squared luminance (rg32f), after
 // the light is divided by the surface's base colour; reproject carries them over a
-// camera move as it carries the mean. They use the mask's image units, which
-// accumulate and reproject do not otherwise read.
-VOXGI_CONST uint kMomentsImage = 4u;
-VOXGI_CONST uint kReprojectedMomentsImage = 5u;
-VOXGI_CONST uint kHistoryMomentsUnit = 13u;  // the moments before this frame, as a texture
-// The denoise stage's own images (rgba32f): light divided by base colour with the
-// variance of its luminance in alpha, ping-ponged between the filter's passes, and
-// the denoised image the last pass writes.
-VOXGI_CONST uint kDenoiseInImage = 0u;
-VOXGI_CONST uint kDenoiseOutImage = 1u;
-VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
+// camera move as it carries the mean.
 // A uniform of the denoise passes (location): x the spacing of the taps in pixels,
 // y 1 on the last pass.
 VOXGI_CONST int kDenoisePassLocation = 0;

@@ -5,24 +5,12 @@
 #ifndef VOXGI_SCENE_SHARED_H
 #define VOXGI_SCENE_SHARED_H
 
+#include "bindings_shared.h"
 #include "gpu_types.h"
 
 #ifdef __cplusplus
 namespace voxgi::gpu {
 #endif
-
-// Binding points.
-VOXGI_CONST uint kMaterialBinding = 0u;
-VOXGI_CONST uint kLightBinding = 1u;
-VOXGI_CONST uint kEmitterBinding = 2u;
-VOXGI_CONST uint kFrameBinding = 0u;  // uniform block
-VOXGI_CONST uint kBaseColorUnit = 0u;
-// Past every unit the passes that draw the scene bind for their own use.
-VOXGI_CONST uint kEmissiveUnit = 9u;
-VOXGI_CONST uint kMetallicRoughnessUnit = 10u;
-VOXGI_CONST uint kNormalUnit = 11u;     // normalTexture (linear)
-VOXGI_CONST uint kOcclusionUnit = 12u;  // occlusionTexture (linear; the raster baseline only)
-VOXGI_CONST uint kHdrInputUnit = 0u;    // tonemap input
 
 // Uniform locations.
 VOXGI_CONST int kMaterialIndexLocation = 0;

@@ -2,6 +2,7 @@
 #ifndef VOXGI_VOXEL_SHARED_H
 #define VOXGI_VOXEL_SHARED_H
 
+#include "bindings_shared.h"
 #include "gpu_types.h"
 
 #ifdef __cplusplus
@@ -29,6 +30,7 @@ VOXGI_CONST uint kSamplesPerFragment = 4u;  // 4x MSAA
 // map and the compact pool keep the lookups local. The sums live per voxel slot,
 // in three SSBOs of one uvec4 per slot, so a voxel's channels share cache lines:
 //   kSlotSumsA: albedo rgb, weight   kSlotSumsN: normal xyz, 0   kSlotSumsE: emission rgb, 0
+// (the bindings are in bindings_shared.h).
 VOXGI_CONST uint kSlotBits = 23u;
 VOXGI_CONST uint kSlotMask = 0x7FFFFFu;  // (1 << kSlotBits) - 1
 VOXGI_CONST uint kSlotFull = kSlotMask;  // entry = epoch | kSlotFull: no room, raster again
@@ -41,15 +43,6 @@ VOXGI_CONST uint kBrickVoxels = 64u;
 // (VoxelAttributes): nothing is stored for empty voxels and nothing costs N^3.
 //   x: albedo rgb + opacity, packUnorm4x8   y: unit normal (0 when ambiguous), packSnorm4x8
 //   z: emitted radiance rg, packHalf2x16    w: emitted radiance b (low half), packHalf2x16
-VOXGI_CONST uint kVoxelParamsBinding = 1u;  // uniform block
-VOXGI_CONST uint kVoxelStatsBinding = 3u;   // SSBO
-VOXGI_CONST uint kVoxelListBinding = 4u;    // SSBO: packed coordinates of occupied voxels
-VOXGI_CONST uint kBrickMapBinding = 5u;     // SSBO: epoch | brick slot, per brick
-VOXGI_CONST uint kSlotSumsABinding = 6u;    // SSBO: uvec4 per voxel slot
-VOXGI_CONST uint kSlotSumsNBinding = 7u;
-VOXGI_CONST uint kSlotSumsEBinding = 8u;
-VOXGI_CONST uint kBrickPoolBinding = 9u;     // SSBO: epoch | voxel slot, 64 per brick slot
-VOXGI_CONST uint kVoxelAttribBinding = 17u;  // SSBO: uvec4 attributes per listed voxel
 // The compute path for small triangles (voxelize_small.comp): triangles whose
 // projection reaches at most this many pixel columns and rows (at most 8: one bit
 // per pixel of the box in a uvec2).
@@ -61,12 +54,7 @@ VOXGI_CONST uint kSmallTriangleSpan = 6u;
 // instance), so the raster's vertex and geometry stages never see a small triangle.
 // Within a group the order is the invocations' (lane by lane on llvmpipe), so the
 // raster gets the triangles in the same order every run.
-VOXGI_CONST uint kLargeIndexBinding = 10u;   // SSBO: indices of the triangles to rasterize
-VOXGI_CONST uint kDrawCommandBinding = 11u;  // SSBO: indirect commands (5 uints), per group
 VOXGI_CONST uint kDrawCommandWords = 5u;
-VOXGI_CONST uint kVoxelVertexUnit = 1u;           // samplerBuffer: the scene's vertices
-VOXGI_CONST uint kVoxelIndexUnit = 2u;            // usamplerBuffer: the scene's indices
-VOXGI_CONST uint kVoxelColorUnit = 3u;            // samplerBuffer: the vertex colours (RGBA)
 VOXGI_CONST int kVoxelHasColorsLocation = 4;      // uniform uint: 1 when the scene has them
 VOXGI_CONST int kVoxelFirstIndexLocation = 1;     // uniform uint: the draw's first index
 VOXGI_CONST int kVoxelTriangleCountLocation = 2;  // uniform uint: the draw's triangles
