@@ -1,0 +1,154 @@
+// The std430/std140 layouts that GLSL gives the structs of octree_shared.h,
+// rtgi_shared.h and voxel_shared.h agree with the C++ side of the same headers:
+// every member's offset, and the struct's size (the array stride, or the block's
+// size where the struct fills a block). scene_shared.h and pathtrace_shared.h are
+// checked in scene_layout_gltest.cpp and pathtrace_gltest.cpp.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gl/program_cache.h"
+#include "octree_shared.h"
+#include "rtgi_shared.h"
+#include "support/gl_fixture.h"
+#include "support/test_paths.h"
+#include "voxel_shared.h"
+
+namespace voxgi::test {
+namespace {
+
+struct Member {
+  std::string name;  // as GL names it: "instance.member", "array[0].member"
+  size_t offset;     // offsetof on the C++ side
+};
+
+#define VOXGI_MEMBER(prefix, type, member, suffix)                   \
+  Member {                                                           \
+    std::string(prefix) + #member + (suffix), offsetof(type, member) \
+  }
+
+class SharedLayoutTest : public GlTest {
+ protected:
+  GLint query(GLuint program, GLenum iface, const std::string& name, GLenum prop) {
+    const GLuint index = glGetProgramResourceIndex(program, iface, name.c_str());
+    EXPECT_NE(index, GL_INVALID_INDEX) << name;
+    if (index == GL_INVALID_INDEX) return -1;
+    GLint v = -1;
+    glGetProgramResourceiv(program, iface, index, 1, &prop, 1, nullptr, &v);
+    return v;
+  }
+  // Offsets of members of a struct that is an SSBO's or a uniform block's first
+  // member (so its offsets are the block's).
+  void expectOffsets(GLuint program, GLenum iface, const std::vector<Member>& members) {
+    for (const Member& m : members)
+      EXPECT_EQ(query(program, iface, m.name, GL_OFFSET), static_cast<GLint>(m.offset)) << m.name;
+  }
+  GLuint program(const std::string& shader) { return cache_.get({{shader}, {}}).id(); }
+
+  gl::ProgramCache cache_{sourceDir() + "/shaders"};
+};
+
+TEST_F(SharedLayoutTest, OctreeParamsMatchCpp) {
+  using gpu::OctreeParams;
+  const GLuint p = program("voxel/octree_raycast.comp");
+  expectOffsets(p, GL_UNIFORM,
+                {VOXGI_MEMBER("octree.", OctreeParams, origin, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, info, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, pass, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, light, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, slice, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, blend, "")});
+  EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "OctreeBlock", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(OctreeParams)));
+}
+
+TEST_F(SharedLayoutTest, OctreeRayMatchesCpp) {
+  using gpu::OctreeRay;
+  const GLuint p = program("voxel/octree_raycast.comp");
+  expectOffsets(p, GL_BUFFER_VARIABLE,
+                {VOXGI_MEMBER("rays[0].", OctreeRay, origin, ""),
+                 VOXGI_MEMBER("rays[0].", OctreeRay, direction, ""),
+                 VOXGI_MEMBER("rays[0].", OctreeRay, invDirection, "")});
+  EXPECT_EQ(query(p, GL_BUFFER_VARIABLE, "rays[0].origin", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(OctreeRay)));
+}
+
+TEST_F(SharedLayoutTest, OctreeCountersMatchCpp) {
+  using gpu::OctreeCounters;
+  const GLuint p = program("voxel/octree_build.comp");
+  expectOffsets(p, GL_BUFFER_VARIABLE,
+                {VOXGI_MEMBER("counters.", OctreeCounters, nodeCount, ""),
+                 VOXGI_MEMBER("counters.", OctreeCounters, overflow, ""),
+                 VOXGI_MEMBER("counters.", OctreeCounters, pad0, ""),
+                 VOXGI_MEMBER("counters.", OctreeCounters, pad1, ""),
+                 VOXGI_MEMBER("counters.", OctreeCounters, levelStart, "[0]")});
+  EXPECT_EQ(query(p, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(OctreeCounters)));
+}
+
+TEST_F(SharedLayoutTest, RtgiParamsMatchCpp) {
+  using gpu::RtgiParams;
+  const GLuint p = program("render/rtgi_mask.comp");
+  expectOffsets(
+      p, GL_UNIFORM,
+      {VOXGI_MEMBER("rtgi.", RtgiParams, frame, ""), VOXGI_MEMBER("rtgi.", RtgiParams, counts, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, camera, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, cameraRight, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, cameraUp, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, cameraForward, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, work, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, previousViewProj, "[0]"),
+       VOXGI_MEMBER("rtgi.", RtgiParams, history, ""),
+       VOXGI_MEMBER("rtgi.", RtgiParams, denoise, "")});
+  EXPECT_EQ(query(p, GL_UNIFORM, "rtgi.previousViewProj[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::vec4)));
+  EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "RtgiBlock", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(RtgiParams)));
+}
+
+TEST_F(SharedLayoutTest, PixelListHeaderMatchesCpp) {
+  using gpu::PixelListHeader;
+  const GLuint p = program("render/rtgi_select.comp");
+  expectOffsets(p, GL_BUFFER_VARIABLE,
+                {VOXGI_MEMBER("header.", PixelListHeader, groups, ""),
+                 VOXGI_MEMBER("header.", PixelListHeader, count, ""),
+                 {"pixels[0]", sizeof(PixelListHeader)}});
+}
+
+TEST_F(SharedLayoutTest, VoxelParamsMatchCpp) {
+  using gpu::VoxelParams;
+  const GLuint p = program("voxel/resolve.comp");
+  expectOffsets(p, GL_UNIFORM,
+                {VOXGI_MEMBER("voxel.", VoxelParams, gridOrigin, ""),
+                 VOXGI_MEMBER("voxel.", VoxelParams, gridInfo, ""),
+                 VOXGI_MEMBER("voxel.", VoxelParams, slotInfo, ""),
+                 VOXGI_MEMBER("voxel.", VoxelParams, samplePositions, "[0]"),
+                 VOXGI_MEMBER("voxel.", VoxelParams, limits, "")});
+  EXPECT_EQ(query(p, GL_UNIFORM, "voxel.samplePositions[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(gpu::vec4)));
+  EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "VoxelBlock", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(VoxelParams)));
+}
+
+TEST_F(SharedLayoutTest, VoxelStatsMatchCpp) {
+  using gpu::VoxelStats;
+  const GLuint p = program("voxel/resolve.comp");
+  expectOffsets(p, GL_BUFFER_VARIABLE,
+                {VOXGI_MEMBER("stats.", VoxelStats, listCount, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, pad0, "[0]"),
+                 VOXGI_MEMBER("stats.", VoxelStats, brickCount, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, pad1, "[0]"),
+                 VOXGI_MEMBER("stats.", VoxelStats, checksumSum, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, checksumXor, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, smallTriangles, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, pad2, "[0]")});
+  EXPECT_EQ(query(p, GL_SHADER_STORAGE_BLOCK, "Stats", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(VoxelStats)));
+}
+
+#undef VOXGI_MEMBER
+
+}  // namespace
+}  // namespace voxgi::test
