@@ -45,8 +45,6 @@ VOXGI_CONST uint kRtgiHasSpecular = 4u;
 // Below this roughness a surface is a mirror: one reflected ray, and direct light
 // adds no highlight of its own (the ray sees the lights' voxels).
 VOXGI_CONST float kMirrorRoughness = 0.05f;
-// Dielectrics rougher than this reflect too little, too blurred, to trace.
-VOXGI_CONST float kGlossyRoughness = 0.6f;
 // With a BVH: mirrors a reflected ray passes on from before it is shaded.
 VOXGI_CONST int kMaxMirrorChain = 4;
 

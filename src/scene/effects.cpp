@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/log.h"
-#include "rtgi_shared.h"
+#include "scene_shared.h"
 
 namespace voxgi::scene {
 

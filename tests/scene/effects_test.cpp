@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "app/cli.h"
-#include "rtgi_shared.h"
 #include "scene/gltf_loader.h"
+#include "scene_shared.h"
 #include "support/scene_builder.h"
 #include "support/test_paths.h"
 
