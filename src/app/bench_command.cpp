@@ -63,6 +63,7 @@ int runBench(const BenchOptions& b) {
   const std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
   gl::ContextOptions co;
   co.backend = o.backend;
+  co.eglDevice = o.eglDevice;
   auto context = gl::Context::create(co);
   render::checkImageSize(o.render.width, o.render.height);
   const scene::Scene scene = scene::loadGltf(scenePath);

@@ -26,6 +26,7 @@ struct RenderOptions {
   std::string scene;  // empty: the built-in Cornell room
   render::RenderSettings render;
   gl::Backend backend = gl::Backend::kEgl;
+  int eglDevice = -1;                // gl::ContextOptions::eglDevice (app/environment.h)
   std::vector<std::string> outputs;  // .png and/or .exr
   std::string stats;                 // .json
   std::string maskOutput;            // rtgi work mask: .png or .exr

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/environment.h"
 
 namespace {
 
@@ -46,7 +47,8 @@ int main(int argc, char** argv) {
   startWithHugePages(argv);
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
-    const app::Invocation inv = app::parseCommandLine(args);
+    app::Invocation inv = app::parseCommandLine(args);
+    app::applyEnvironment(&inv);
     switch (inv.command) {
       case app::Command::kHelp:
         std::fputs(inv.helpTopic == "render"    ? app::renderHelp().c_str()

@@ -371,6 +371,7 @@ int runRender(const RenderOptions& o) {
 
   gl::ContextOptions co;
   co.backend = o.backend;
+  co.eglDevice = o.eglDevice;
   co.width = o.render.width;
   co.height = o.render.height;
   auto context = gl::Context::create(co);

@@ -25,6 +25,9 @@ struct ContextOptions {
   bool debug = true;     // KHR_debug output routed to the log, synchronous
   bool visible = false;  // GLFW only: show the window
   std::string title = "voxgi";
+  // EGL: device N of the enumeration (app: VOXGI_EGL_DEVICE); -1 picks the first
+  // hardware device.
+  int eglDevice = -1;
 };
 
 class Context {

@@ -3,7 +3,7 @@
 //     EGL_EXT_device_enumeration lists the GPUs, software devices are skipped),
 //  2. Mesa's surfaceless platform (llvmpipe on machines without a GPU),
 //  3. the default display.
-// VOXGI_EGL_DEVICE=N forces device N of the enumeration.
+// ContextOptions::eglDevice = N forces device N of the enumeration.
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
@@ -77,7 +77,7 @@ class EglContext final : public Context {
   EGLContext context_;
 };
 
-EGLDisplay openDisplay(std::string* how) {
+EGLDisplay openDisplay(int forced, std::string* how) {
   const char* clientExt = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
       eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -92,8 +92,6 @@ EGLDisplay openDisplay(std::string* how) {
     queryDevices(0, nullptr, &count);
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));
     if (count > 0 && queryDevices(count, devices.data(), &count)) {
-      int forced = -1;
-      if (const char* env = std::getenv("VOXGI_EGL_DEVICE")) forced = std::atoi(env);
       for (EGLint i = 0; i < count; ++i) {
         const char* ext = queryDeviceString(devices[static_cast<size_t>(i)], EGL_EXTENSIONS);
         const bool software = hasExtension(ext, "EGL_MESA_device_software");
@@ -126,7 +124,7 @@ EGLDisplay openDisplay(std::string* how) {
 
 std::unique_ptr<Context> createEglContext(const ContextOptions& options) {
   std::string how;
-  EGLDisplay display = openDisplay(&how);
+  EGLDisplay display = openDisplay(options.eglDevice, &how);
   if (display == EGL_NO_DISPLAY)
     throw Error(
         strf("egl: no usable EGL display (%s); try --backend osmesa", eglErrorName(eglGetError())));

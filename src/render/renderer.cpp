@@ -131,6 +131,7 @@ void Renderer::createPasses() {
     vs.keepSums = settings_.revoxelize;
     vs.smallTrianglesInCompute = settings_.smallTrianglesInCompute;
     vs.checksum = settings_.voxelChecksum;
+    vs.memoryBudgetBytes = settings_.voxelBudgetBytes;
     vs.features = features;
     voxelize_ = std::make_unique<voxel::VoxelizePass>(programs_, r ? r : "", vs);
     voxelized_ = false;

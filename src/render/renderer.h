@@ -76,6 +76,9 @@ struct RenderSettings {
   // Checksum the voxel grid (the stats JSON's "voxels"."checksum"); off where nothing
   // shows it (bench, the viewer): it costs the resolve two shared atomics a voxel.
   bool voxelChecksum = true;
+  // The voxel grid's memory budget in bytes; 0: the driver's estimate
+  // (voxel::voxelMemoryBudget).
+  uint64_t voxelBudgetBytes = 0;
   voxel::Octree::Settings octree;  // bounces (total diffuse bounces), rays for light
   RtgiPass::Settings rtgi;
   // rtgi: each accumulated frame rasterizes its G-buffer with a sub-pixel offset of

@@ -84,11 +84,8 @@ VoxelMemory voxelMemory(int resolution) {
   return {sparse + list, list};
 }
 
-uint64_t voxelMemoryBudget(const std::string& renderer) {
-  if (const char* env = std::getenv("VOXGI_VOXEL_BUDGET_MB")) {
-    const long long mb = std::atoll(env);
-    if (mb > 0) return static_cast<uint64_t>(mb) << 20;
-  }
+uint64_t voxelMemoryBudget(const std::string& renderer, uint64_t overrideBytes) {
+  if (overrideBytes > 0) return overrideBytes;
   if (hasGlExtension("GL_NVX_gpu_memory_info")) {
     GLint kb = 0;
     glGetIntegerv(0x9049, &kb);  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
@@ -122,7 +119,7 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
     throw Error(strf("--voxels %d: the grid resolution must be in [%d, %d]", n, kMinResolution,
                      kMaxResolution));
   const VoxelMemory need = voxelMemory(n);
-  const uint64_t budget = voxelMemoryBudget(renderer);
+  const uint64_t budget = voxelMemoryBudget(renderer, settings.memoryBudgetBytes);
   if (need.peakBytes > budget)
     throw Error(
         strf("--voxels %d: the grid needs %.2f GiB while voxelizing, more than the %.2f GiB "

@@ -60,8 +60,8 @@ VoxelMemory voxelMemory(int resolution);
 
 // Memory available for voxel data on the current context: the driver's report
 // where there is one (NVX_gpu_memory_info), half of physical RAM on software
-// rasterizers; VOXGI_VOXEL_BUDGET_MB overrides.
-uint64_t voxelMemoryBudget(const std::string& renderer);
+// rasterizers; `overrideBytes` > 0 overrides (app: VOXGI_VOXEL_BUDGET_MB).
+uint64_t voxelMemoryBudget(const std::string& renderer, uint64_t overrideBytes = 0);
 
 struct VoxelGridStats {
   int resolution = 0;
@@ -88,6 +88,8 @@ class VoxelizePass {
     // The order-independent checksum of the resolved grid (stats().checksum; 0 when
     // off): a hash per voxel and two atomics on one shared counter pair.
     bool checksum = true;
+    // The memory the grid may take, in bytes; 0: voxelMemoryBudget's estimate.
+    uint64_t memoryBudgetBytes = 0;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.

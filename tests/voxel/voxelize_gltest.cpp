@@ -472,14 +472,14 @@ TEST_F(VoxelizeTest, RefusesResolutionsOutOfRangeOrBudget) {
   gl::ProgramCache programs(sourceDir() + "/shaders");
   EXPECT_THROW(voxel::VoxelizePass(programs, "llvmpipe", {16, false}), Error);
   EXPECT_THROW(voxel::VoxelizePass(programs, "llvmpipe", {1024, false}), Error);
-  setenv("VOXGI_VOXEL_BUDGET_MB", "10", 1);
+  voxel::VoxelizePass::Settings tight{128, false};
+  tight.memoryBudgetBytes = uint64_t{10} << 20;
   try {
-    voxel::VoxelizePass(programs, "llvmpipe", {128, false});
+    voxel::VoxelizePass(programs, "llvmpipe", tight);
     ADD_FAILURE() << "a 128^3 grid fit in 10 MiB";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("GiB"), std::string::npos) << e.what();
   }
-  unsetenv("VOXGI_VOXEL_BUDGET_MB");
 }
 
 }  // namespace
