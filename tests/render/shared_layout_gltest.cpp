@@ -1,8 +1,9 @@
-// The std430/std140 layouts that GLSL gives the structs of octree_shared.h,
-// rtgi_shared.h and voxel_shared.h agree with the C++ side of the same headers:
-// every member's offset, and the struct's size (the array stride, or the block's
-// size where the struct fills a block). scene_shared.h and pathtrace_shared.h are
-// checked in scene_layout_gltest.cpp and pathtrace_gltest.cpp.
+// The std430/std140 layouts that GLSL gives the structs of every *_shared.h that
+// the host uploads or reads back (octree, rtgi, voxel, scene and pathtrace) agree
+// with the C++ side of the same headers: every member's offset, and the struct's
+// size (the array stride, or the block's size where the struct fills a block).
+// GpuBvhNode and GpuPtTriangle are read as buffer textures of 16-byte texels, not
+// as GLSL structs: their C++ layout is asserted in pathtrace_shared.h.
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -11,7 +12,9 @@
 
 #include "gl/program_cache.h"
 #include "octree_shared.h"
+#include "pathtrace_shared.h"
 #include "rtgi_shared.h"
+#include "scene_shared.h"
 #include "support/gl_fixture.h"
 #include "support/test_paths.h"
 #include "voxel_shared.h"
@@ -146,6 +149,77 @@ TEST_F(SharedLayoutTest, VoxelStatsMatchCpp) {
                  VOXGI_MEMBER("stats.", VoxelStats, pad2, "[0]")});
   EXPECT_EQ(query(p, GL_SHADER_STORAGE_BLOCK, "Stats", GL_BUFFER_DATA_SIZE),
             static_cast<GLint>(sizeof(VoxelStats)));
+}
+
+TEST_F(SharedLayoutTest, SceneStructsMatchCpp) {
+  using gpu::GpuEmitter;
+  using gpu::GpuFrame;
+  using gpu::GpuLight;
+  using gpu::GpuMaterial;
+  const GLuint p = cache_.get({{"render/raster.vert", "render/raster.frag"}, {}}).id();
+  const GLenum bv = GL_BUFFER_VARIABLE;
+  expectOffsets(p, bv,
+                {VOXGI_MEMBER("materials[0].", GpuMaterial, baseColor, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, emission, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, params, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, flags, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, texture, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, emissiveTexture, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, metallicRoughnessTexture, ""),
+                 VOXGI_MEMBER("materials[0].", GpuMaterial, occlusion, ""),
+                 VOXGI_MEMBER("lights[0].", GpuLight, positionType, ""),
+                 VOXGI_MEMBER("lights[0].", GpuLight, directionRange, ""),
+                 VOXGI_MEMBER("lights[0].", GpuLight, radiance, ""),
+                 VOXGI_MEMBER("lights[0].", GpuLight, cone, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, a, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, b, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, c, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, radiance, "")});
+  EXPECT_EQ(query(p, bv, "materials[0].baseColor", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuMaterial)));
+  EXPECT_EQ(query(p, bv, "lights[0].positionType", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuLight)));
+  EXPECT_EQ(query(p, bv, "emitters[0].a", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuEmitter)));
+  expectOffsets(p, GL_UNIFORM,
+                {VOXGI_MEMBER("frame.", GpuFrame, viewProj, "[0]"),
+                 VOXGI_MEMBER("frame.", GpuFrame, cameraPosition, ""),
+                 VOXGI_MEMBER("frame.", GpuFrame, counts, "")});
+  EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "FrameBlock", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(GpuFrame)));
+}
+
+TEST_F(SharedLayoutTest, PathtraceStructsMatchCpp) {
+  using gpu::GpuPtEmissive;
+  using gpu::GpuPtParams;
+  using gpu::GpuPtShading;
+  const GLuint p = program("render/pathtrace.comp");
+  const GLenum bv = GL_BUFFER_VARIABLE;
+  expectOffsets(p, bv,
+                {VOXGI_MEMBER("shading[0].", GpuPtShading, n0, ""),
+                 VOXGI_MEMBER("shading[0].", GpuPtShading, n1, ""),
+                 VOXGI_MEMBER("shading[0].", GpuPtShading, n2, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, v0, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, e1, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, e2, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, radiance, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, uv01, ""),
+                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, uv2, "")});
+  EXPECT_EQ(query(p, bv, "shading[0].n0", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuPtShading)));
+  EXPECT_EQ(query(p, bv, "emissive[0].v0", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuPtEmissive)));
+  expectOffsets(p, GL_UNIFORM,
+                {VOXGI_MEMBER("params.", GpuPtParams, cameraPosition, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, cameraRight, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, cameraUp, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, cameraForward, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, image, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, tile, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, depth, ""),
+                 VOXGI_MEMBER("params.", GpuPtParams, reserved, "")});
+  EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "PtParamsBlock", GL_BUFFER_DATA_SIZE),
+            static_cast<GLint>(sizeof(GpuPtParams)));
 }
 
 #undef VOXGI_MEMBER
