@@ -42,6 +42,7 @@ VOXGI_CONST uint kRtgiParamsBinding = 3u;    // rtgi, dvr: RtgiParams
 VOXGI_CONST uint kMaterialBinding = 0u;
 VOXGI_CONST uint kLightBinding = 1u;
 VOXGI_CONST uint kEmitterBinding = 2u;
+VOXGI_CONST uint kLightTreeBinding = 23u;  // GpuLightNode[] (light_tree_shared.h): rtgi's shadows
 
 // Voxelization (voxel_shared.h). The sparse sums: a brick map holds, per brick,
 // the epoch and the brick's slot in a pool; the pool holds, per voxel, the epoch

@@ -4,8 +4,10 @@
 // Emissive surfaces, when there are few (RTGI_EMITTERS_EXACT): their summed
 // unshadowed contribution (exact irradiance, GGX highlight) x the visibility of one
 // random point on one of them, drawn in proportion to its contribution (one shadow
-// ray); with many (RTGI_EMITTERS_SAMPLED), one emitter drawn by power, its
-// contribution x visibility divided by its probability (light importance sampling).
+// ray); with many (RTGI_EMITTERS_SAMPLED), one emitter drawn from the light tree
+// (light_tree_shared.h) in proportion to a bound on its contribution at the point,
+// its contribution x visibility divided by its probability (light importance
+// sampling).
 // Accumulation over frames turns the visibility samples into soft shadows.
 // VOXGI_NO_SHADOWS: no shadow ray, and the exact sum over the emitters;
 // VOXGI_NO_EMISSION: no emitters. RTGI_LIGHTS: the scene has punctual lights.
@@ -17,6 +19,12 @@
 // `slack` off the emitter's surface (emitterSlack).
 #ifndef VOXGI_RTGI_DIRECT_LIGHT_GLSL
 #define VOXGI_RTGI_DIRECT_LIGHT_GLSL
+
+#ifdef RTGI_EMITTERS_SAMPLED
+#include "light_tree_shared.h"
+layout(std430, binding = kLightTreeBinding) readonly buffer LightTree { GpuLightNode lightTree[]; };
+GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
+#endif
 
 // How far off its surface a point drawn on emitter e may lie (emitterPoint): a
 // cluster's points lie on its disk, up to its radius from the facets.
@@ -82,14 +90,18 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
 #elif defined(RTGI_EMITTERS_SAMPLED)
   if (emitterCount > 0) {
     float pmf;
-    GpuEmitter e = emitters[pickEmitter(rand01(), emitterCount, pmf)];
-    vec3 c = areaLight(e, s);
-    if (pmf > 0.0 && any(greaterThan(c, vec3(0.0)))) {
-      vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
-      vec3 d = q - o;
-      float dist = length(d);
-      if (dot(d, ng) >= 0.0)
-        result += c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
+    float u = rand01();
+    int pick = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, pmf);
+    if (pick >= 0 && pmf > 0.0) {
+      GpuEmitter e = emitters[pick];
+      vec3 c = areaLight(e, s);
+      if (any(greaterThan(c, vec3(0.0)))) {
+        vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
+        vec3 d = q - o;
+        float dist = length(d);
+        if (dot(d, ng) >= 0.0)
+          result += c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
+      }
     }
   }
 #endif

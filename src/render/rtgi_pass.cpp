@@ -286,6 +286,7 @@ void RtgiPass::bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightBinding, gs.lights());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kEmitterBinding, gs.emitters());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeLightCdfBinding, gs.emitterCdf());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightTreeBinding, gs.lightTree());
   glBindTextureUnit(gpu::kGPositionUnit, position_[current_].id());
   glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
   glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());

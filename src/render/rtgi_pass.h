@@ -50,8 +50,10 @@ class RtgiPass {
     bool indirect = true;
     bool specular = true;
     scene::ShaderFeatures features;
-    int exactEmitters = 4;  // up to this many emitters, each gets a shadow ray
-    int interleave = 1;     // a pixel traces every N-th frame (1, 2, 4, 8, 16)
+    // Up to this many emitters: their summed contribution x one shadow ray; more:
+    // one drawn from the light tree (rtgi_direct_light.glsl).
+    int exactEmitters = 4;
+    int interleave = 1;  // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     // Beyond the interleave pattern, which further pixels trace (frame budget):
     // none, those the work mask marks as noisy, or a uniform random share.
     enum class Select { kPattern, kMask, kUniform } select = Select::kPattern;

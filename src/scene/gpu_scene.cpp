@@ -1,5 +1,7 @@
 #include "scene/gpu_scene.h"
 
+#include "scene/light_tree.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -78,14 +80,7 @@ std::vector<float> GpuScene::emitterPowerCdf(const std::vector<gpu::GpuEmitter>&
   double total = 0.0;
   std::vector<double> power;
   for (const gpu::GpuEmitter& e : emitters) {
-    const bool cluster = static_cast<uint32_t>(e.a.w) == gpu::kEmitterCluster;
-    const double area = cluster ? e.b.w
-                                : 0.5 * glm::length(glm::cross(glm::vec3(e.b) - glm::vec3(e.a),
-                                                               glm::vec3(e.c) - glm::vec3(e.a)));
-    const glm::vec3 l = glm::vec3(e.radiance);
-    const double lum = 0.2126 * l.r + 0.7152 * l.g + 0.0722 * l.b;
-    const double p = std::max(0.0, lum * area * (e.radiance.w > 0.5f ? 2.0 : 1.0));
-    power.push_back(std::isfinite(p) ? p : 0.0);
+    power.push_back(emitterPower(e));
     total += power.back();
   }
   double run = 0.0;
@@ -190,8 +185,12 @@ size_t GpuScene::createShadingBuffers(const Scene& s) {
                                  s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   lightCount_ = static_cast<int>(lights.size());
   emitterCount_ = static_cast<int>(emitters.size());
+  auto tree = buildLightTree(emitters);
+  if (tree.empty()) tree.emplace_back();  // a node of no power: no emitter is drawn
+  lightTree_ = gl::createBuffer(static_cast<GLsizeiptr>(tree.size() * sizeof(gpu::GpuLightNode)),
+                                tree.data(), s.meshesAnimated() ? GL_DYNAMIC_STORAGE_BIT : 0);
   return mats.size() * sizeof(gpu::GpuMaterial) + lights.size() * sizeof(gpu::GpuLight) +
-         emitters.size() * sizeof(gpu::GpuEmitter);
+         emitters.size() * sizeof(gpu::GpuEmitter) + tree.size() * sizeof(gpu::GpuLightNode);
 }
 
 void GpuScene::createTextures(const Scene& s) {
@@ -287,6 +286,11 @@ void GpuScene::updateGeometry() {
     const auto cdf = emitterPowerCdf(emitters);
     glNamedBufferSubData(emitterCdf_.id(), 0, static_cast<GLsizeiptr>(cdf.size() * sizeof(float)),
                          cdf.data());
+    // Rebuilt whole: the same emitters give a tree of the same size.
+    const auto tree = buildLightTree(emitters);
+    glNamedBufferSubData(lightTree_.id(), 0,
+                         static_cast<GLsizeiptr>(tree.size() * sizeof(gpu::GpuLightNode)),
+                         tree.data());
     emitterData_ = emitters;
   }
 }

@@ -44,6 +44,9 @@ class GpuScene {
   // Emitters chosen for light sampling by power: cumulative distribution, one
   // float per emitter, the last 1 (std430 float[]; empty scene: one 0).
   GLuint emitterCdf() const { return emitterCdf_.id(); }
+  // The light tree over the emitters (scene::buildLightTree, light_tree_shared.h);
+  // one node of no power when there are none.
+  GLuint lightTree() const { return lightTree_.id(); }
   const std::vector<gpu::GpuEmitter>& emitterData() const { return emitterData_; }
   int lightCount() const { return lightCount_; }
   int emitterCount() const { return emitterCount_; }
@@ -85,7 +88,8 @@ class GpuScene {
   void createTextures(const Scene& s);
 
   const Scene& scene_;
-  gl::Buffer vertices_, indices_, colors_, tangents_, materials_, lights_, emitters_, emitterCdf_;
+  gl::Buffer vertices_, indices_, colors_, tangents_, materials_, lights_, emitters_, emitterCdf_,
+      lightTree_;
   // Animated meshes: the vertices as the last frame drew them (attribute
   // kPreviousPositionAttribute).
   gl::Buffer previousVertices_;

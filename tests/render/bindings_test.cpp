@@ -60,6 +60,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kMaterialBinding),
       VOXGI_ENTRY(Ssbo, kLightBinding),
       VOXGI_ENTRY(Ssbo, kEmitterBinding),
+      VOXGI_ENTRY(Ssbo, kLightTreeBinding),
       VOXGI_ENTRY(Ssbo, kVoxelStatsBinding),
       VOXGI_ENTRY(Ssbo, kVoxelListBinding),
       VOXGI_ENTRY(Ssbo, kBrickMapBinding),
