@@ -87,7 +87,11 @@ vec3 sampleEmissive(vec3 p, vec3 n, vec3 wo, Bsdf b, vec3 ng, float eps) {
   float pdfBsdf;
   vec3 f = evalBsdf(b, n, wo, ls.wi, pdfBsdf);
   if (f == vec3(0.0) || dot(ng, ls.wi) <= 0.0) return vec3(0.0);
-  if (occluded(p + ng * eps, ls.wi, ls.dist * (1.0 - 1e-4) - eps)) return vec3(0.0);
+  // Aimed at the sampled point from the offset origin (see pathtrace_cpu.cpp).
+  vec3 origin = p + ng * eps;
+  vec3 toLight = p + ls.wi * ls.dist - origin;
+  float shadowDist = length(toLight);
+  if (occluded(origin, toLight / shadowDist, shadowDist * (1.0 - 1e-4) - eps)) return vec3(0.0);
   return f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
 }
 

@@ -345,8 +345,13 @@ void CpuPathtracer::addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf&
     if (ls.pdfLight > 0.0f) {
       float pdfBsdf = 0.0f;
       const vec3 f = evalBsdf(bsdf, s.ns, wo, ls.wi, pdfBsdf);
+      // The shadow ray leaves from the offset origin, so it aims at the sampled
+      // point from there: a ray parallel to ls.wi would meet the emitter's surface
+      // short of tMax wherever that surface is inclined to it.
+      const vec3 toLight = s.p + ls.wi * ls.dist - origin;
+      const float shadowDist = length(toLight);
       if (f != vec3(0.0f) && dot(s.ng, ls.wi) > 0.0f &&
-          !occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps))
+          !occluded(origin, toLight / shadowDist, shadowDist * (1.0f - 1e-4f) - eps))
         *result +=
             throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
     }

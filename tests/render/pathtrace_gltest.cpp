@@ -291,6 +291,74 @@ TEST_P(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
   EXPECT_NEAR(sumGot / sumExpected, 1.0, 0.002);
 }
 
+// The same plane under a small one-sided sphere lamp of radiance le, radius rl,
+// centre (0, h, 0), tessellated finely (outward facets): direct light only (max
+// depth 2) reflects L = albedo le rl^2 h / d^3 (the closed form of a uniform sphere
+// lamp wholly above the horizon, d the distance to its centre). The plane makes the
+// scene large next to the lamp, so the shadow rays' offset from the plane is many
+// times what separates a sampled point from the lamp's neighbouring facets.
+TEST_P(PathtraceTest, PlaneUnderTessellatedSphereLampMatchesClosedForm) {
+  const float albedo = 0.75f, le = 100.0f, rl = 0.08f, h = 1.3f;
+  scene::Camera cam;
+  cam.position = glm::vec3(0.0f, 0.2f, 1.5f);
+  cam.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+  cam.up = glm::vec3(0.0f, 0.0f, -1.0f);
+  cam.yfov = 0.2f;
+  scene::Scene s = planeUnderPointLight(albedo, 1.0f, h, cam);
+  s.lights.clear();
+  constexpr int kSeg = 64, kRings = 32;
+  auto point = [&](int i, int j) {
+    const float phi = 2.0f * kPi * static_cast<float>(i) / kSeg;
+    const float theta = kPi * static_cast<float>(j) / kRings;
+    return glm::vec3(0.0f, h, 0.0f) + rl * glm::vec3(std::sin(theta) * std::cos(phi),
+                                                     std::cos(theta),
+                                                     std::sin(theta) * std::sin(phi));
+  };
+  const auto first = static_cast<uint32_t>(s.indices.size());
+  auto tri = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    if (glm::length(n) < 1e-12f) return;
+    for (const glm::vec3& p : {a, b, c}) {
+      s.indices.push_back(static_cast<uint32_t>(s.vertices.size()));
+      s.vertices.push_back({p, glm::normalize(n), glm::vec2(0.0f)});
+    }
+  };
+  for (int j = 0; j < kRings; ++j)
+    for (int i = 0; i < kSeg; ++i) {
+      tri(point(i, j), point(i + 1, j + 1), point(i, j + 1));
+      tri(point(i, j), point(i + 1, j), point(i + 1, j + 1));
+    }
+  scene::Material lamp;
+  lamp.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  lamp.emission = glm::vec3(le);
+  lamp.doubleSided = false;
+  s.materials.push_back(lamp);
+  s.draws.push_back({first, static_cast<uint32_t>(s.indices.size()) - first, 1, -1, -1});
+  s.finalize();
+  Settings t;
+  t.size = 16;
+  t.spp = 1024;
+  t.maxDepth = 2;
+  const auto px = renderLinear(s, t);
+  ASSERT_TRUE(allFinite(px));
+  // The closed form averaged over the image's footprint, 64x64 points.
+  const float tanHalf = std::tan(0.5f * cam.yfov);
+  double expected = 0.0;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i) {
+      const float nx = (static_cast<float>(i) + 0.5f) / 32.0f - 1.0f;
+      const float ny = (static_cast<float>(j) + 0.5f) / 32.0f - 1.0f;
+      const glm::vec3 d = glm::normalize(glm::vec3(nx * tanHalf, -1.0f, -ny * tanHalf));
+      const glm::vec3 p = cam.position + d * (cam.position.y / -d.y);
+      const float dist = glm::length(glm::vec3(0.0f, h, 0.0f) - p);
+      expected += albedo * le * rl * rl * h / (dist * dist * dist) / 4096.0;
+    }
+  const double got = meanRgb(px);
+  std::printf("plane under a tessellated sphere lamp: %.5f, expected %.5f (%.2f%% off)\n", got,
+              expected, 100.0 * (got / expected - 1.0));
+  EXPECT_NEAR(got, expected, 0.03 * expected);
+}
+
 TEST_P(PathtraceTest, NoNanAtGrazingAnglesOrAtLights) {
   // Grazing: the camera 1 mm above the plane, looking along it; a second point light
   // lies in the plane itself.
