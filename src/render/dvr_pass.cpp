@@ -11,8 +11,8 @@ DvrPass::DvrPass(gl::ProgramCache& programs, const Settings& settings)
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-void DvrPass::execute(FrameContext& ctx, const voxel::Octree& octree, const scene::Camera& camera,
-                      GLuint target) {
+void DvrPass::execute(gl::FrameContext& ctx, const voxel::Octree& octree,
+                      const scene::Camera& camera, GLuint target) {
   gl::StageScope stage(ctx.timer, "dvr");
   gpu::RtgiParams p{};
   p.frame = glm::uvec4(0u, 0u, static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));

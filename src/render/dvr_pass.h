@@ -16,7 +16,7 @@ class DvrPass {
     float stopOpacity = 0.99f;  // a ray stops once this opaque
   };
   DvrPass(gl::ProgramCache& programs, const Settings& settings);
-  void execute(FrameContext& ctx, const voxel::Octree& octree, const scene::Camera& camera,
+  void execute(gl::FrameContext& ctx, const voxel::Octree& octree, const scene::Camera& camera,
                GLuint target);
 
  private:

@@ -436,14 +436,14 @@ void CpuPathtracer::accumulate(int width, int height, int spp, const Progress& p
   }
 }
 
-void CpuPathtracer::execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+void CpuPathtracer::execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                             const Progress& progress) {
   gl::StageScope stage(ctx.timer, "pathtrace");
   accumulate(ctx.width, ctx.height, spp, progress);
   glTextureSubImage2D(hdrTexture, 0, 0, 0, ctx.width, ctx.height, GL_RGBA, GL_FLOAT, mean_.data());
 }
 
-void CpuPathtracer::warmUp(FrameContext& ctx, GLuint /*hdrTexture*/) {
+void CpuPathtracer::warmUp(gl::FrameContext& ctx, GLuint /*hdrTexture*/) {
   allocate(ctx.width, ctx.height);  // the BVH is built; nothing to compile
 }
 

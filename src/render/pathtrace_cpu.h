@@ -43,9 +43,9 @@ class CpuPathtracer final : public Pathtracer {
 
   void reset() override;
   void setCamera(const scene::Camera& camera) override { camera_ = camera; }
-  void execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+  void execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                const Progress& progress = {}) override;
-  void warmUp(FrameContext& ctx, GLuint hdrTexture) override;
+  void warmUp(gl::FrameContext& ctx, GLuint hdrTexture) override;
 
   int samplesSoFar() const override { return samples_; }
   uint64_t truncatedPaths() const override { return 0; }

@@ -69,7 +69,7 @@ uint64_t PathtracePass::truncatedPaths() const {
   return n;
 }
 
-void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h,
+void PathtracePass::dispatch(gl::FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h,
                              int firstSample, int samples) {
   const scene::Camera& cam = camera_;
   const float aspect = static_cast<float>(ctx.width) / static_cast<float>(ctx.height);
@@ -122,7 +122,7 @@ void PathtracePass::dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y
                   GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
-void PathtracePass::warmUp(FrameContext& ctx, GLuint hdrTexture) {
+void PathtracePass::warmUp(gl::FrameContext& ctx, GLuint hdrTexture) {
   allocate(ctx.width, ctx.height);
   dispatch(ctx, hdrTexture, 0, 0, std::min<int>(ctx.width, gpu::kPtGroupX),
            std::min<int>(ctx.height, gpu::kPtGroupY), 0, 1);
@@ -130,7 +130,7 @@ void PathtracePass::warmUp(FrameContext& ctx, GLuint hdrTexture) {
   reset();
 }
 
-void PathtracePass::execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+void PathtracePass::execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                             const Progress& progress) {
   gl::StageScope stage(ctx.timer, "pathtrace");
   allocate(ctx.width, ctx.height);

@@ -56,10 +56,10 @@ class PathtracePass final : public Pathtracer {
 
   void reset() override;
   void setCamera(const scene::Camera& camera) override { camera_ = camera; }
-  void execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+  void execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                const Progress& progress = {}) override;
   // Compiles the kernel and runs one work group, so the driver's JIT is start-up.
-  void warmUp(FrameContext& ctx, GLuint hdrTexture) override;
+  void warmUp(gl::FrameContext& ctx, GLuint hdrTexture) override;
 
   int samplesSoFar() const override { return samples_; }
   // Waits for the GPU.
@@ -73,8 +73,8 @@ class PathtracePass final : public Pathtracer {
 
  private:
   void allocate(int width, int height);
-  void dispatch(FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h, int firstSample,
-                int samples);
+  void dispatch(gl::FrameContext& ctx, GLuint hdrTexture, int x0, int y0, int w, int h,
+                int firstSample, int samples);
 
   Settings settings_;
   const GpuScene& scene_;

@@ -76,10 +76,10 @@ class Pathtracer {
   virtual void setCamera(const scene::Camera& camera) = 0;
   // Adds `spp` samples per pixel and writes the mean of all samples so far into
   // `hdrTexture` (RGBA32F, ctx.width x ctx.height).
-  virtual void execute(FrameContext& ctx, int spp, GLuint hdrTexture,
+  virtual void execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                        const Progress& progress = {}) = 0;
   // Work done once before timing starts (the GL kernel's JIT compile).
-  virtual void warmUp(FrameContext& ctx, GLuint hdrTexture) = 0;
+  virtual void warmUp(gl::FrameContext& ctx, GLuint hdrTexture) = 0;
 
   virtual int samplesSoFar() const = 0;
   // Paths stopped by a loop budget since reset() (the GL device on llvmpipe; see

@@ -29,7 +29,7 @@ RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
       program_(programs.get(
           {{"render/raster.vert", "render/raster.frag"}, settings.features.defines()})) {}
 
-void RasterPass::execute(FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
+void RasterPass::execute(gl::FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "raster");
   beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glUseProgram(program_.id());

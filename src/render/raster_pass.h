@@ -31,7 +31,7 @@ class RasterPass {
 
   RasterPass(gl::ProgramCache& programs, const Settings& settings);
   // Draws into `framebuffer` (HDR colour + depth of size ctx.width x ctx.height).
-  void execute(FrameContext& ctx, const GpuScene& scene, GLuint framebuffer);
+  void execute(gl::FrameContext& ctx, const GpuScene& scene, GLuint framebuffer);
 
  private:
   Settings settings_;

@@ -313,7 +313,7 @@ void Renderer::warmUp() {
     accumulated_ = 0;  // the warm-up frame is not part of the image
     return;
   }
-  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  gl::FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
   pathtrace_->warmUp(ctx, hdr_.id());
   tonemap_.execute(ctx, hdr_.id(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -336,7 +336,7 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   const auto frameStart = std::chrono::steady_clock::now();
   const bool reproject = followCamera(camera);
   const glm::mat4 previousViewProj = uploadFrameUniforms(camera);
-  FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
+  gl::FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};
   const SceneUpdate update = updateVoxels(ctx);
   executeMode(ctx, camera, reproject ? &previousViewProj : nullptr);
   if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
@@ -403,7 +403,7 @@ glm::mat4 Renderer::uploadFrameUniforms(const scene::Camera& camera) {
   return previousViewProj;
 }
 
-Renderer::SceneUpdate Renderer::updateVoxels(FrameContext& ctx) {
+Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx) {
   SceneUpdate update;
   update.voxelized = usesVoxels(settings_.mode) && (!voxelized_ || settings_.revoxelize);
   if (update.voxelized) {
@@ -429,7 +429,7 @@ Renderer::SceneUpdate Renderer::updateVoxels(FrameContext& ctx) {
   return update;
 }
 
-void Renderer::executeMode(FrameContext& ctx, const scene::Camera& camera,
+void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
                            const glm::mat4* previousViewProj) {
   switch (settings_.mode) {
     case Mode::kRaster:

@@ -258,9 +258,9 @@ class Renderer {
     bool built = false;      // octree and inject
   };
   // Voxelizes, builds the octree, injects or refines its light, as the mode needs.
-  SceneUpdate updateVoxels(FrameContext& ctx);
+  SceneUpdate updateVoxels(gl::FrameContext& ctx);
   // The mode's pass, into the HDR target.
-  void executeMode(FrameContext& ctx, const scene::Camera& camera,
+  void executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
                    const glm::mat4* previousViewProj);
   // Keeps the latest times of the scene stages (sceneStages()).
   void recordSceneStages(bool voxelized);

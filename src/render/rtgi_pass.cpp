@@ -164,7 +164,7 @@ void RtgiPass::resize(int width, int height) {
                  (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9 + 2 * 8 + 4 * 16);
 }
 
-void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
+void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                        const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
@@ -187,8 +187,8 @@ void RtgiPass::execute(FrameContext& ctx, const GpuScene& gs, const voxel::Octre
   finishFrame(plan);
 }
 
-RtgiPass::FramePlan RtgiPass::planFrame(const FrameContext& ctx, const GpuScene& gs, int frameIndex,
-                                        bool moved) const {
+RtgiPass::FramePlan RtgiPass::planFrame(const gl::FrameContext& ctx, const GpuScene& gs,
+                                        int frameIndex, bool moved) const {
   if (settings_.interleave < 1 || settings_.interleave > static_cast<int>(gpu::kMaxInterleave) ||
       (settings_.interleave & (settings_.interleave - 1)) != 0)
     throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
@@ -232,7 +232,7 @@ RtgiPass::FramePlan RtgiPass::planFrame(const FrameContext& ctx, const GpuScene&
   return f;
 }
 
-gpu::RtgiParams RtgiPass::frameParams(const FrameContext& ctx, const GpuScene& gs,
+gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScene& gs,
                                       const glm::vec3& cameraPosition, int frameIndex,
                                       const glm::mat4* previousViewProj,
                                       const FramePlan& plan) const {
@@ -258,19 +258,9 @@ gpu::RtgiParams RtgiPass::frameParams(const FrameContext& ctx, const GpuScene& g
   return p;
 }
 
-void RtgiPass::drawGBuffer(FrameContext& ctx, const GpuScene& gs) {
+void RtgiPass::drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
   gl::StageScope stage(ctx.timer, "gbuffer");
-  const GLuint fbo = fbo_[current_].id();
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glViewport(0, 0, ctx.width, ctx.height);
-  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  for (GLint i = 0; i < 5; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
-  const float one = 1.0f;
-  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
+  beginOpaquePass(ctx, fbo_[current_].id(), glm::vec4(0.0f), 5);  // the G-buffer's 5 targets
   glUseProgram(gbuffer_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
@@ -303,7 +293,7 @@ void RtgiPass::bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, 
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
 }
 
-void RtgiPass::selectPixels(FrameContext& ctx, int frameIndex, const FramePlan& plan,
+void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePlan& plan,
                             gpu::RtgiParams* p) {
   const double patternShare = 1.0 / plan.interleave;
   const double extraShare = std::max(0.0, traceFraction_ - patternShare);
@@ -338,7 +328,7 @@ void RtgiPass::selectPixels(FrameContext& ctx, int frameIndex, const FramePlan& 
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
 }
 
-void RtgiPass::runStage(FrameContext& ctx, const char* name, const gl::Program& program,
+void RtgiPass::runStage(gl::FrameContext& ctx, const char* name, const gl::Program& program,
                         const FramePlan& plan) {
   gl::StageScope stage(ctx.timer, name);
   glUseProgram(program.id());
@@ -351,7 +341,7 @@ void RtgiPass::runStage(FrameContext& ctx, const char* name, const gl::Program& 
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
-void RtgiPass::traceLight(FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
+void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
   if (bvh_) bindBvh(gs);
   if (plan.direct) runStage(ctx, plan.shadows ? "shadows" : "direct", directProgram(gs), plan);
   if (settings_.indirect) runStage(ctx, "indirect", indirectProgram(gs), plan);
@@ -359,7 +349,7 @@ void RtgiPass::traceLight(FrameContext& ctx, const GpuScene& gs, const FramePlan
   if (bvh_) unbindBvh();
 }
 
-void RtgiPass::accumulateFrame(FrameContext& ctx, const FramePlan& plan) {
+void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
   if (settings_.denoise) {
     // The moments use the mask's image units (rtgi_shared.h): bound here, after it ran.
     glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
@@ -396,7 +386,8 @@ void RtgiPass::finishFrame(const FramePlan& plan) {
     glBindTextureUnit(u, 0);
 }
 
-void RtgiPass::reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials) {
+void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum,
+                         GLuint materials) {
   gl::StageScope stage(ctx.timer, "reproject");
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
@@ -420,7 +411,7 @@ void RtgiPass::reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, 
     glBindTextureUnit(u, 0);
 }
 
-void RtgiPass::denoise(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
+void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
   gl::StageScope stage(ctx.timer, "denoise");
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
@@ -450,7 +441,7 @@ void RtgiPass::denoise(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
   denoised_ = true;
 }
 
-void RtgiPass::runMask(FrameContext& ctx, GLuint gx, GLuint gy) {
+void RtgiPass::runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy) {
   gl::StageScope stage(ctx.timer, "mask");
   glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
                             GL_UNSIGNED_INT, nullptr);

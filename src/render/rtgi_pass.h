@@ -104,7 +104,7 @@ class RtgiPass {
   // specular light). `previousViewProj`, on a frame after the camera moved (not the
   // first): the view-projection, without jitter, of the frame before, whose image
   // `accum` holds; the history is reprojected from it.
-  void execute(FrameContext& ctx, const GpuScene& scene, const voxel::Octree* octree,
+  void execute(gl::FrameContext& ctx, const GpuScene& scene, const voxel::Octree* octree,
                const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                const glm::mat4* previousViewProj = nullptr);
   // Glossy surfaces (not mirrors) keep at most this many frames of history across a
@@ -153,36 +153,37 @@ class RtgiPass {
     GLuint tx = 0, ty = 0;      // groups of the tracing stages, by pattern
     uint64_t pixelsTotal = 0;
   };
-  FramePlan planFrame(const FrameContext& ctx, const GpuScene& gs, int frameIndex,
+  FramePlan planFrame(const gl::FrameContext& ctx, const GpuScene& gs, int frameIndex,
                       bool moved) const;
-  gpu::RtgiParams frameParams(const FrameContext& ctx, const GpuScene& gs,
+  gpu::RtgiParams frameParams(const gl::FrameContext& ctx, const GpuScene& gs,
                               const glm::vec3& cameraPosition, int frameIndex,
                               const glm::mat4* previousViewProj, const FramePlan& plan) const;
   // The gbuffer stage, into fbo_[current_].
-  void drawGBuffer(FrameContext& ctx, const GpuScene& gs);
+  void drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs);
   // The parameters, scene buffers, G-buffer and images the compute stages read.
   void bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, GLuint accum);
   // The select stage (frame budget): the list of pixels that trace; sets the
   // selection's level and kind in `p` and uploads it.
-  void selectPixels(FrameContext& ctx, int frameIndex, const FramePlan& plan, gpu::RtgiParams* p);
+  void selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePlan& plan,
+                    gpu::RtgiParams* p);
   // One timed compute stage over the pixels that trace (accumulate: every pixel).
-  void runStage(FrameContext& ctx, const char* name, const gl::Program& program,
+  void runStage(gl::FrameContext& ctx, const char* name, const gl::Program& program,
                 const FramePlan& plan);
   // The shadows (or direct), indirect and specular stages.
-  void traceLight(FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
-  void accumulateFrame(FrameContext& ctx, const FramePlan& plan);
+  void traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
+  void accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan);
   // The traced share of a listed frame, and the units the frame bound, unbound.
   void finishFrame(const FramePlan& plan);
   void resize(int width, int height);
   // The mask stage (edges, blur, histogram), and the threshold that selects at most
   // `extra` pixels of it.
-  void runMask(FrameContext& ctx, GLuint gx, GLuint gy);
+  void runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy);
   // The reproject stage (see above), into `accum`; `materials`: the scene's (which
   // of them emit).
-  void reproject(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
+  void reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
   float maskThreshold(uint64_t extra) const;
   // The denoise stage (see above): `accum` filtered into denoisedImage_.
-  void denoise(FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum);
+  void denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum);
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   const gl::Program& directProgram(const GpuScene& gs);

@@ -39,7 +39,7 @@ void TonemapPass::appendKnobs(std::vector<Knob>* knobs) {
   knobs->push_back(std::move(op));
 }
 
-void TonemapPass::executeMask(FrameContext& ctx, GLuint maskTexture, GLuint framebuffer) {
+void TonemapPass::executeMask(gl::FrameContext& ctx, GLuint maskTexture, GLuint framebuffer) {
   const Settings saved = settings_;
   masking_ = true;
   execute(ctx, maskTexture, framebuffer);
@@ -47,7 +47,7 @@ void TonemapPass::executeMask(FrameContext& ctx, GLuint maskTexture, GLuint fram
   settings_ = saved;
 }
 
-void TonemapPass::execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
+void TonemapPass::execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
   gl::StageScope stage(ctx.timer, "tonemap");
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, ctx.width, ctx.height);

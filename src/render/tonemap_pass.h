@@ -24,9 +24,9 @@ class TonemapPass {
   };
 
   TonemapPass(gl::ProgramCache& programs, const Settings& settings);
-  void execute(FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer);
+  void execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer);
   // A single-channel image in [0, 1] (the rtgi work mask) as grey instead.
-  void executeMask(FrameContext& ctx, GLuint maskTexture, GLuint framebuffer);
+  void executeMask(gl::FrameContext& ctx, GLuint maskTexture, GLuint framebuffer);
   Settings& settings() { return settings_; }
   // Exposure and operator, for the viewer's panel.
   void appendKnobs(std::vector<Knob>* knobs);
