@@ -49,7 +49,8 @@ FULL = {
     "rtgi": {"axes": [("--frames", [1, 4, 16, 64, 256]), ("--voxels", [64, 128, 256]),
                       ("--bounces", [0, 1, 2, 3, "all"]), ("--interleave", [4, 16]),
                       ("--inject-rays", [16, 64]), ("--refine-rays", [0, 2]),
-                      ("--no-jitter", [""])]},
+                      ("--no-jitter", [""]), ("--denoise", ["off"]), ("--indirect", ["cones"]),
+                      ("--voxel-rays", [""])]},
     "points": {"axes": [("--voxels", [64, 128, 256, 512])]},
     "dvr": {"axes": [("--voxels", [64, 128, 256, 512])]},
 }
