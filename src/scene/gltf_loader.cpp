@@ -460,17 +460,17 @@ class Loader {
       fail(strf("%s: sampler %d does not exist", where.c_str(), ch.sampler));
     const auto& sampler = anim.samplers[static_cast<size_t>(ch.sampler)];
     c.node = ch.target_node;
-    c.step = sampler.interpolation == "STEP";
+    if (sampler.interpolation == "STEP") c.interpolation = Interpolation::kStep;
+    if (sampler.interpolation == "CUBICSPLINE") c.interpolation = Interpolation::kCubicSpline;
     readKeyframes(sampler, where, &c);
     return c;
   }
 
-  // The sampler's keyframe times and values into c; a cubic spline's tangents are
-  // skipped (played back linearly).
+  // The sampler's keyframe times and values into c; a cubic spline's output holds
+  // (in-tangent, value, out-tangent) per keyframe.
   void readKeyframes(const tinygltf::AnimationSampler& sampler, const std::string& where,
                      AnimationChannel* c) {
-    const bool cubic = sampler.interpolation == "CUBICSPLINE";
-    if (cubic) warn_(where + ": CUBICSPLINE is played back linearly");
+    const bool cubic = c->interpolation == Interpolation::kCubicSpline;
     const View in = accessor(sampler.input, "animation input", {TINYGLTF_TYPE_SCALAR},
                              {TINYGLTF_COMPONENT_TYPE_FLOAT});
     const int type = c->path == AnimationPath::kRotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
@@ -478,17 +478,23 @@ class Loader {
         accessor(sampler.output, "animation output", {type}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
     const size_t per = cubic ? 3 : 1;
     if (out.count != in.count * per) fail(where + ": input and output counts differ");
+    const auto element = [&](size_t i) {
+      const unsigned char* q = out.data + i * out.stride;
+      glm::dvec4 v(0.0);
+      for (int comp = 0; comp < (type == TINYGLTF_TYPE_VEC4 ? 4 : 3); ++comp)
+        v[comp] = readComponent(q + 4 * static_cast<size_t>(comp), out.componentType, false);
+      if (!std::isfinite(v.x + v.y + v.z + v.w)) fail(where + ": NaN or Inf keyframe value");
+      return v;
+    };
     for (size_t k = 0; k < in.count; ++k) {
       const float t = readComponent(in.data + k * in.stride, in.componentType, false);
       if (!std::isfinite(t) || (k > 0 && t < c->times.back()))
         fail(where + ": keyframe times must be finite and increasing");
       c->times.push_back(t);
-      const unsigned char* q = out.data + (k * per + (cubic ? 1 : 0)) * out.stride;
-      glm::dvec4 v(0.0);
-      for (int comp = 0; comp < (type == TINYGLTF_TYPE_VEC4 ? 4 : 3); ++comp)
-        v[comp] = readComponent(q + 4 * static_cast<size_t>(comp), out.componentType, false);
-      if (!std::isfinite(v.x + v.y + v.z + v.w)) fail(where + ": NaN or Inf keyframe value");
-      c->values.push_back(v);
+      c->values.push_back(element(k * per + (cubic ? 1 : 0)));
+      if (!cubic) continue;
+      c->inTangents.push_back(element(k * per));
+      c->outTangents.push_back(element(k * per + 2));
     }
   }
 

@@ -139,9 +139,17 @@ glm::dvec4 sample(const AnimationChannel& c, double t) {
   const size_t i =
       static_cast<size_t>(std::upper_bound(k.begin(), k.end(), static_cast<float>(t)) - k.begin()) -
       1;
-  if (c.step || i + 1 >= k.size()) return c.values[i];
+  if (c.interpolation == Interpolation::kStep || i + 1 >= k.size()) return c.values[i];
   const double span = static_cast<double>(k[i + 1]) - k[i];
   const double u = span > 0.0 ? (t - k[i]) / span : 0.0;
+  if (c.interpolation == Interpolation::kCubicSpline) {
+    // glTF 2.0, Appendix C: the Hermite basis, tangents scaled by the interval; a
+    // rotation is normalized by pose().
+    const double u2 = u * u, u3 = u2 * u;
+    return (2.0 * u3 - 3.0 * u2 + 1.0) * c.values[i] +
+           span * (u3 - 2.0 * u2 + u) * c.outTangents[i] +
+           (-2.0 * u3 + 3.0 * u2) * c.values[i + 1] + span * (u3 - u2) * c.inTangents[i + 1];
+  }
   if (c.path == AnimationPath::kRotation) {
     const glm::dvec4 a = c.values[i], b = c.values[i + 1];
     const glm::dquat q =

@@ -172,13 +172,20 @@ struct SceneNode {
 
 enum class AnimationPath { kTranslation, kRotation, kScale };
 
+// glTF's sampler interpolations: LINEAR (rotations slerp), STEP, and CUBICSPLINE (a
+// cubic Hermite spline through the keyframes with the file's tangents).
+enum class Interpolation { kLinear, kStep, kCubicSpline };
+
 // One glTF animation channel: keyframes of one node's translation, rotation or scale.
 struct AnimationChannel {
   int node = -1;
   AnimationPath path = AnimationPath::kTranslation;
-  bool step = false;  // STEP interpolation (else LINEAR; rotations slerp)
+  Interpolation interpolation = Interpolation::kLinear;
   std::vector<float> times;
   std::vector<glm::dvec4> values;  // xyz, or a quaternion as (x, y, z, w)
+  // CUBICSPLINE only: each keyframe's in-tangent and out-tangent (per second of the
+  // keyframe interval's parameter, as the file stores them).
+  std::vector<glm::dvec4> inTangents, outTangents;
 };
 
 // Vertices that move: their node or one of its ancestors is animated.

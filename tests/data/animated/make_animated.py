@@ -54,3 +54,32 @@ gltf = {
                     "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}]}],
 }
 write(buf.finish(gltf), "moving_box.gltf")
+
+# cubic_box.gltf: the same floor and box, the box's translation a CUBICSPLINE over
+# two keys 2 s apart, x from -0.5 to 0.5, leaving with tangent (1, 0, 0) per second
+# and arriving with tangent (0, 0, 0); and its rotation a CUBICSPLINE about y from 0
+# to 90 degrees with zero tangents (the spline of two unit quaternions, normalized).
+buf = Buffer()
+add = buf.add
+fp = add(floor_pos, "<3f", "VEC3", 5126, 34962, bounds(floor_pos))
+fi = add(floor_idx, "<I", "SCALAR", 5125, 34963)
+bp = add(box_pos, "<3f", "VEC3", 5126, 34962, bounds(box_pos))
+bi = add(box_idx, "<I", "SCALAR", 5125, 34963)
+ti = add([0.0, 2.0], "<f", "SCALAR", 5126, None, [[0.0], [2.0]])
+# (in-tangent, value, out-tangent) per key
+tv = add([(0, 0, 0), (-0.5, 0, 0), (1, 0, 0), (0, 0, 0), (0.5, 0, 0), (0, 0, 0)], "<3f", "VEC3", 5126)
+s45 = 0.7071068
+rv = add([(0, 0, 0, 0), (0, 0, 0, 1), (0, 0, 0, 0), (0, 0, 0, 0), (0, s45, 0, s45), (0, 0, 0, 0)],
+         "<4f", "VEC4", 5126)
+cubic = dict(gltf)
+cubic["asset"] = {"version": "2.0", "generator": "voxgi tests/data/animated/make_animated.py"}
+cubic["meshes"] = [
+    {"primitives": [{"attributes": {"POSITION": fp}, "indices": fi, "material": 0}]},
+    {"primitives": [{"attributes": {"POSITION": bp}, "indices": bi, "material": 1}]},
+]
+cubic["animations"] = [{"name": "glide", "samplers": [
+    {"input": ti, "output": tv, "interpolation": "CUBICSPLINE"},
+    {"input": ti, "output": rv, "interpolation": "CUBICSPLINE"}],
+    "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}},
+                 {"sampler": 1, "target": {"node": 1, "path": "rotation"}}]}]
+write(buf.finish(cubic), "cubic_box.gltf")
