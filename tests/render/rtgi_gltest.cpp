@@ -235,6 +235,50 @@ TEST_F(RtgiTest, ConvergedImageDoesNotFlicker) {
   EXPECT_LT(at256.relRms, 0.4 * at64.relRms);
 }
 
+// The denoised image of a still camera settles as the mean does: between frames 64
+// and 65 it changes no more than the bound above allows the mean, and by 256 frames
+// its change has fallen with the mean's (the filter fades as the noise it measures
+// falls, and never feeds back into the history).
+TEST_F(RtgiTest, DenoisedStillImageDoesNotFlicker) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  render::RenderSettings rs = settings(64, 64, render::Mode::kRtgi);
+  rs.rtgi.denoise = true;
+  auto change = [&](render::Renderer& r, int frames) {
+    while (r.accumulatedFrames() < frames) r.renderFrame();
+    const auto a = r.readDisplay();
+    const auto la = r.readLinear();
+    r.renderFrame();
+    const auto b = r.readDisplay();
+    const auto lb = r.readLinear();
+    size_t changed = 0;
+    double diff2 = 0.0, sum = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (i % 4 == 3) continue;
+      if (std::abs(int(a[i]) - int(b[i])) > 2) ++changed;
+      diff2 += (la[i] - lb[i]) * (la[i] - lb[i]);
+      sum += la[i];
+    }
+    const double channels = static_cast<double>(a.size() / 4 * 3);
+    EXPECT_TRUE(std::isfinite(diff2));
+    return std::pair<double, double>{static_cast<double>(changed) / channels,
+                                     std::sqrt(diff2 / channels) / (sum / channels)};
+  };
+  rs.jitter = false;
+  render::Renderer centred(*programs_, room, rs);
+  const auto still = change(centred, 64);
+  rs.jitter = true;
+  render::Renderer jittered(*programs_, room, rs);
+  const auto at64 = change(jittered, 64);
+  const auto at256 = change(jittered, 256);
+  std::printf(
+      "denoised, frame 64 -> 65 at pixel centres: %.3f%% of channels change > 2 levels, "
+      "relative RMS %.4f; with the sub-pixel offset: RMS %.4f (64 -> 65), %.4f (256 -> 257)\n",
+      100.0 * still.first, still.second, at64.second, at256.second);
+  EXPECT_LE(still.first, 0.005);
+  EXPECT_LT(still.second, 0.01);
+  EXPECT_LT(at256.second, 0.4 * at64.second);
+}
+
 // The same settings give the same image, run after run; another seed does not.
 TEST_F(RtgiTest, SameSeedSameImage) {
   const scene::Scene room = scene::loadGltf(cornellRoom());
