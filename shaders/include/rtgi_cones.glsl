@@ -72,10 +72,11 @@ void coneLookup(ivec3 v, int level, vec3 dir, out vec4 fine, out vec4 coarse) {
   fine = coneNode(first + childIndex(v, depth, level - 1), float(1 << (depth - level)), dir);
 }
 
-// The radiance arriving at o (world) within the cone about unit dir: samples front
-// to back, each at the level of detail of the cone's diameter there (in voxels,
-// log2 of it: 0 is the leaves), blended between the two levels about it.
-vec3 coneRadiance(vec3 o, vec3 dir) {
+// The radiance arriving at o (world) within the cone about unit dir whose half-angle
+// has tangent halfTan: samples front to back, each at the level of detail of the
+// cone's diameter there (in voxels, log2 of it: 0 is the leaves), blended between
+// the two levels about it.
+vec3 coneRadiance(vec3 o, vec3 dir, float halfTan) {
   int depth = octreeDepth();
   float rootSize = float(octreeRootSize());
   vec3 g0 = octreeToGrid(o);
@@ -83,7 +84,7 @@ vec3 coneRadiance(vec3 o, vec3 dir) {
   float alpha = 0.0;
   float t = 0.5;  // voxels; o is already off the surface (surfaceRayOrigin)
   for (int k = 0; k < kConeMaxSteps && alpha < kConeOpaque; ++k) {
-    float diameter = max(1.0, 2.0 * kConeHalfTan * t);
+    float diameter = max(1.0, 2.0 * halfTan * t);
     vec3 g = g0 + dir * t;
     if (any(lessThan(g, vec3(-diameter))) || any(greaterThan(g, vec3(rootSize + diameter))))
       break;
@@ -123,9 +124,21 @@ vec3 coneIrradiance(vec3 o, vec3 n, vec3 ng) {
       w = kConeSideWeight;
     }
     if (ng != vec3(0.0) && dot(dir, ng) < 0.0) continue;
-    sum += w * coneRadiance(o, dir);
+    sum += w * coneRadiance(o, dir, kConeHalfTan);
   }
   return sum;
+}
+
+// Glossy reflection by one cone about the mirror direction (Crassin et al. 2011,
+// section 4.2), its aperture following the GGX roughness alpha = roughness^2: half
+// of the distribution of micro-normals lies within atan(alpha) of the normal
+// (D's cosine-weighted mass within theta is tan^2 / (alpha^2 + tan^2)), and a
+// reflection turns twice as far as the micro-normal, so the cone's half-angle is
+// 2 atan(alpha), at most the diffuse cones' 30 degrees. The tangent of that
+// double angle: 2 alpha / (1 - alpha^2).
+float glossyConeHalfTan(float alpha) {
+  float a = min(alpha, 0.26794919);  // tan(15 deg): a 30-degree half-angle
+  return 2.0 * a / (1.0 - a * a);
 }
 
 #endif  // VOXGI_RTGI_CONES_GLSL

@@ -18,6 +18,11 @@
 // glossy surface does not (its highlight comes from the shadows stage).
 // RTGI_BVH_TEXTURES, _COLORS, _ALPHA: the material's textures, vertex colours and
 // alpha masks at the hit, as the path tracer reads them (rtgi_bvh.glsl).
+//
+// RTGI_CONES (--indirect cones): a glossy surface reads one cone about the mirror
+// direction through the octree's filtered levels, its aperture following the
+// roughness (rtgi_cones.glsl), weighted by Schlick's Fresnel at the normal: the same
+// light every frame instead of one ray's. Mirrors keep their ray.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -31,6 +36,10 @@ layout(local_size_x = kRtgiTraceGroup) in;
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
+
+#ifdef RTGI_CONES
+#include "rtgi_cones.glsl"
+#endif
 
 #ifdef RTGI_BVH
 #include "rtgi_bvh.glsl"
@@ -139,6 +148,17 @@ void main() {
   vec3 result = vec3(0.0);
   bool mirror = p.roughness < kMirrorRoughness;
   if (p.covered && (mirror || p.metallic > 0.5 || p.roughness < kGlossyRoughness)) {
+#ifdef RTGI_CONES
+    if (!mirror) {
+      Surface s = p.s;
+      vec3 dir = reflect(-s.v, s.n);
+      vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, s.n), 0.0, 1.0), 5.0);
+      if (dot(dir, s.n) > 0.0)
+        result = f * coneRadiance(surfaceRayOrigin(px, s), dir, glossyConeHalfTan(s.alpha));
+      imageStore(specularOut, px, vec4(result, 1.0));
+      return;
+    }
+#endif
     seedPixel(px, 3u);
     Surface s = p.s;
     vec3 dir;

@@ -29,7 +29,7 @@ void RtgiPass::buildOptionalStages() {
       settings_.indirectMethod == Settings::IndirectMethod::kRays)
     indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
   if (settings_.specular && !specular_ && !tracesTriangles())
-    specular_ = &programs_.get({{"render/rtgi_specular.comp"}, {}});
+    specular_ = &programs_.get({{"render/rtgi_specular.comp"}, conesDefine()});
 }
 
 std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
@@ -81,6 +81,12 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
   return programs_.get({{"render/rtgi_direct.comp"}, defines});
 }
 
+// With cones for indirect light, glossy reflections are cones too.
+std::vector<std::string> RtgiPass::conesDefine() const {
+  if (settings_.indirectMethod == Settings::IndirectMethod::kCones) return {"RTGI_CONES"};
+  return {};
+}
+
 // The indirect stage's variant: the voxel march, the triangles (RTGI_BVH), or cones
 // (RTGI_CONES).
 const gl::Program& RtgiPass::indirectProgram(const GpuScene& gs) {
@@ -101,6 +107,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
                              ? "RTGI_EMITTERS_EXACT"
                              : "RTGI_EMITTERS_SAMPLED");
+  for (std::string& d : conesDefine()) defines.push_back(std::move(d));
   return programs_.get({{"render/rtgi_specular.comp"}, defines});
 }
 

@@ -191,6 +191,8 @@ class RtgiPass {
   const gl::Program& indirectProgram(const GpuScene& gs);
   // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs.
   std::vector<std::string> bvhDefines(const GpuScene& gs) const;
+  // {"RTGI_CONES"} with cone-traced indirect light (glossy reflections are cones too).
+  std::vector<std::string> conesDefine() const;
   // The BVH's buffers, bound for the stages that trace it, or unbound (bvh_ set).
   void bindBvh(const GpuScene& gs) const;
   void unbindBvh() const;
