@@ -81,15 +81,11 @@ int runBench(const BenchOptions& b) {
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
   for (int n : resolutions) runs.push_back(benchRun(o, programs, scene, n, runs.empty()));
 
-  nlohmann::ordered_json out;
-  out["voxgi_version"] = VOXGI_VERSION;
-  out["scene"] = scenePath;
+  nlohmann::ordered_json out = statsHeaderJson(
+      {"", scenePath, render::modeName(o.render.mode), o.render.width, o.render.height,
+       gl::backendName(context->backend()), context->renderer(), context->version()});
   out["triangles"] = scene.triangleCount();
-  out["mode"] = render::modeName(o.render.mode);
-  out["size"] = {{"width", o.render.width}, {"height", o.render.height}};
   out["frames"] = o.frames;
-  out["backend"] = gl::backendName(context->backend());
-  out["renderer"] = context->renderer();
   out["stage_timing"] = gl::stageTimingMethod();
   out["runs"] = runs;
   out["gl_errors"] = gl::debugErrorCount();

@@ -161,6 +161,14 @@ TEST(Cli, BenchPrintsATableAndWritesJson) {
     EXPECT_GT(run["occupied"].get<int>(), 0);
   }
   EXPECT_GT(b["runs"][1]["occupied"].get<int>(), b["runs"][0]["occupied"].get<int>());
+  // The header every stats file starts with, in the same order.
+  std::ifstream again(dir + "/b.json");
+  const auto ordered = nlohmann::ordered_json::parse(again);
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : ordered.items()) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"voxgi_version", "scene", "mode", "size", "backend",
+                                            "renderer", "gl_version", "triangles", "frames",
+                                            "stage_timing", "runs", "gl_errors"}));
   expectOneLineError(runCommand(voxgi("bench --voxels 64,abc")), 2, "--voxels");
   expectOneLineError(runCommand(voxgi("bench --out x.png")), 2, "--out");
 }
