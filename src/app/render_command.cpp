@@ -65,15 +65,12 @@ class ProgressBar {
 
 namespace {
 
-// "effects": {"enabled": [...], "skipped": {"name": "reason"}}, in effectNames() order.
+// "effects": {"enabled": [...], "skipped": {"name": "reason"}}, in scene::kEffects order.
 nlohmann::ordered_json effectsJson(const scene::EffectPlan& plan) {
   nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
-  for (const std::string& name : scene::effectNames()) {
-    auto it = plan.skipped.find(name);
-    if (it != plan.skipped.end()) skipped[name] = it->second;
-  }
+  for (const auto& [effect, reason] : plan.skipped) skipped[scene::effectName(effect)] = reason;
   nlohmann::ordered_json out;
-  out["enabled"] = plan.enabledList();
+  out["enabled"] = plan.enabledNames();
   out["skipped"] = skipped;
   return out;
 }
@@ -129,7 +126,7 @@ void renderFrames(const RenderOptions& o, scene::Scene& scene, render::Renderer&
     const auto t = Clock::now();
     // Frame f shows time + f / fps, with the animation effect (else the first pose
     // stays): meshes, lights and the camera along its path.
-    if (scene.animated() && renderer.effects().has("animation") && f > 0) {
+    if (scene.animated() && renderer.effects().has(scene::Effect::kAnimation) && f > 0) {
       scene.pose(o.time + f / o.fps);
       renderer.posed();
     }

@@ -12,6 +12,7 @@
 #include <ctime>
 #include <deque>
 #include <filesystem>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -484,12 +485,12 @@ void Viewer::drawShaderStatus() {
 
 void Viewer::drawEffectPlan() {
   const scene::EffectPlan& plan = renderer_->effects();
-  for (const std::string& name : scene::effectNames()) {
-    auto skip = plan.skipped.find(name);
+  for (scene::Effect e : scene::kEffects) {
+    auto skip = plan.skipped.find(e);
     if (skip == plan.skipped.end())
-      ImGui::Text("on   %s", name.c_str());
+      ImGui::Text("on   %s", scene::effectName(e));
     else
-      ImGui::TextDisabled("off  %s: %s", name.c_str(), skip->second.c_str());
+      ImGui::TextDisabled("off  %s: %s", scene::effectName(e), skip->second.c_str());
   }
   ImGui::TextDisabled("--effects +name,-name overrides; pathtrace renders every effect");
 }
@@ -618,8 +619,10 @@ void Viewer::writeStats(const std::string& endedBy) {
   stats["scene_reloads_failed"] = sceneReloadsFailed_;
   stats["scene_error"] = sceneError_;
   stats["screenshots"] = screenshots_;
-  stats["effects"] = {{"enabled", renderer_->effects().enabledList()},
-                      {"skipped", renderer_->effects().skipped}};
+  std::map<std::string, std::string> skipped;  // by name, so in name order
+  for (const auto& [effect, reason] : renderer_->effects().skipped)
+    skipped[scene::effectName(effect)] = reason;
+  stats["effects"] = {{"enabled", renderer_->effects().enabledNames()}, {"skipped", skipped}};
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
   stats["texture_bytes"] = {{"gpu", renderer_->textureMemory().gpu()},
                             {"cpu", renderer_->textureMemory().cpu()}};

@@ -55,7 +55,8 @@ std::string availableModes() {
 
 scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& settings) {
   scene::EffectPlan plan = scene::planEffects(scene);
-  if (settings.octree.bounces == 0 && plan.has("indirect")) plan.skip("indirect", "--bounces 0");
+  if (settings.octree.bounces == 0 && plan.has(scene::Effect::kIndirect))
+    plan.skip(scene::Effect::kIndirect, "--bounces 0");
   scene::applyOverrides(&plan, settings.effects);
   return plan;
 }
@@ -105,7 +106,8 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
 // them in the plan it needs no voxels at all.
 bool Renderer::usesOctree(Mode m) const {
   if (m == Mode::kRtgi)
-    return plan_.has("shadows") || plan_.has("indirect") || plan_.has("specular");
+    return plan_.has(scene::Effect::kShadows) || plan_.has(scene::Effect::kIndirect) ||
+           plan_.has(scene::Effect::kSpecular);
   return modeUsesOctree(m);
 }
 
@@ -143,14 +145,14 @@ void Renderer::createPasses() {
     os.features = features;
     // Voxel bounces are indirect light too (mirrors see them): without the indirect
     // effect the voxels hold direct light only.
-    if (!plan_.has("indirect")) os.bounces = std::min(os.bounces, 1);
+    if (!plan_.has(scene::Effect::kIndirect)) os.bounces = std::min(os.bounces, 1);
     octree_ = std::make_unique<voxel::Octree>(programs_, os);
     octreeBuilt_ = false;
   }
   if (mode == Mode::kRtgi && !rtgi_) {
     RtgiPass::Settings rs = settings_.rtgi;
-    rs.indirect = plan_.has("indirect");
-    rs.specular = plan_.has("specular");
+    rs.indirect = plan_.has(scene::Effect::kIndirect);
+    rs.specular = plan_.has(scene::Effect::kSpecular);
     rs.features = features;
     if (settings_.targetFps > 0.0) {
       if (rs.interleave == 1) rs.interleave = static_cast<int>(gpu::kMaxInterleave);

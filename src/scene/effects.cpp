@@ -7,10 +7,28 @@
 
 namespace voxgi::scene {
 
-const std::vector<std::string>& effectNames() {
-  static const std::vector<std::string> names = {"shadows",  "emission",   "indirect",
-                                                 "specular", "textures",   "alpha",
-                                                 "colors",   "normalmaps", "animation"};
+namespace {
+
+// Indexed by Effect.
+constexpr std::array<const char*, kEffects.size()> kEffectNames = {
+    "shadows", "emission", "indirect",   "specular", "textures",
+    "alpha",   "colors",   "normalmaps", "animation"};
+
+}  // namespace
+
+const char* effectName(Effect e) {
+  return kEffectNames[static_cast<size_t>(e)];
+}
+
+std::optional<Effect> parseEffect(std::string_view name) {
+  for (Effect e : kEffects)
+    if (name == effectName(e)) return e;
+  return std::nullopt;
+}
+
+std::vector<std::string> effectNames() {
+  std::vector<std::string> names;
+  for (Effect e : kEffects) names.push_back(effectName(e));
   return names;
 }
 
@@ -20,32 +38,33 @@ bool isSpecular(const Material& m) {
          m.metallicRoughnessTexture >= 0;
 }
 
-void EffectPlan::enable(const std::string& name) {
-  skipped.erase(name);
-  enabled.insert(name);
+void EffectPlan::enable(Effect e) {
+  skipped.erase(e);
+  enabled.insert(e);
 }
 
-void EffectPlan::skip(const std::string& name, const std::string& reason) {
-  enabled.erase(name);
-  skipped[name] = reason;
+void EffectPlan::skip(Effect e, const std::string& reason) {
+  enabled.erase(e);
+  skipped[e] = reason;
 }
 
-std::vector<std::string> EffectPlan::enabledList() const {
+std::vector<Effect> EffectPlan::enabledList() const {
+  return std::vector<Effect>(enabled.begin(), enabled.end());
+}
+
+std::vector<std::string> EffectPlan::enabledNames() const {
   std::vector<std::string> out;
-  for (const std::string& n : effectNames())
-    if (has(n)) out.push_back(n);
+  for (Effect e : enabled) out.push_back(effectName(e));
   return out;
 }
 
 std::string EffectPlan::summary() const {
   std::string s;
-  for (const std::string& n : enabledList()) s += (s.empty() ? "" : ", ") + n;
+  for (Effect e : enabled) s += (s.empty() ? "" : ", ") + std::string(effectName(e));
   if (s.empty()) s = "none";
   std::string skips;
-  for (const std::string& n : effectNames()) {
-    auto it = skipped.find(n);
-    if (it != skipped.end()) skips += (skips.empty() ? "" : ", ") + n + " \u2014 " + it->second;
-  }
+  for (const auto& [e, reason] : skipped)
+    skips += (skips.empty() ? "" : ", ") + std::string(effectName(e)) + " \u2014 " + reason;
   if (!skips.empty()) s += " (skipped: " + skips + ")";
   return s;
 }
@@ -68,27 +87,27 @@ EffectPlan planEffects(const Scene& scene) {
   }
   const bool lit = !scene.lights.empty() || emissive;
   EffectPlan plan;
-  auto decide = [&](const char* name, bool on, const char* reason) {
+  auto decide = [&](Effect e, bool on, const char* reason) {
     if (on)
-      plan.enable(name);
+      plan.enable(e);
     else
-      plan.skip(name, reason);
+      plan.skip(e, reason);
   };
-  decide("shadows", lit, "no light and no emissive surface");
-  decide("emission", emissive, "no emissive material");
-  decide("indirect", lit, "no light and no emissive surface");
-  decide("specular", specular, "no mirror or glossy material");
-  decide("textures", textured, "no textured material");
-  decide("alpha", masked, "no alpha-masked material");
-  decide("colors", scene.hasVertexColors(), "no vertex colours");
-  decide("normalmaps", scene.hasNormalMaps(), "no normal-mapped material");
-  decide("animation", scene.animated(), "nothing animated");
+  decide(Effect::kShadows, lit, "no light and no emissive surface");
+  decide(Effect::kEmission, emissive, "no emissive material");
+  decide(Effect::kIndirect, lit, "no light and no emissive surface");
+  decide(Effect::kSpecular, specular, "no mirror or glossy material");
+  decide(Effect::kTextures, textured, "no textured material");
+  decide(Effect::kAlpha, masked, "no alpha-masked material");
+  decide(Effect::kColors, scene.hasVertexColors(), "no vertex colours");
+  decide(Effect::kNormalMaps, scene.hasNormalMaps(), "no normal-mapped material");
+  decide(Effect::kAnimation, scene.animated(), "nothing animated");
   return plan;
 }
 
 EffectPlan allEffects() {
   EffectPlan plan;
-  for (const std::string& n : effectNames()) plan.enable(n);
+  for (Effect e : kEffects) plan.enable(e);
   return plan;
 }
 
@@ -96,7 +115,8 @@ namespace {
 
 struct Override {
   bool on;
-  std::string name;  // "all" or one of effectNames()
+  std::string name;              // as written: "all" or an effect's name
+  std::optional<Effect> effect;  // nullopt: "all"
 };
 
 std::vector<Override> parseOverrides(const std::string& spec) {
@@ -113,13 +133,13 @@ std::vector<Override> parseOverrides(const std::string& spec) {
     if (item[0] != '+' && item[0] != '-')
       throw Error("--effects: '" + item + "' needs a sign, +" + item + " or -" + item);
     const std::string name = item.substr(1);
-    const auto& names = effectNames();
-    if (name != "all" && std::find(names.begin(), names.end(), name) == names.end()) {
+    const std::optional<Effect> effect = parseEffect(name);
+    if (name != "all" && !effect) {
       std::string known;
-      for (const std::string& n : names) known += n + ", ";
+      for (Effect e : kEffects) known += std::string(effectName(e)) + ", ";
       throw Error("--effects: unknown effect '" + name + "' (" + known + "all)");
     }
-    out.push_back({item[0] == '+', name});
+    out.push_back({item[0] == '+', name, effect});
   }
   return out;
 }
@@ -132,13 +152,14 @@ void checkOverrides(const std::string& spec) {
 
 void applyOverrides(EffectPlan* plan, const std::string& spec) {
   for (const Override& o : parseOverrides(spec)) {
-    const std::vector<std::string> which =
-        o.name == "all" ? effectNames() : std::vector<std::string>{o.name};
-    for (const std::string& n : which) {
+    const std::vector<Effect> which = o.effect
+                                          ? std::vector<Effect>{*o.effect}
+                                          : std::vector<Effect>(kEffects.begin(), kEffects.end());
+    for (Effect e : which) {
       if (o.on)
-        plan->enable(n);
+        plan->enable(e);
       else
-        plan->skip(n, "--effects -" + o.name);
+        plan->skip(e, "--effects -" + o.name);
     }
   }
 }
@@ -156,13 +177,13 @@ std::vector<std::string> ShaderFeatures::defines() const {
 
 ShaderFeatures shaderFeatures(const EffectPlan& plan) {
   ShaderFeatures f;
-  f.shadows = plan.has("shadows");
-  f.emission = plan.has("emission");
-  f.textures = plan.has("textures");
-  f.alpha = plan.has("alpha");
-  f.colors = plan.has("colors");
+  f.shadows = plan.has(Effect::kShadows);
+  f.emission = plan.has(Effect::kEmission);
+  f.textures = plan.has(Effect::kTextures);
+  f.alpha = plan.has(Effect::kAlpha);
+  f.colors = plan.has(Effect::kColors);
   // Normal maps are textures: without the textures effect none is read.
-  f.normalMaps = plan.has("normalmaps") && plan.has("textures");
+  f.normalMaps = plan.has(Effect::kNormalMaps) && plan.has(Effect::kTextures);
   return f;
 }
 

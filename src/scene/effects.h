@@ -22,17 +22,40 @@
 #ifndef VOXGI_SCENE_EFFECTS_H
 #define VOXGI_SCENE_EFFECTS_H
 
+#include <array>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "scene/scene.h"
 
 namespace voxgi::scene {
 
-// Every effect name, in the order plans are printed.
-const std::vector<std::string>& effectNames();
+// The effects, in the order plans are printed (and sets and maps of them sort).
+enum class Effect {
+  kShadows,
+  kEmission,
+  kIndirect,
+  kSpecular,
+  kTextures,
+  kAlpha,
+  kColors,
+  kNormalMaps,
+  kAnimation,
+};
+inline constexpr std::array<Effect, 9> kEffects = {
+    Effect::kShadows, Effect::kEmission, Effect::kIndirect,   Effect::kSpecular, Effect::kTextures,
+    Effect::kAlpha,   Effect::kColors,   Effect::kNormalMaps, Effect::kAnimation};
+
+// The name used in flags, stats and the viewer ("normalmaps" for kNormalMaps).
+const char* effectName(Effect e);
+// The effect of that name; nullopt for any other string ("all" included).
+std::optional<Effect> parseEffect(std::string_view name);
+// Every effect name, in kEffects order.
+std::vector<std::string> effectNames();
 
 // Whether a material reflects enough, sharply enough, for the specular stage to
 // trace it: metallic, a dielectric smoother than gpu::kGlossyRoughness, or one with a
@@ -41,14 +64,15 @@ const std::vector<std::string>& effectNames();
 bool isSpecular(const Material& m);
 
 struct EffectPlan {
-  std::set<std::string> enabled;
-  std::map<std::string, std::string> skipped;  // name -> reason, in plain words
+  std::set<Effect> enabled;
+  std::map<Effect, std::string> skipped;  // effect -> reason, in plain words
 
-  bool has(const std::string& name) const { return enabled.count(name) != 0; }
-  void enable(const std::string& name);
-  void skip(const std::string& name, const std::string& reason);
-  // Enabled names in effectNames() order.
-  std::vector<std::string> enabledList() const;
+  bool has(Effect e) const { return enabled.count(e) != 0; }
+  void enable(Effect e);
+  void skip(Effect e, const std::string& reason);
+  // Enabled effects in kEffects order, and their names.
+  std::vector<Effect> enabledList() const;
+  std::vector<std::string> enabledNames() const;
   // "shadows, indirect (skipped: specular \u2014 no mirror or glossy material, ...)"
   std::string summary() const;
 };

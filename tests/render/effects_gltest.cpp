@@ -99,7 +99,7 @@ class EffectsTest : public GlProgramsTest {
     const auto [worst, mean] = difference(plan.linear, all.linear);
     EXPECT_LE(worst, 1e-4) << "mean abs difference " << mean;
     const scene::EffectPlan p = render::effectPlan(s, settings(""));
-    EXPECT_EQ(hasStage(plan.stages, "specular"), p.has("specular"));
+    EXPECT_EQ(hasStage(plan.stages, "specular"), p.has(scene::Effect::kSpecular));
     EXPECT_TRUE(hasStage(all.stages, "specular"));
     EXPECT_TRUE(hasStage(all.stages, "shadows"));
     EXPECT_TRUE(hasStage(all.stages, "indirect"));
@@ -156,8 +156,8 @@ TEST_F(EffectsTest, ForcedOffEffectsLoseTheirStage) {
   // --bounces 0 is no indirect light.
   render::RenderSettings rs = settings("");
   rs.octree.bounces = 0;
-  EXPECT_FALSE(render::effectPlan(s, rs).has("indirect"));
-  EXPECT_EQ(render::effectPlan(s, rs).skipped.at("indirect"), "--bounces 0");
+  EXPECT_FALSE(render::effectPlan(s, rs).has(scene::Effect::kIndirect));
+  EXPECT_EQ(render::effectPlan(s, rs).skipped.at(scene::Effect::kIndirect), "--bounces 0");
 }
 
 TEST_F(EffectsTest, UnlitSceneRunsNoLightStage) {

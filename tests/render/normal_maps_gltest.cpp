@@ -46,7 +46,7 @@ std::vector<float> renderImage(const scene::Scene& s, const ModeRun& run,
   rs.voxels = 64;
   rs.spp = 16;
   rs.effects = effects;
-  return renderRun(s, run, rs, "normalmaps");
+  return renderRun(s, run, rs, scene::Effect::kNormalMaps);
 }
 
 // Mean red over the middle half of the image (the quad covers all of it).

@@ -36,7 +36,7 @@ std::vector<float> renderImage(const scene::Scene& s, const render::RenderSettin
                                int frames = 1) {
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::Renderer r(programs, s, rs);
-  EXPECT_EQ(r.effects().has("colors"), rs.effects.empty()) << r.effects().summary();
+  EXPECT_EQ(r.effects().has(scene::Effect::kColors), rs.effects.empty()) << r.effects().summary();
   for (int f = 0; f < frames; ++f) r.renderFrame();
   return r.readLinear();
 }
@@ -59,7 +59,7 @@ TEST_F(VertexColorsTest, EveryModeShowsThem) {
   ASSERT_TRUE(s.hasVertexColors());
   glm::dvec3 pathtraced[2][2];  // [device][left, right]
   for (const ModeRun& run : kEveryMode) {
-    const auto px = renderRun(s, run, settingsFor(run.mode), "colors");
+    const auto px = renderRun(s, run, settingsFor(run.mode), scene::Effect::kColors);
     const glm::dvec3 left = halfMean(px, true), right = halfMean(px, false);
     std::printf("%s: left half (%.4f %.4f %.4f), right half (%.4f %.4f %.4f)\n", run.name, left.r,
                 left.g, left.b, right.r, right.g, right.b);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "app/cli.h"
 #include "scene/gltf_loader.h"
 #include "scene_shared.h"
@@ -15,8 +17,7 @@ namespace {
 
 std::vector<std::string> skippedNames(const EffectPlan& p) {
   std::vector<std::string> out;
-  for (const std::string& n : effectNames())
-    if (p.skipped.count(n)) out.push_back(n);
+  for (const auto& [effect, reason] : p.skipped) out.push_back(effectName(effect));
   return out;
 }
 
@@ -36,14 +37,14 @@ Scene diffuseScene(bool lit = true) {
 TEST(EffectPlan, CornellRoom) {
   const EffectPlan p = planEffects(loadGltf(test::cornellRoom()));
   // A ceiling panel (emissive), a mirror sphere, no textures, no masks, no animation.
-  EXPECT_EQ(p.enabledList(),
+  EXPECT_EQ(p.enabledNames(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
   EXPECT_EQ(skippedNames(p),
             (std::vector<std::string>{"textures", "alpha", "colors", "normalmaps", "animation"}));
-  EXPECT_EQ(p.skipped.at("textures"), "no textured material");
-  EXPECT_EQ(p.skipped.at("alpha"), "no alpha-masked material");
-  EXPECT_EQ(p.skipped.at("colors"), "no vertex colours");
-  EXPECT_EQ(p.skipped.at("animation"), "nothing animated");
+  EXPECT_EQ(p.skipped.at(Effect::kTextures), "no textured material");
+  EXPECT_EQ(p.skipped.at(Effect::kAlpha), "no alpha-masked material");
+  EXPECT_EQ(p.skipped.at(Effect::kColors), "no vertex colours");
+  EXPECT_EQ(p.skipped.at(Effect::kAnimation), "nothing animated");
   EXPECT_EQ(p.summary(),
             "shadows, emission, indirect, specular (skipped: textures \u2014 no textured "
             "material, alpha \u2014 no alpha-masked material, colors \u2014 no vertex colours, "
@@ -55,7 +56,7 @@ TEST(EffectPlan, DarkPlane) {
   const Scene s = loadGltf(test::darkPlane());
   EXPECT_TRUE(s.lights.empty());
   const EffectPlan p = planEffects(s);
-  EXPECT_EQ(p.enabledList(),
+  EXPECT_EQ(p.enabledNames(),
             (std::vector<std::string>{"shadows", "emission", "indirect", "specular"}));
   EXPECT_EQ(skippedNames(p),
             (std::vector<std::string>{"textures", "alpha", "colors", "normalmaps", "animation"}));
@@ -63,16 +64,16 @@ TEST(EffectPlan, DarkPlane) {
 
 TEST(EffectPlan, DiffuseSceneHasNoSpecularOrEmission) {
   const EffectPlan p = planEffects(diffuseScene());
-  EXPECT_EQ(p.enabledList(), (std::vector<std::string>{"shadows", "indirect"}));
-  EXPECT_EQ(p.skipped.at("specular"), "no mirror or glossy material");
-  EXPECT_EQ(p.skipped.at("emission"), "no emissive material");
+  EXPECT_EQ(p.enabledNames(), (std::vector<std::string>{"shadows", "indirect"}));
+  EXPECT_EQ(p.skipped.at(Effect::kSpecular), "no mirror or glossy material");
+  EXPECT_EQ(p.skipped.at(Effect::kEmission), "no emissive material");
 }
 
 TEST(EffectPlan, UnlitSceneHasNoLightEffects) {
   const EffectPlan p = planEffects(diffuseScene(false));
   EXPECT_TRUE(p.enabledList().empty());
-  EXPECT_EQ(p.skipped.at("shadows"), "no light and no emissive surface");
-  EXPECT_EQ(p.skipped.at("indirect"), "no light and no emissive surface");
+  EXPECT_EQ(p.skipped.at(Effect::kShadows), "no light and no emissive surface");
+  EXPECT_EQ(p.skipped.at(Effect::kIndirect), "no light and no emissive surface");
   EXPECT_EQ(p.summary().rfind("none (skipped: shadows", 0), 0u) << p.summary();
 }
 
@@ -87,13 +88,14 @@ TEST(EffectPlan, MaterialsDecideTexturesAlphaSpecularEmission) {
   s.materials[0].emission = glm::vec3(1.0f);
   s.materials[0].metallic = 1.0f;
   const EffectPlan p = planEffects(s);
-  for (const char* n : {"shadows", "emission", "indirect", "specular", "textures", "alpha"})
-    EXPECT_TRUE(p.has(n)) << n;
-  EXPECT_FALSE(p.has("animation"));
+  for (Effect e : {Effect::kShadows, Effect::kEmission, Effect::kIndirect, Effect::kSpecular,
+                   Effect::kTextures, Effect::kAlpha})
+    EXPECT_TRUE(p.has(e)) << effectName(e);
+  EXPECT_FALSE(p.has(Effect::kAnimation));
   // An emissive surface is a light on its own.
   s.lights.clear();
-  EXPECT_TRUE(planEffects(s).has("shadows"));
-  EXPECT_TRUE(planEffects(s).has("indirect"));
+  EXPECT_TRUE(planEffects(s).has(Effect::kShadows));
+  EXPECT_TRUE(planEffects(s).has(Effect::kIndirect));
 }
 
 TEST(EffectPlan, MaterialsNobodyDrawsDoNotCount) {
@@ -105,12 +107,12 @@ TEST(EffectPlan, MaterialsNobodyDrawsDoNotCount) {
   unused.alphaMode = AlphaMode::kMask;
   s.materials.push_back(unused);
   const EffectPlan p = planEffects(s);
-  EXPECT_EQ(p.enabledList(), (std::vector<std::string>{"shadows", "indirect"}));
+  EXPECT_EQ(p.enabledNames(), (std::vector<std::string>{"shadows", "indirect"}));
 }
 
 TEST(EffectPlan, Animation) {
   const EffectPlan p = planEffects(loadGltf(test::testDataDir() + "/animated/moving_box.gltf"));
-  EXPECT_TRUE(p.has("animation"));
+  EXPECT_TRUE(p.has(Effect::kAnimation));
 }
 
 // One rule, shared with rtgi_specular.comp: metallic, or smoother than kGlossyRoughness.
@@ -133,17 +135,32 @@ TEST(EffectPlan, SpecularRule) {
 TEST(EffectPlan, Overrides) {
   EffectPlan p = planEffects(diffuseScene());
   applyOverrides(&p, "+specular,-shadows");
-  EXPECT_TRUE(p.has("specular"));
-  EXPECT_FALSE(p.skipped.count("specular"));
-  EXPECT_FALSE(p.has("shadows"));
-  EXPECT_EQ(p.skipped.at("shadows"), "--effects -shadows");
+  EXPECT_TRUE(p.has(Effect::kSpecular));
+  EXPECT_FALSE(p.skipped.count(Effect::kSpecular));
+  EXPECT_FALSE(p.has(Effect::kShadows));
+  EXPECT_EQ(p.skipped.at(Effect::kShadows), "--effects -shadows");
   applyOverrides(&p, "-all,+indirect");
-  EXPECT_EQ(p.enabledList(), std::vector<std::string>{"indirect"});
+  EXPECT_EQ(p.enabledNames(), std::vector<std::string>{"indirect"});
   applyOverrides(&p, "+all");
   EXPECT_EQ(p.enabledList(), allEffects().enabledList());
   EXPECT_TRUE(p.skipped.empty());
   applyOverrides(&p, "");  // nothing to do
-  EXPECT_EQ(p.enabledList().size(), effectNames().size());
+  EXPECT_EQ(p.enabledList().size(), kEffects.size());
+}
+
+// Every effect round-trips through its name; no other string names an effect.
+TEST(EffectPlan, NamesRoundTrip) {
+  std::set<std::string> seen;
+  for (Effect e : kEffects) {
+    const std::string name = effectName(e);
+    EXPECT_TRUE(parseEffect(name) == e) << name;
+    EXPECT_TRUE(seen.insert(name).second) << name;
+  }
+  EXPECT_EQ(effectNames(),
+            (std::vector<std::string>{"shadows", "emission", "indirect", "specular", "textures",
+                                      "alpha", "colors", "normalmaps", "animation"}));
+  for (const char* bad : {"", "all", "bloom", "Shadows", "normalMaps", "shadows "})
+    EXPECT_FALSE(parseEffect(bad).has_value()) << bad;
 }
 
 TEST(EffectPlan, BadOverridesAreOneLineErrors) {
@@ -179,22 +196,22 @@ TEST(EffectPlan, ShaderDefines) {
 // Vertex colours: the `colors` effect exactly when the scene has a COLOR_0 stream.
 TEST(EffectPlan, VertexColors) {
   Scene s = diffuseScene();
-  EXPECT_FALSE(planEffects(s).has("colors"));
+  EXPECT_FALSE(planEffects(s).has(Effect::kColors));
   s.colors.assign(s.vertices.size(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
   const EffectPlan p = planEffects(s);
-  EXPECT_TRUE(p.has("colors"));
+  EXPECT_TRUE(p.has(Effect::kColors));
   EXPECT_TRUE(shaderFeatures(p).colors);
   EXPECT_TRUE(planEffects(loadGltf(test::testDataDir() + "/vertex_colors/red_green_quad.gltf"))
-                  .has("colors"));
+                  .has(Effect::kColors));
 }
 
 // Normal maps: the `normalmaps` effect exactly when the scene has a tangent stream
 // (a drawn normal-mapped material); read only with textures on.
 TEST(EffectPlan, NormalMaps) {
-  EXPECT_FALSE(planEffects(diffuseScene()).has("normalmaps"));
+  EXPECT_FALSE(planEffects(diffuseScene()).has(Effect::kNormalMaps));
   EffectPlan p = planEffects(loadGltf(test::testDataDir() + "/normal_maps/tilted_quad.gltf"));
-  EXPECT_TRUE(p.has("normalmaps"));
-  EXPECT_TRUE(p.has("textures"));
+  EXPECT_TRUE(p.has(Effect::kNormalMaps));
+  EXPECT_TRUE(p.has(Effect::kTextures));
   EXPECT_TRUE(shaderFeatures(p).normalMaps);
   applyOverrides(&p, "-textures");
   EXPECT_FALSE(shaderFeatures(p).normalMaps);

@@ -14,13 +14,13 @@ const std::array<ModeRun, 4> kEveryMode = {
      {"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu, 1}}};
 
 std::vector<float> renderRun(const scene::Scene& s, const ModeRun& run, render::RenderSettings rs,
-                             const char* effect) {
+                             std::optional<scene::Effect> effect) {
   rs.mode = run.mode;
   rs.pathtrace.device = run.device;
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::Renderer r(programs, s, rs);
   if (effect) {
-    EXPECT_EQ(r.effects().has(effect), rs.effects.empty()) << r.effects().summary();
+    EXPECT_EQ(r.effects().has(*effect), rs.effects.empty()) << r.effects().summary();
   }
   for (int f = 0; f < run.frames; ++f) r.renderFrame();
   return r.readLinear();

@@ -4,9 +4,11 @@
 #define VOXGI_TESTS_MODE_RUNS_H
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "render/renderer.h"
+#include "scene/effects.h"
 #include "scene/scene.h"
 
 namespace voxgi::test {
@@ -26,7 +28,7 @@ extern const std::array<ModeRun, 4> kEveryMode;
 // `effect`, when given: the scene's plan must have it exactly when rs.effects
 // overrides nothing.
 std::vector<float> renderRun(const scene::Scene& s, const ModeRun& run, render::RenderSettings rs,
-                             const char* effect = nullptr);
+                             std::optional<scene::Effect> effect = std::nullopt);
 
 }  // namespace voxgi::test
 
