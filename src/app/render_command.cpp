@@ -283,7 +283,8 @@ nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& co
   stats["startup_ms"] = record.startupMs;
   stats["load_ms"] = record.loadMs;
   nlohmann::ordered_json startupStages = nlohmann::ordered_json::object();
-  for (const gl::StageTime& st : renderer.startupStages()) startupStages[st.name] = st.cpuMs;
+  for (const gl::StageTime& st : renderer.startupStages())
+    startupStages[stageName(st.stage)] = st.cpuMs;
   stats["startup_stages"] = startupStages;
   if (o.render.mode == render::Mode::kPathtrace) addPathtraceStats(stats, o, renderer, record);
   if (o.render.mode == render::Mode::kRtgi) addRtgiStats(stats, o, *renderer.rtgi(), record);
@@ -294,7 +295,7 @@ nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& co
   addMemoryStats(stats, o, renderer);
   // Stages run once per scene (in the untimed warm-up frame): that run's time.
   for (const gl::StageTime& st : renderer.sceneStages())
-    if (!stages.contains(st.name)) stats["stages"][st.name] = st.gpuMs;
+    if (!stages.contains(stageName(st.stage))) stats["stages"][stageName(st.stage)] = st.gpuMs;
   stats["gl_errors"] = record.glErrors;
   return stats;
 }
@@ -337,9 +338,9 @@ void printSummary(const RenderOptions& o, const gl::Context& context, const scen
               o.render.height, gl::backendName(context.backend()), context.renderer().c_str());
   std::fputs(record.times.table(gl::stageTimingMethod()).c_str(), stdout);
   for (const gl::StageTime& st : renderer.sceneStages())
-    if (!record.times.has(st.name))
+    if (!record.times.has(st.stage))
       std::printf("  %-10s %10.2f   (once, at start-up; --revoxelize for every frame)\n",
-                  st.name.c_str(), st.gpuMs);
+                  stageName(st.stage), st.gpuMs);
   printVoxelSummary(renderer);
   std::printf("  %-10s %10.2f   (wall clock, median of %d)\n", "frame", record.times.frameMedian(),
               o.frames);
@@ -348,7 +349,7 @@ void printSummary(const RenderOptions& o, const gl::Context& context, const scen
                 record.samplesPerSecond * 1e-6);
   std::printf("  load %.1f ms, start-up %.1f ms", record.loadMs, record.startupMs);
   for (const gl::StageTime& st : renderer.startupStages())
-    std::printf(" (%s %.1f ms)", st.name.c_str(), st.cpuMs);
+    std::printf(" (%s %.1f ms)", stageName(st.stage), st.cpuMs);
   std::printf("\n");
   if (o.render.targetFps > 0.0)
     std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",

@@ -8,8 +8,8 @@ namespace voxgi::app {
 void StageTimes::add(double frameMs, const std::vector<gl::StageTime>& stages) {
   frameMs_.push_back(frameMs);
   for (const gl::StageTime& s : stages) {
-    if (!stageMs_.count(s.name)) order_.push_back(s.name);
-    stageMs_[s.name].push_back(s.gpuMs);
+    if (!stageMs_.count(s.stage)) order_.push_back(s.stage);
+    stageMs_[s.stage].push_back(s.gpuMs);
   }
 }
 
@@ -17,33 +17,32 @@ double StageTimes::frameMedian() const {
   return voxgi::median(frameMs_);
 }
 
-double StageTimes::median(const std::string& stage) const {
+double StageTimes::median(Stage stage) const {
   auto it = stageMs_.find(stage);
   return it == stageMs_.end() ? 0.0 : voxgi::median(it->second);
 }
 
 nlohmann::ordered_json StageTimes::json() const {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& name : order_) stages[name] = median(name);
+  for (Stage s : order_) stages[stageName(s)] = median(s);
   return stages;
 }
 
 std::string StageTimes::table(const std::string& timingMethod) const {
   std::string out = strf("  %-10s %10s   (%s)\n", "stage", "ms", timingMethod.c_str());
-  for (const std::string& name : order_)
-    out += strf("  %-10s %10.2f\n", name.c_str(), median(name));
+  for (Stage s : order_) out += strf("  %-10s %10.2f\n", stageName(s), median(s));
   return out;
 }
 
 std::string StageTimes::columnHeads() const {
   std::string out;
-  for (const std::string& name : order_) out += strf(" %10s", name.c_str());
+  for (Stage s : order_) out += strf(" %10s", stageName(s));
   return out;
 }
 
 std::string StageTimes::columnMedians() const {
   std::string out;
-  for (const std::string& name : order_) out += strf(" %10.1f", median(name));
+  for (Stage s : order_) out += strf(" %10.1f", median(s));
   return out;
 }
 

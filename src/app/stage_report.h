@@ -14,16 +14,17 @@
 namespace voxgi::app {
 
 // Each frame's wall-clock time and each stage's GPU time, stages in the order
-// they were first seen; reports medians, as the machines are noisy.
+// they were first seen; reports medians, as the machines are noisy. Stages are
+// written by their names (stageName) in the JSON, the table and the columns.
 class StageTimes {
  public:
   void add(double frameMs, const std::vector<gl::StageTime>& stages);
 
   const std::vector<double>& frameMs() const { return frameMs_; }
   double frameMedian() const;
-  const std::vector<std::string>& order() const { return order_; }
-  bool has(const std::string& stage) const { return stageMs_.count(stage) > 0; }
-  double median(const std::string& stage) const;
+  const std::vector<Stage>& order() const { return order_; }
+  bool has(Stage stage) const { return stageMs_.count(stage) > 0; }
+  double median(Stage stage) const;
 
   // {"stage": median GPU ms, ...} in first-seen order.
   nlohmann::ordered_json json() const;
@@ -35,8 +36,8 @@ class StageTimes {
 
  private:
   std::vector<double> frameMs_;
-  std::map<std::string, std::vector<double>> stageMs_;
-  std::vector<std::string> order_;
+  std::map<Stage, std::vector<double>> stageMs_;
+  std::vector<Stage> order_;
 };
 
 // What a stats file says first: which build ran which scene, how and where.

@@ -432,17 +432,21 @@ void Viewer::drawKnobs() {
 void Viewer::drawTimings() {
   if (history_.empty()) return;
   // One plot per stage plus the whole frame, on a shared scale.
+  std::vector<Stage> stages;
   std::vector<std::string> names;
-  for (const gl::StageTime& s : history_.back().stages) names.push_back(s.name);
+  for (const gl::StageTime& s : history_.back().stages) {
+    stages.push_back(s.stage);
+    names.push_back(stageName(s.stage));
+  }
   float top = 1.0f;
   std::vector<std::vector<float>> series(names.size() + 1);
   for (const FrameSample& f : history_) {
     series.back().push_back(static_cast<float>(f.frameMs));
     top = std::max(top, static_cast<float>(f.frameMs));
-    for (size_t i = 0; i < names.size(); ++i) {
+    for (size_t i = 0; i < stages.size(); ++i) {
       float v = 0.0f;
       for (const gl::StageTime& s : f.stages)
-        if (s.name == names[i]) v = static_cast<float>(s.gpuMs);
+        if (s.stage == stages[i]) v = static_cast<float>(s.gpuMs);
       series[i].push_back(v);
     }
   }

@@ -9,11 +9,11 @@ const char* stageTimingMethod() {
   return stageTimingIsSynchronous() ? "synchronous" : "gpu-queries";
 }
 
-void StageTimer::begin(const std::string& name) {
+void StageTimer::begin(Stage stage) {
   VOXGI_CHECK(!open_);
   open_ = true;
-  glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, -1, name.c_str());
-  Pending p{name, Query(), 0.0};
+  glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, -1, stageName(stage));
+  Pending p{stage, Query(), 0.0};
   if (stageTimingIsSynchronous()) {
     glFinish();  // earlier work is not this stage's
   } else {
@@ -42,12 +42,12 @@ std::vector<StageTime> StageTimer::resolve() {
   out.reserve(pending_.size());
   for (Pending& p : pending_) {
     if (!p.query) {  // synchronous: the wall clock is the stage's cost
-      out.push_back({p.name, p.cpuMs, p.cpuMs});
+      out.push_back({p.stage, p.cpuMs, p.cpuMs});
       continue;
     }
     GLuint64 ns = 0;
     glGetQueryObjectui64v(p.query.id(), GL_QUERY_RESULT, &ns);  // waits
-    out.push_back({p.name, static_cast<double>(ns) * 1e-6, p.cpuMs});
+    out.push_back({p.stage, static_cast<double>(ns) * 1e-6, p.cpuMs});
   }
   pending_.clear();
   return out;

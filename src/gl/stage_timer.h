@@ -7,15 +7,15 @@
 #define VOXGI_GL_STAGE_TIMER_H
 
 #include <chrono>
-#include <string>
 #include <vector>
 
+#include "core/stage.h"
 #include "gl/handles.h"
 
 namespace voxgi::gl {
 
 struct StageTime {
-  std::string name;
+  Stage stage;
   double gpuMs = 0.0;  // GL_TIME_ELAPSED
   double cpuMs = 0.0;  // wall clock from begin() to end() on the submitting thread
 };
@@ -25,14 +25,14 @@ const char* stageTimingMethod();
 
 class StageTimer {
  public:
-  void begin(const std::string& name);
+  void begin(Stage stage);
   void end();
   // Waits for the queries of this frame and returns the stage times in order.
   std::vector<StageTime> resolve();
 
  private:
   struct Pending {
-    std::string name;
+    Stage stage;
     Query query;
     double cpuMs = 0.0;
   };
@@ -41,10 +41,10 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// RAII helper: StageScope s(timer, "raster");
+// RAII helper: StageScope s(timer, Stage::kRaster);
 class StageScope {
  public:
-  StageScope(StageTimer& timer, const std::string& name) : timer_(timer) { timer_.begin(name); }
+  StageScope(StageTimer& timer, Stage stage) : timer_(timer) { timer_.begin(stage); }
   ~StageScope() { timer_.end(); }
   StageScope(const StageScope&) = delete;
   StageScope& operator=(const StageScope&) = delete;

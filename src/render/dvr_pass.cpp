@@ -13,7 +13,7 @@ DvrPass::DvrPass(gl::ProgramCache& programs, const Settings& settings)
 
 void DvrPass::execute(gl::FrameContext& ctx, const voxel::Octree& octree,
                       const scene::Camera& camera, GLuint target) {
-  gl::StageScope stage(ctx.timer, "dvr");
+  gl::StageScope stage(ctx.timer, Stage::kDvr);
   gpu::RtgiParams p{};
   p.frame = glm::uvec4(0u, 0u, static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
   const float aspect = static_cast<float>(ctx.width) / static_cast<float>(ctx.height);

@@ -438,7 +438,7 @@ void CpuPathtracer::accumulate(int width, int height, int spp, const Progress& p
 
 void CpuPathtracer::execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                             const Progress& progress) {
-  gl::StageScope stage(ctx.timer, "pathtrace");
+  gl::StageScope stage(ctx.timer, Stage::kPathtrace);
   accumulate(ctx.width, ctx.height, spp, progress);
   glTextureSubImage2D(hdrTexture, 0, 0, 0, ctx.width, ctx.height, GL_RGBA, GL_FLOAT, mean_.data());
 }

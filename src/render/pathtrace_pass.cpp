@@ -132,7 +132,7 @@ void PathtracePass::warmUp(gl::FrameContext& ctx, GLuint hdrTexture) {
 
 void PathtracePass::execute(gl::FrameContext& ctx, int spp, GLuint hdrTexture,
                             const Progress& progress) {
-  gl::StageScope stage(ctx.timer, "pathtrace");
+  gl::StageScope stage(ctx.timer, Stage::kPathtrace);
   allocate(ctx.width, ctx.height);
   const int64_t pixels = static_cast<int64_t>(ctx.width) * ctx.height;
   const int64_t budget = std::max<int64_t>(settings_.pixelsPerDispatch, 1);

@@ -12,7 +12,7 @@ PointsPass::PointsPass(gl::ProgramCache& programs, const Settings& settings)
 
 void PointsPass::execute(gl::FrameContext& ctx, const voxel::VoxelizePass& grid,
                          GLuint framebuffer) {
-  gl::StageScope stage(ctx.timer, "points");
+  gl::StageScope stage(ctx.timer, Stage::kPoints);
   beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);

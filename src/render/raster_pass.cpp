@@ -30,7 +30,7 @@ RasterPass::RasterPass(gl::ProgramCache& programs, const Settings& settings)
           {{"render/raster.vert", "render/raster.frag"}, settings.features.defines()})) {}
 
 void RasterPass::execute(gl::FrameContext& ctx, const GpuScene& gs, GLuint framebuffer) {
-  gl::StageScope stage(ctx.timer, "raster");
+  gl::StageScope stage(ctx.timer, Stage::kRaster);
   beginOpaquePass(ctx, framebuffer, settings_.clearColor);
   glUseProgram(program_.id());
   glUniform1f(gpu::kAmbientLocation, settings_.ambient);

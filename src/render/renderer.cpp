@@ -187,14 +187,14 @@ void Renderer::createPasses() {
     else
       pathtrace_ = std::make_unique<PathtracePass>(programs_, gpuScene_, ps, sharedBvh());
     if (ps.device == PathtraceDevice::kCpu)
-      startup_.push_back({"bvh", 0.0, pathtrace_->bvhBuildMs()});
+      startup_.push_back({Stage::kBvh, 0.0, pathtrace_->bvhBuildMs()});
   }
 }
 
 std::shared_ptr<const GpuBvh> Renderer::sharedBvh() {
   if (!bvh_) {
     bvh_ = std::make_shared<const GpuBvh>(gpuScene_.scene(), scene::shaderFeatures(plan_).textures);
-    startup_.push_back({"bvh", 0.0, bvh_->buildMs()});
+    startup_.push_back({Stage::kBvh, 0.0, bvh_->buildMs()});
   }
   return bvh_;
 }
@@ -460,9 +460,10 @@ void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
 void Renderer::recordSceneStages(bool voxelized) {
   if (voxelized) sceneStages_.clear();
   for (const gl::StageTime& t : stages_) {
-    if (t.name != "voxelize" && t.name != "octree" && t.name != "inject") continue;
+    if (t.stage != Stage::kVoxelize && t.stage != Stage::kOctree && t.stage != Stage::kInject)
+      continue;
     auto same = std::find_if(sceneStages_.begin(), sceneStages_.end(),
-                             [&](const gl::StageTime& s) { return s.name == t.name; });
+                             [&](const gl::StageTime& s) { return s.stage == t.stage; });
     if (same != sceneStages_.end())
       *same = t;
     else

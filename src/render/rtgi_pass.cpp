@@ -266,7 +266,7 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
 }
 
 void RtgiPass::drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
-  gl::StageScope stage(ctx.timer, "gbuffer");
+  gl::StageScope stage(ctx.timer, Stage::kGbuffer);
   beginOpaquePass(ctx, fbo_[current_].id(), glm::vec4(0.0f), 5);  // the G-buffer's 5 targets
   glUseProgram(gbuffer_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
@@ -321,7 +321,7 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   p->work.y = std::bit_cast<uint32_t>(level);
   p->work.z = kind;
   glNamedBufferSubData(params_.id(), 0, sizeof(*p), p);
-  gl::StageScope stage(ctx.timer, "select");
+  gl::StageScope stage(ctx.timer, Stage::kSelect);
   const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
   glNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
@@ -335,9 +335,9 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pixelList_.id());
 }
 
-void RtgiPass::runStage(gl::FrameContext& ctx, const char* name, const gl::Program& program,
+void RtgiPass::runStage(gl::FrameContext& ctx, Stage stage, const gl::Program& program,
                         const FramePlan& plan) {
-  gl::StageScope stage(ctx.timer, name);
+  gl::StageScope scope(ctx.timer, stage);
   glUseProgram(program.id());
   if (&program == &accumulate_ || &program == accumulateVariant_)
     glDispatchCompute(plan.gx, plan.gy, 1);
@@ -350,9 +350,10 @@ void RtgiPass::runStage(gl::FrameContext& ctx, const char* name, const gl::Progr
 
 void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
   if (bvh_) bindBvh(gs);
-  if (plan.direct) runStage(ctx, plan.shadows ? "shadows" : "direct", directProgram(gs), plan);
-  if (settings_.indirect) runStage(ctx, "indirect", indirectProgram(gs), plan);
-  if (settings_.specular) runStage(ctx, "specular", specularProgram(gs), plan);
+  if (plan.direct)
+    runStage(ctx, plan.shadows ? Stage::kShadows : Stage::kDirect, directProgram(gs), plan);
+  if (settings_.indirect) runStage(ctx, Stage::kIndirect, indirectProgram(gs), plan);
+  if (settings_.specular) runStage(ctx, Stage::kSpecular, specularProgram(gs), plan);
   if (bvh_) unbindBvh();
 }
 
@@ -374,9 +375,9 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
     }
     const gl::Program& variant = programs_.get({{"render/rtgi_accumulate.comp"}, defines});
     accumulateVariant_ = &variant;
-    runStage(ctx, "accumulate", variant, plan);
+    runStage(ctx, Stage::kAccumulate, variant, plan);
   } else {
-    runStage(ctx, "accumulate", accumulate_, plan);
+    runStage(ctx, Stage::kAccumulate, accumulate_, plan);
   }
 }
 
@@ -395,7 +396,7 @@ void RtgiPass::finishFrame(const FramePlan& plan) {
 
 void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum,
                          GLuint materials) {
-  gl::StageScope stage(ctx.timer, "reproject");
+  gl::StageScope stage(ctx.timer, Stage::kReproject);
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
   glBindTextureUnit(gpu::kGPreviousNormalUnit, normal_[current_ ^ 1].id());
@@ -419,7 +420,7 @@ void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint acc
 }
 
 void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
-  gl::StageScope stage(ctx.timer, "denoise");
+  gl::StageScope stage(ctx.timer, Stage::kDenoise);
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
   // The pass's spacing and whether it is the last go in a uniform: updating the
@@ -449,7 +450,7 @@ void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum
 }
 
 void RtgiPass::runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy) {
-  gl::StageScope stage(ctx.timer, "mask");
+  gl::StageScope stage(ctx.timer, Stage::kMask);
   glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
                             GL_UNSIGNED_INT, nullptr);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaskHistogramBinding, histogram_.id());

@@ -167,7 +167,7 @@ class RtgiPass {
   void selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePlan& plan,
                     gpu::RtgiParams* p);
   // One timed compute stage over the pixels that trace (accumulate: every pixel).
-  void runStage(gl::FrameContext& ctx, const char* name, const gl::Program& program,
+  void runStage(gl::FrameContext& ctx, Stage stage, const gl::Program& program,
                 const FramePlan& plan);
   // The shadows (or direct), indirect and specular stages.
   void traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);

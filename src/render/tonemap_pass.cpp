@@ -48,7 +48,7 @@ void TonemapPass::executeMask(gl::FrameContext& ctx, GLuint maskTexture, GLuint 
 }
 
 void TonemapPass::execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
-  gl::StageScope stage(ctx.timer, "tonemap");
+  gl::StageScope stage(ctx.timer, Stage::kTonemap);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, ctx.width, ctx.height);
   glDisable(GL_DEPTH_TEST);

@@ -134,7 +134,7 @@ bool Octree::buildInto(gl::FrameContext& ctx, const VoxelizePass& grid, uint32_t
 }
 
 void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
-  gl::StageScope stage(ctx.timer, "octree");
+  gl::StageScope stage(ctx.timer, Stage::kOctree);
   const int n = grid.resolution();
   stats_.depth = depthFor(n);
   const uint32_t listed = grid.stats().occupied;
@@ -191,7 +191,7 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
 }
 
 void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
-  gl::StageScope stage(ctx.timer, "inject");
+  gl::StageScope stage(ctx.timer, Stage::kInject);
   refinements_ = 0;
   seed_ = settings_.seed;
   // The first estimate: the finite chain of bounces, or with all bounces a chain of
@@ -243,7 +243,7 @@ bool Octree::refines() const {
 
 void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   if (!refines() || sliceStart_.empty() || stats_.leaves == 0) return;
-  gl::StageScope stage(ctx.timer, "refine");
+  gl::StageScope stage(ctx.timer, Stage::kRefine);
   const int slice = refinements_ % slices_;
   if (slice == 0) {
     // A new cycle: every leaf gets one more estimate, weighing its rays times the

@@ -351,7 +351,7 @@ void VoxelizePass::dispatch(const gl::Program& program, uint64_t invocations) {
 }
 
 void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
-  gl::StageScope stage(ctx.timer, "voxelize");
+  gl::StageScope stage(ctx.timer, Stage::kVoxelize);
   const scene::Scene& s = gs.scene();
   const int n = settings_.resolution;
   gridOrigin_ = s.scale.gridOrigin;

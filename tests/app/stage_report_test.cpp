@@ -5,28 +5,31 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 namespace voxgi::app {
 namespace {
 
 StageTimes threeFrames() {
   StageTimes t;
-  t.add(10.0, {{"shadow", 1.0, 0.0}, {"gbuffer", 2.0, 0.0}});
-  t.add(30.0, {{"shadow", 3.0, 0.0}, {"gbuffer", 4.0, 0.0}, {"tonemap", 0.5, 0.0}});
-  t.add(20.0, {{"shadow", 2.0, 0.0}, {"gbuffer", 8.0, 0.0}});
+  t.add(10.0, {{Stage::kShadows, 1.0, 0.0}, {Stage::kGbuffer, 2.0, 0.0}});
+  t.add(30.0,
+        {{Stage::kShadows, 3.0, 0.0}, {Stage::kGbuffer, 4.0, 0.0}, {Stage::kTonemap, 0.5, 0.0}});
+  t.add(20.0, {{Stage::kShadows, 2.0, 0.0}, {Stage::kGbuffer, 8.0, 0.0}});
   return t;
 }
 
 TEST(StageTimes, MediansPerStageInFirstSeenOrder) {
   const StageTimes t = threeFrames();
-  EXPECT_EQ(t.order(), (std::vector<std::string>{"shadow", "gbuffer", "tonemap"}));
+  EXPECT_EQ(t.order(), (std::vector<Stage>{Stage::kShadows, Stage::kGbuffer, Stage::kTonemap}));
   EXPECT_DOUBLE_EQ(t.frameMedian(), 20.0);
   EXPECT_EQ(t.frameMs(), (std::vector<double>{10.0, 30.0, 20.0}));
-  EXPECT_DOUBLE_EQ(t.median("shadow"), 2.0);
-  EXPECT_DOUBLE_EQ(t.median("gbuffer"), 4.0);
-  EXPECT_DOUBLE_EQ(t.median("tonemap"), 0.5);
-  EXPECT_TRUE(t.has("tonemap"));
-  EXPECT_FALSE(t.has("voxelize"));
-  EXPECT_DOUBLE_EQ(t.median("voxelize"), 0.0);
+  EXPECT_DOUBLE_EQ(t.median(Stage::kShadows), 2.0);
+  EXPECT_DOUBLE_EQ(t.median(Stage::kGbuffer), 4.0);
+  EXPECT_DOUBLE_EQ(t.median(Stage::kTonemap), 0.5);
+  EXPECT_TRUE(t.has(Stage::kTonemap));
+  EXPECT_FALSE(t.has(Stage::kVoxelize));
+  EXPECT_DOUBLE_EQ(t.median(Stage::kVoxelize), 0.0);
 }
 
 TEST(StageTimes, EmptyRunHasZeroMediansAndNoStages) {
@@ -38,18 +41,32 @@ TEST(StageTimes, EmptyRunHasZeroMediansAndNoStages) {
 }
 
 TEST(StageTimes, JsonKeepsStageOrder) {
-  EXPECT_EQ(threeFrames().json().dump(), R"({"shadow":2.0,"gbuffer":4.0,"tonemap":0.5})");
+  EXPECT_EQ(threeFrames().json().dump(), R"({"shadows":2.0,"gbuffer":4.0,"tonemap":0.5})");
 }
 
 TEST(StageTimes, TableAndColumns) {
   const StageTimes t = threeFrames();
   EXPECT_EQ(t.table("gpu-queries"),
             "  stage              ms   (gpu-queries)\n"
-            "  shadow           2.00\n"
+            "  shadows          2.00\n"
             "  gbuffer          4.00\n"
             "  tonemap          0.50\n");
-  EXPECT_EQ(t.columnHeads(), "     shadow    gbuffer    tonemap");
+  EXPECT_EQ(t.columnHeads(), "    shadows    gbuffer    tonemap");
   EXPECT_EQ(t.columnMedians(), "        2.0        4.0        0.5");
+}
+
+// Every stage round-trips through its name; no other string names a stage.
+TEST(StageNames, RoundTrip) {
+  std::set<std::string> seen;
+  for (Stage s : kStages) {
+    const std::string name = stageName(s);
+    EXPECT_TRUE(parseStage(name) == s) << name;
+    EXPECT_TRUE(seen.insert(name).second) << name;
+  }
+  EXPECT_EQ(std::string(stageName(Stage::kGbuffer)), "gbuffer");
+  EXPECT_EQ(std::string(stageName(Stage::kTonemap)), "tonemap");
+  for (const char* bad : {"", "shadow", "GBuffer", "frame", "stage", "tonemap "})
+    EXPECT_FALSE(parseStage(bad).has_value()) << bad;
 }
 
 TEST(StatsHeader, KeysInOrderCommandOnlyWhenGiven) {

@@ -147,7 +147,7 @@ TEST_F(CameraAnimationTest, MovedLightRelightsTheVoxels) {
   EXPECT_EQ(r.accumulatedFrames(), 0);
   r.renderFrame();
   bool injected = false;
-  for (const gl::StageTime& st : r.lastStages()) injected = injected || st.name == "inject";
+  for (const gl::StageTime& st : r.lastStages()) injected = injected || st.stage == Stage::kInject;
   EXPECT_TRUE(injected);
   const auto moved = r.readLinear();
   const std::vector<glm::vec4> lightAfter = r.octree()->readMean();
@@ -175,7 +175,7 @@ TEST_F(CameraAnimationTest, MovedLightRelightsTheVoxels) {
   // The next frame refines, as for a still scene.
   r.renderFrame();
   injected = false;
-  for (const gl::StageTime& st : r.lastStages()) injected = injected || st.name == "inject";
+  for (const gl::StageTime& st : r.lastStages()) injected = injected || st.stage == Stage::kInject;
   EXPECT_FALSE(injected);
   EXPECT_EQ(r.accumulatedFrames(), 2);
 }

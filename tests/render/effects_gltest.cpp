@@ -35,7 +35,7 @@ scene::Scene diffuseScene() {
 
 std::vector<std::string> stageNames(const std::vector<gl::StageTime>& stages) {
   std::vector<std::string> out;
-  for (const gl::StageTime& s : stages) out.push_back(s.name);
+  for (const gl::StageTime& s : stages) out.push_back(stageName(s.stage));
   return out;
 }
 

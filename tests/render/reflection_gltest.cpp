@@ -227,7 +227,7 @@ TEST_F(ReflectionTest, OnlyAPlanWithMirrorsReflectsTheBvh) {
   const scene::Scene diffuse = b.finish();
   auto startupHasBvh = [](const render::Renderer& r) {
     for (const gl::StageTime& t : r.startupStages())
-      if (t.name == "bvh") return true;
+      if (t.stage == Stage::kBvh) return true;
     return false;
   };
   render::RenderSettings rs;

@@ -1,0 +1,63 @@
+// The timed stages of a frame and of scene setup: what StageTimer measures, the
+// stats JSON's `stages` and `startup_stages` list, the console table and the
+// viewer's plots show. Code names a stage by the enum; its name (below) appears
+// only where a stage is written out.
+#ifndef VOXGI_CORE_STAGE_H
+#define VOXGI_CORE_STAGE_H
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string_view>
+
+namespace voxgi {
+
+enum class Stage {
+  kVoxelize,  // voxel/voxelize_pass
+  kOctree,    // voxel/octree: build
+  kInject,    // voxel/octree: direct light into the leaves
+  kRefine,    // voxel/octree: bounces between voxels
+  kBvh,       // render: BVH build, once at start-up (CPU time)
+  kGbuffer,   // render/rtgi_pass and the ones after it
+  kSelect,
+  kShadows,
+  kDirect,
+  kIndirect,
+  kSpecular,
+  kAccumulate,
+  kReproject,
+  kDenoise,
+  kMask,
+  kRaster,     // render/raster_pass
+  kPoints,     // render/points_pass
+  kDvr,        // render/dvr_pass
+  kPathtrace,  // render/pathtrace_pass, render/pathtrace_cpu
+  kTonemap,    // render/tonemap_pass
+};
+
+inline constexpr std::array<Stage, 20> kStages = {
+    Stage::kVoxelize, Stage::kOctree,     Stage::kInject,    Stage::kRefine,    Stage::kBvh,
+    Stage::kGbuffer,  Stage::kSelect,     Stage::kShadows,   Stage::kDirect,    Stage::kIndirect,
+    Stage::kSpecular, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise,   Stage::kMask,
+    Stage::kRaster,   Stage::kPoints,     Stage::kDvr,       Stage::kPathtrace, Stage::kTonemap};
+
+// The stage's name in stats, tables and debug groups ("gbuffer" for kGbuffer).
+inline const char* stageName(Stage s) {
+  // Indexed by Stage.
+  static constexpr std::array<const char*, kStages.size()> kNames = {
+      "voxelize", "octree", "inject",   "refine",   "bvh",        "gbuffer",   "select",
+      "shadows",  "direct", "indirect", "specular", "accumulate", "reproject", "denoise",
+      "mask",     "raster", "points",   "dvr",      "pathtrace",  "tonemap"};
+  return kNames[static_cast<std::size_t>(s)];
+}
+
+// The stage of that name; nullopt for any other string.
+inline std::optional<Stage> parseStage(std::string_view name) {
+  for (Stage s : kStages)
+    if (name == stageName(s)) return s;
+  return std::nullopt;
+}
+
+}  // namespace voxgi
+
+#endif  // VOXGI_CORE_STAGE_H
