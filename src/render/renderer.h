@@ -132,7 +132,7 @@ class Renderer {
   void warmUp();
   // Pathtrace: called while a frame runs with samples per pixel done and total.
   void setProgress(Pathtracer::Progress progress) { progress_ = std::move(progress); }
-  // Work done once at construction, by stage name and wall-clock ms ("bvh").
+  // Work done once at construction, by stage and wall-clock ms (Stage::kBvh).
   const std::vector<gl::StageTime>& startupStages() const { return startup_; }
   const Pathtracer* pathtrace() const { return pathtrace_.get(); }
   // The scene's BVH, shared by the path tracer and rtgi's reflections; null until a
