@@ -66,7 +66,7 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
     int pick = -1;
     for (int k = 0; k < emitterCount; ++k) {
       vec3 c = areaLight(emitters[k], s);
-      float w = dot(c, vec3(0.2126, 0.7152, 0.0722));
+      float w = luminance(c);
       sum += c;
       if (!(w > 0.0)) continue;
       total += w;

@@ -19,7 +19,7 @@ void main() {
   vec4 p = texelFetch(gPosition, px, 0);
   vec3 n = texelFetch(gNormal, px, 0).xyz;
   vec3 c = imageLoad(accum, px).rgb;
-  float logLuminance = log(dot(c, vec3(0.2126, 0.7152, 0.0722)) + 1e-3);
+  float logLuminance = log(luminance(c) + 1e-3);
   float distance = p.w > 0.5 ? max(length(p.xyz - rtgi.camera.xyz), 1e-30) : 0.0;
   imageStore(keyOut, px,
              uvec4(floatBitsToUint(logLuminance), floatBitsToUint(distance), packSnorm4x8(vec4(n, 0.0)), 0u));

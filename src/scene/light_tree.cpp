@@ -6,6 +6,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "brdf_shared.h"
+
 namespace voxgi::scene {
 namespace {
 
@@ -146,8 +148,7 @@ double emitterPower(const gpu::GpuEmitter& e) {
   const double area = isCluster(e) ? e.b.w
                                    : 0.5 * glm::length(glm::cross(glm::vec3(e.b) - glm::vec3(e.a),
                                                                   glm::vec3(e.c) - glm::vec3(e.a)));
-  const glm::vec3 l = glm::vec3(e.radiance);
-  const double lum = 0.2126 * l.r + 0.7152 * l.g + 0.0722 * l.b;
+  const double lum = gpu::luminance(glm::vec3(e.radiance));
   const double p = std::max(0.0, lum * area * (e.radiance.w > 0.5f ? 2.0 : 1.0));
   return std::isfinite(p) ? p : 0.0;
 }

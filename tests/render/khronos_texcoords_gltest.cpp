@@ -14,6 +14,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "brdf_shared.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
@@ -43,9 +44,7 @@ glm::vec3 pixel(const std::vector<float>& px, int w, int x, int y) {
   return {px[i], px[i + 1], px[i + 2]};
 }
 
-float luminance(glm::vec3 c) {
-  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-}
+using gpu::luminance;
 
 // Where pixel (x, y)'s ray meets the plane z = 0 of the file, in the scene's frame
 // (relative to Scene::origin).
@@ -130,9 +129,8 @@ TEST_F(KhronosTexcoordsTest, TextureTransformTestInRaster) {
                              0, arrow->height - 1);
     const size_t k =
         (static_cast<size_t>(j) * static_cast<size_t>(arrow->width) + static_cast<size_t>(i)) * 4;
-    const float l = (0.2126f * arrow->rgba8[k] + 0.7152f * arrow->rgba8[k + 1] +
-                     0.0722f * arrow->rgba8[k + 2]) /
-                    255.0f;
+    const float l =
+        luminance(glm::vec3(arrow->rgba8[k], arrow->rgba8[k + 1], arrow->rgba8[k + 2])) / 255.0f;
     return l < 0.25f;
   };
   const std::vector<ArrowQuad> quads = {
