@@ -29,6 +29,12 @@ VOXGI_FN bool isLambertian(float metallic, float roughness) {
   return metallic <= 0.0f && roughness >= 1.0f;
 }
 
+// Reflectance at normal incidence (Schlick's F0): 4% for a dielectric, the base
+// colour for a metal, blended by metallic (glTF 2.0 spec appendix B).
+VOXGI_FN vec3 metallicF0(vec3 baseColor, float metallic) {
+  return mix(vec3(0.04f), baseColor, metallic);
+}
+
 VOXGI_FN float ggxD(float nh, float alpha) {
   float a2 = alpha * alpha;
   float d = nh * nh * (a2 - 1.0f) + 1.0f;
@@ -76,7 +82,7 @@ VOXGI_FN Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float nv
            : (metallic >= 1.0f && roughness <= 0.0f) ? kBsdfMirror
                                                      : kBsdfGgx;
   b.diffuse = b.base * (1.0f - metallic);
-  b.f0 = mix(vec3(0.04f), b.base, metallic);
+  b.f0 = metallicF0(b.base, metallic);
   b.alpha = clamp(roughness * roughness, 1e-3f, 1.0f);
   b.specularChance = 1.0f;
   if (b.kind != kBsdfGgx) return b;  // the lobe choice is the GGX kind's alone

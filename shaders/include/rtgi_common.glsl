@@ -34,7 +34,7 @@ Pixel loadPixel(ivec2 px) {
   p.s.n = normalize(nr.xyz);
   p.s.v = normalize(rtgi.camera.xyz - pos.xyz);
   p.s.diffuse = am.rgb * (1.0 - am.a);
-  p.s.f0 = mix(vec3(0.04), am.rgb, am.a);
+  p.s.f0 = metallicF0(am.rgb, am.a);
   p.s.alpha = p.roughness * p.roughness;
   p.s.specular = isLambertian(p.metallic, p.roughness) ? 0.0 : 1.0;
   return p;

@@ -79,7 +79,7 @@ void main() {
   }
 #endif
   s.diffuse = base.rgb * (1.0 - metallic);
-  s.f0 = mix(vec3(0.04), base.rgb, metallic);
+  s.f0 = metallicF0(base.rgb, metallic);
   s.alpha = roughness * roughness;
   s.specular = isLambertian(metallic, roughness) ? 0.0 : 1.0;
 

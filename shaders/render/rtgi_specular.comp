@@ -102,7 +102,7 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     float metallic = m.params.x;
     float roughness = clamp(m.params.y, 0.0, 1.0);
     vec3 base = m.baseColor.rgb;
-    vec3 f0 = mix(vec3(0.04), base, metallic);
+    vec3 f0 = metallicF0(base, metallic);
     if (roughness < kMirrorRoughness) {
       // A mirror: on along the reflection, weighted as the first (Schlick).
       if (bounce == kMaxMirrorChain) break;

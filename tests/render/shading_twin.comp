@@ -24,9 +24,9 @@ void main() {
   if (i >= counts.x) return;
   uint a = i * kTwinInputs;
   uint o = i * kTwinOutputs;
-  vec4 r[10];
+  vec4 r[11];
   twinCase(inputs[a], inputs[a + 1u], inputs[a + 2u], inputs[a + 3u], inputs[a + 4u], counts.y,
            lights[i % counts.z], texture, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8],
-           r[9]);
+           r[9], r[10]);
   for (uint k = 0u; k < kTwinOutputs; ++k) outputs[o + k] = r[k];
 }

@@ -13,7 +13,7 @@ namespace voxgi::gpu {
 #endif
 
 VOXGI_CONST uint kTwinInputs = 5u;
-VOXGI_CONST uint kTwinOutputs = 10u;
+VOXGI_CONST uint kTwinOutputs = 11u;
 
 // in[0]: unit normal, metallic | in[1]: unit wo, roughness | in[2]: unit wi, u0
 // in[3]: base colour, u1 | in[4]: point, seed (bits)
@@ -21,7 +21,8 @@ VOXGI_FN void twinCase(VOXGI_TABLES_PARAM vec4 in0, vec4 in1, vec4 in2, vec4 in3
                        uint emitterCount, GpuLight light, uvec4 texture, VOXGI_OUT(vec4) o0,
                        VOXGI_OUT(vec4) o1, VOXGI_OUT(vec4) o2, VOXGI_OUT(vec4) o3,
                        VOXGI_OUT(vec4) o4, VOXGI_OUT(vec4) o5, VOXGI_OUT(vec4) o6,
-                       VOXGI_OUT(vec4) o7, VOXGI_OUT(vec4) o8, VOXGI_OUT(vec4) o9) {
+                       VOXGI_OUT(vec4) o7, VOXGI_OUT(vec4) o8, VOXGI_OUT(vec4) o9,
+                       VOXGI_OUT(vec4) o10) {
   vec3 n = vec3(in0);
   vec3 wo = vec3(in1);
   vec3 wi = vec3(in2);
@@ -68,6 +69,8 @@ VOXGI_FN void twinCase(VOXGI_TABLES_PARAM vec4 in0, vec4 in1, vec4 in2, vec4 in3
   o9 = vec4(luminance(base), powerHeuristic(pdf, r1), emissionMisWeight(pdf, r0, r1 + 0.5f, u.x),
             smithG1(max(dot(n, wo), 0.0f), b.alpha) + ggxD(u.y, b.alpha) * 1e-3f +
                 smithVisibility(u.x, u.y, b.alpha));
+
+  o10 = vec4(metallicF0(base, metallic), 0.0f);
 }
 
 #ifdef __cplusplus

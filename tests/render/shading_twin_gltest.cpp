@@ -129,7 +129,7 @@ TEST_F(GlTest, SharedShadingAgreesBetweenGlslAndCpp) {
     const glm::vec4* a = &inputs[static_cast<size_t>(i) * kTwinInputs];
     glm::vec4 r[kTwinOutputs];
     gpu::twinCase(tables, a[0], a[1], a[2], a[3], a[4], 3u, lights[static_cast<size_t>(i % 3)],
-                  texture, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9]);
+                  texture, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10]);
     const glm::vec4* g = &gpuOut[static_cast<size_t>(i) * kTwinOutputs];
     if (std::bit_cast<uint32_t>(r[0].x) == std::bit_cast<uint32_t>(g[0].x) &&
         std::bit_cast<uint32_t>(r[0].w) == std::bit_cast<uint32_t>(g[0].w))
@@ -148,10 +148,17 @@ TEST_F(GlTest, SharedShadingAgreesBetweenGlslAndCpp) {
     }
   }
   EXPECT_EQ(hashesEqual, kCases) << "the PCG hash and stream must agree bit for bit";
-  const char* names[kTwinOutputs] = {
-      "pcg",        "basis+cosine",           "vndf+lobe chance", "evalBsdf",
-      "sampleBsdf", "emitter direction+pdf",  "emitter L+dist",   "punctual",
-      "texture",    "luminance+MIS+GGX terms"};
+  const char* names[kTwinOutputs] = {"pcg",
+                                     "basis+cosine",
+                                     "vndf+lobe chance",
+                                     "evalBsdf",
+                                     "sampleBsdf",
+                                     "emitter direction+pdf",
+                                     "emitter L+dist",
+                                     "punctual",
+                                     "texture",
+                                     "luminance+MIS+GGX terms",
+                                     "F0"};
   for (uint32_t k = 0; k < kTwinOutputs; ++k) {
     const double share = static_cast<double>(agree[k]) / kCases;
     std::printf("%-26s %5.1f%% of %d cases agree\n", names[k], 100.0 * share, kCases);
