@@ -29,6 +29,17 @@ VOXGI_FN bool isLambertian(float metallic, float roughness) {
   return metallic <= 0.0f && roughness >= 1.0f;
 }
 
+// Dielectrics rougher than this reflect too little, too blurred, to trace.
+VOXGI_CONST float kGlossyRoughness = 0.6f;
+
+// The rule for which materials are specular: whether a material reflects enough,
+// sharply enough, for rtgi's specular stage to trace its reflection. Metals, and
+// dielectrics smoother than kGlossyRoughness. rtgi_specular.comp applies it per
+// pixel, scene::isSpecular per material (to plan the stage).
+VOXGI_FN bool isSpecular(float metallic, float roughness) {
+  return metallic > 0.5f || roughness < kGlossyRoughness;
+}
+
 // Reflectance at normal incidence (Schlick's F0): 4% for a dielectric, the base
 // colour for a metal, blended by metallic (glTF 2.0 spec appendix B).
 VOXGI_FN vec3 metallicF0(vec3 baseColor, float metallic) {

@@ -49,10 +49,6 @@ VOXGI_CONST uint kTextureRepeat = 0u;
 VOXGI_CONST uint kTextureClampToEdge = 1u;
 VOXGI_CONST uint kTextureMirroredRepeat = 2u;
 
-// Dielectrics rougher than this reflect too little, too blurred, to trace: the
-// rule for which materials are specular (scene::isSpecular, rtgi_specular.comp).
-VOXGI_CONST float kGlossyRoughness = 0.6f;
-
 // Light types (KHR_lights_punctual).
 VOXGI_CONST uint kLightDirectional = 0u;
 VOXGI_CONST uint kLightPoint = 1u;

@@ -147,7 +147,7 @@ void main() {
   Pixel p = loadPixel(px);
   vec3 result = vec3(0.0);
   bool mirror = p.roughness < kMirrorRoughness;
-  if (p.covered && (mirror || p.metallic > 0.5 || p.roughness < kGlossyRoughness)) {
+  if (p.covered && (mirror || isSpecular(p.metallic, p.roughness))) {
 #ifdef RTGI_CONES
     if (!mirror) {
       Surface s = p.s;

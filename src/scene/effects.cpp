@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
+#include "brdf_shared.h"
 #include "core/log.h"
-#include "scene_shared.h"
 
 namespace voxgi::scene {
 
@@ -34,8 +34,7 @@ std::vector<std::string> effectNames() {
 
 bool isSpecular(const Material& m) {
   // A metallic-roughness texture scales both factors down, as far as a mirror.
-  return m.metallic > 0.5f || m.roughness < gpu::kGlossyRoughness ||
-         m.metallicRoughnessTexture >= 0;
+  return gpu::isSpecular(m.metallic, m.roughness) || m.metallicRoughnessTexture >= 0;
 }
 
 void EffectPlan::enable(Effect e) {

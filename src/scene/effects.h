@@ -60,7 +60,7 @@ std::vector<std::string> effectNames();
 // Whether a material reflects enough, sharply enough, for the specular stage to
 // trace it: metallic, a dielectric smoother than gpu::kGlossyRoughness, or one with a
 // metallic-roughness texture (which can make any texel a mirror).
-// rtgi_specular.comp applies the same rule per pixel.
+// rtgi_specular.comp applies the same rule per pixel (gpu::isSpecular, brdf_shared.h).
 bool isSpecular(const Material& m);
 
 struct EffectPlan {

@@ -70,7 +70,7 @@ VOXGI_FN void twinCase(VOXGI_TABLES_PARAM vec4 in0, vec4 in1, vec4 in2, vec4 in3
             smithG1(max(dot(n, wo), 0.0f), b.alpha) + ggxD(u.y, b.alpha) * 1e-3f +
                 smithVisibility(u.x, u.y, b.alpha));
 
-  o10 = vec4(metallicF0(base, metallic), 0.0f);
+  o10 = vec4(metallicF0(base, metallic), isSpecular(metallic, roughness) ? 1.0f : 0.0f);
 }
 
 #ifdef __cplusplus

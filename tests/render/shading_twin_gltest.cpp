@@ -158,7 +158,7 @@ TEST_F(GlTest, SharedShadingAgreesBetweenGlslAndCpp) {
                                      "punctual",
                                      "texture",
                                      "luminance+MIS+GGX terms",
-                                     "F0"};
+                                     "F0+specular rule"};
   for (uint32_t k = 0; k < kTwinOutputs; ++k) {
     const double share = static_cast<double>(agree[k]) / kCases;
     std::printf("%-26s %5.1f%% of %d cases agree\n", names[k], 100.0 * share, kCases);

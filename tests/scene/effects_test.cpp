@@ -7,6 +7,7 @@
 #include <set>
 
 #include "app/cli.h"
+#include "brdf_shared.h"
 #include "scene/gltf_loader.h"
 #include "scene_shared.h"
 #include "support/scene_builder.h"
