@@ -6,6 +6,7 @@
 
 #include "rtgi_shared.h"
 #include "normal_map_shared.h"
+#include "interleave_shared.h"
 
 layout(std140, binding = kRtgiParamsBinding) uniform RtgiBlock { RtgiParams rtgi; };
 layout(binding = kGPositionUnit) uniform sampler2D gPosition;
@@ -80,30 +81,18 @@ vec3 surfaceRayOrigin(ivec2 px, Surface s) {
   return rayOrigin(g);
 }
 
-// Interleaving: with N > 1 a pixel traces new rays on every N-th frame only, the
-// pixels of each 4x4 block taking turns in a 4x4 ordered (Bayer) order, so each
-// frame's work is spread evenly over the image. The first frame of an
-// accumulation traces every pixel, unless it starts sparse (kRtgiSparseStart).
-// Accumulation keeps a sample count per pixel, so the image converges to the same
-// mean, N times slower per frame.
+// Interleaving (interleave_shared.h): with N > 1 a pixel traces new rays on every
+// N-th frame only, in a 4x4 ordered order. Accumulation keeps a sample count per
+// pixel, so the image converges to the same mean, N times slower per frame.
 bool tracesEveryPixel() {
-  return rtgi.work.x <= 1u || (rtgi.frame.x == 0u && (rtgi.work.w & kRtgiSparseStart) == 0u);
+  return interleaveEveryPixel(rtgi.work.x, rtgi.frame.x, (rtgi.work.w & kRtgiSparseStart) != 0u);
 }
 
 // The rank of this frame's turn: the pixels of rank r with (r + frame) % N == 0 trace.
-uint turnRank() { return (rtgi.work.x - (rtgi.frame.x & (rtgi.work.x - 1u))) & (rtgi.work.x - 1u); }
+uint turnRank() { return interleaveTurn(rtgi.work.x, rtgi.frame.x); }
 
 bool tracesThisFrame(ivec2 px) {
-  if (tracesEveryPixel()) return true;
-  const uint bayer[16] = uint[16](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
-  uint rank = bayer[(uint(px.y) & 3u) * 4u + (uint(px.x) & 3u)];
-  return ((rank + rtgi.frame.x) & (rtgi.work.x - 1u)) == 0u;
-}
-
-// The inverse of the pattern: rank -> cell of the 4x4 block (x in bits 0-1, y in 2-3).
-uint patternCell(uint rank) {
-  const uint where[16] = uint[16](0u, 10u, 2u, 8u, 5u, 15u, 7u, 13u, 1u, 11u, 3u, 9u, 4u, 14u, 6u, 12u);
-  return where[rank];
+  return tracesEveryPixel() || interleaveTraces(px, rtgi.work.x, rtgi.frame.x);
 }
 
 #ifdef RTGI_PIXEL_LIST
@@ -134,9 +123,6 @@ bool outside(ivec2 px) {
 bool tracePixel(out ivec2 px) {
   uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kRtgiTraceGroup +
            gl_LocalInvocationID.x;
-  uint w = rtgi.frame.z;
-  uint h = rtgi.frame.w;
-  uint n = rtgi.work.x;
 #ifdef RTGI_PIXEL_LIST
   if (selectedByList()) {
     if (i >= pixelHeader.count.x) return false;
@@ -145,16 +131,8 @@ bool tracePixel(out ivec2 px) {
     return true;
   }
 #endif
-  if (tracesEveryPixel()) {
-    px = ivec2(i % w, i / w);
-    return i < w * h;
-  }
-  uint perBlock = 16u / n;
-  uint block = i / perBlock;
-  uint blocksX = (w + 3u) / 4u;
-  uint cell = patternCell(turnRank() + (i % perBlock) * n);
-  px = ivec2((block % blocksX) * 4u + (cell & 3u), (block / blocksX) * 4u + (cell >> 2u));
-  return block < blocksX * ((h + 3u) / 4u) && px.x < int(w) && px.y < int(h);
+  return interleavePixel(i, rtgi.frame.z, rtgi.frame.w, rtgi.work.x, rtgi.frame.x,
+                         tracesEveryPixel(), px);
 }
 
 #endif  // VOXGI_RTGI_COMMON_GLSL

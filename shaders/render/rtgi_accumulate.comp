@@ -74,7 +74,7 @@ vec3 tracedLight(ivec2 q) {
 // every covered one.
 vec3 borrowedLight(ivec2 px) {
   ivec2 size = ivec2(rtgi.frame.zw);
-  uint cell = patternCell(turnRank());
+  uint cell = interleaveCell(turnRank());
   ivec2 c = ivec2(cell & 3u, cell >> 2u);
   ivec2 block0 = (px - c) >> 2;  // the block whose traced pixel is at or before px
   vec2 t = vec2(px - (block0 * 4 + c)) / 4.0;

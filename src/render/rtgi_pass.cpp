@@ -4,6 +4,7 @@
 #include <bit>
 
 #include "core/log.h"
+#include "interleave_shared.h"
 #include "octree_shared.h"
 #include "render/pathtrace_scene.h"
 #include "render/raster_pass.h"
@@ -214,7 +215,9 @@ RtgiPass::FramePlan RtgiPass::planFrame(const gl::FrameContext& ctx, const GpuSc
     while (f.interleave > 1 && 2.0 / f.interleave <= traceFraction_ + 1e-9) f.interleave /= 2;
   // Every pixel traces without interleaving, and on the first frame unless it starts
   // sparse.
-  f.everyPixel = f.interleave <= 1 || (frameIndex == 0 && !settings_.sparseStart);
+  f.everyPixel =
+      gpu::interleaveEveryPixel(static_cast<uint32_t>(f.interleave),
+                                static_cast<uint32_t>(frameIndex), settings_.sparseStart);
   // Which pixels trace: the interleave pattern by formula, or (frame budget) a list
   // built by the select stage, dispatched indirectly.
   f.listed = settings_.select != Settings::Select::kPattern && frameIndex > 0;
@@ -229,10 +232,9 @@ RtgiPass::FramePlan RtgiPass::planFrame(const gl::FrameContext& ctx, const GpuSc
   f.gx = static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX);
   f.gy = static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY);
   f.pixelsTotal = uint64_t{static_cast<uint32_t>(ctx.width)} * static_cast<uint32_t>(ctx.height);
-  const uint64_t tracing = f.everyPixel ? f.pixelsTotal
-                                        : uint64_t{static_cast<uint32_t>((ctx.width + 3) / 4)} *
-                                              static_cast<uint32_t>((ctx.height + 3) / 4) *
-                                              static_cast<uint32_t>(16 / f.interleave);
+  const uint64_t tracing =
+      gpu::interleaveTraceCount(static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height),
+                                static_cast<uint32_t>(f.interleave), f.everyPixel);
   const uint64_t groups = (tracing + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup;
   f.tx = static_cast<GLuint>(std::min<uint64_t>(groups, 65535));
   f.ty = static_cast<GLuint>((groups + f.tx - 1) / f.tx);
