@@ -181,9 +181,10 @@ VOXGI_CONST uint kMaskImage = 5u;     // r16f, in [0, 1)
 VOXGI_CONST uint kTracedImage = 6u;   // r8ui: 1 where the pixel traces this frame
 VOXGI_CONST uint kMaskKeyImage = 7u;  // rgba32ui: what the edges compare, per pixel
 // Reprojection: the reprojected mean (rgba32f) that accumulate then reads in place
-// of the target. Unit 8 is past kMinImageUnits: a driver with only the minimum
-// has no such unit (tests/render/bindings_test.cpp lists it as the one exception).
-VOXGI_CONST uint kReprojectedImage = 8u;
+// of the target. It uses the mask key's unit, which accumulate and reproject do not
+// read (accumulate reads units 0 to 6 beside it); each binds it before its dispatch,
+// after the mask has run.
+VOXGI_CONST uint kReprojectedImage = 7u;
 // Denoiser: the running moments of each pixel's luminance (rg32f) and their
 // reprojection. They use the mask's image units, which accumulate and reproject
 // do not otherwise read.

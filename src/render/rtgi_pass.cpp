@@ -361,7 +361,8 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
 
 void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
   if (settings_.denoise) {
-    // The moments use the mask's image units (rtgi_shared.h): bound here, after it ran.
+    // The moments use the mask's image units (bindings_shared.h): bound here, after it
+    // ran; so does the reprojected mean (below).
     glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
     glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
                        GL_READ_ONLY, GL_RG32F);
@@ -390,7 +391,7 @@ void RtgiPass::finishFrame(const FramePlan& plan) {
     lastTraced_ = static_cast<double>(header.count.x) / static_cast<double>(plan.pixelsTotal);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   }
-  for (GLuint u = 0; u <= gpu::kReprojectedImage; ++u)
+  for (GLuint u = 0; u < gpu::kMinImageUnits; ++u)
     glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   for (GLuint u : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
     glBindTextureUnit(u, 0);

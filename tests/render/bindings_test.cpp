@@ -270,15 +270,10 @@ TEST(Bindings, EveryNameIsReadBySomeProgram) {
 }
 
 TEST(Bindings, ImageUnitsAreWithinTheMinimumEveryDriverHas) {
-  // kReprojectedImage is unit 8, past GL 4.5's minimum of 8 image units (0 to 7).
-  // Accumulate reads it with seven other images (units 0 to 6); it is the one
-  // exception until the reprojection's units are laid out again.
-  const std::set<std::string> exceptions = {"kReprojectedImage"};
   for (const auto& [name, entry] : registry()) {
-    if (entry.kind != Kind::Image || exceptions.count(name)) continue;
+    if (entry.kind != Kind::Image) continue;
     EXPECT_LT(entry.number, kMinImageUnits) << name;
   }
-  EXPECT_EQ(kReprojectedImage, kMinImageUnits);
 }
 
 }  // namespace
