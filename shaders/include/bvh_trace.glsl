@@ -1,5 +1,7 @@
 // BVH traversal over the scene's exact triangles (src/render/gpu_bvh.h), shared by
-// the path tracer (pathtrace.comp) and rtgi's reflections (rtgi_specular.comp).
+// the path tracer (pathtrace.comp) and rtgi's rays (rtgi_bvh.glsl): the node and
+// triangle reads from buffer textures, the attributes at a hit, and the traversal
+// of bvh_shared.h (which the CPU BVH runs too).
 // Include after pathtrace_shared.h. The including shader declares what this reads:
 //   usamplerBuffer nodeTexels, triangleTexels   the BVH (RGBA32UI buffer textures)
 //   uint loopBudget   loop iterations the invocation may still run (kPtLoopBudget);
@@ -68,86 +70,13 @@ vec4 triangleTangent(uint tri, vec2 bc) {
 bool bvhHitStops(uint tri, vec2 bc);
 #endif
 
-// --- ray casting --------------------------------------------------------------------
-// Slab test against one box; the entry distance, or +inf on a miss.
-float hitBox(vec3 lo, vec3 hi, vec3 o, vec3 inv, float tMax) {
-  vec3 t0 = (lo - o) * inv;
-  vec3 t1 = (hi - o) * inv;
-  vec3 tn = min(t0, t1);
-  vec3 tf = max(t0, t1);
-  float enter = max(max(tn.x, tn.y), max(tn.z, 0.0));
-  float exit = min(min(tf.x, tf.y), min(tf.z, tMax));
-  return enter <= exit ? enter : kInf;
-}
+// --- ray casting (bvh_shared.h) ---------------------------------------------------
+#include "bvh_shared.h"
 
-// Closest hit (anyHit false) or any hit in (0, tMax). Short-stack traversal of the
-// two-children nodes: descend into the nearer child, push the farther one.
+// Closest hit (anyHit false) or any hit in (0, tMax).
 bool trace(vec3 o, vec3 d, float tMax, bool anyHit, out float tHit, out uint triHit,
            out vec2 bary) {
-  tHit = tMax;
-  triHit = 0u;
-  bary = vec2(0.0);
-  bool found = false;
-  vec3 safe = vec3(abs(d.x) > 1e-20 ? d.x : 1e-20, abs(d.y) > 1e-20 ? d.y : 1e-20,
-                   abs(d.z) > 1e-20 ? d.z : 1e-20);
-  vec3 inv = 1.0 / safe;
-  uint stack[kPtStackSize];
-  int sp = 0;
-  uint node = 0u;
-  while (loopBudget > 0u) {
-    --loopBudget;
-    GpuBvhNode n = loadNode(node);
-    float tl = hitBox(n.leftMin.xyz, n.leftMax.xyz, o, inv, tHit);
-    float tr = hitBox(n.rightMin.xyz, n.rightMax.xyz, o, inv, tHit);
-    uint li = floatBitsToUint(n.leftMin.w), lc = floatBitsToUint(n.leftMax.w);
-    uint ri = floatBitsToUint(n.rightMin.w), rc = floatBitsToUint(n.rightMax.w);
-    for (int side = 0; side < 2; ++side) {
-      uint first = side == 0 ? li : ri;
-      uint count = side == 0 ? lc : rc;
-      float tb = side == 0 ? tl : tr;
-      if (count == 0u || tb == kInf) continue;
-      // A fixed trip count: unrolled, so it does not spend the driver's loop budget.
-      for (uint j = 0u; j < kPtMaxLeafSize; ++j) {
-        if (j >= count) break;
-        uint i = first + j;
-        // Moeller-Trumbore; NaN (a ray in the triangle's plane) fails every test.
-        GpuPtTriangle t = loadTriangle(i);
-        vec3 p = cross(d, t.e2.xyz);
-        float inv_det = 1.0 / dot(t.e1.xyz, p);
-        vec3 s = o - t.v0.xyz;
-        float u = dot(s, p) * inv_det;
-        vec3 q = cross(s, t.e1.xyz);
-        float v = dot(d, q) * inv_det;
-        float th = dot(t.e2.xyz, q) * inv_det;
-        if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && th > 0.0 && th < tHit
-#ifdef VOXGI_BVH_ALPHA
-            && bvhHitStops(i, vec2(u, v))
-#endif
-        ) {
-          tHit = th;
-          triHit = i;
-          bary = vec2(u, v);
-          found = true;
-        }
-      }
-      if (anyHit && found) return true;
-    }
-    bool goL = lc == 0u && li != 0u && tl < tHit;  // node 0 as a child: empty
-    bool goR = rc == 0u && ri != 0u && tr < tHit;
-    if (goL && goR) {
-      bool rFirst = tr < tl;
-      node = rFirst ? ri : li;
-      stack[sp++] = rFirst ? li : ri;
-    } else if (goL) {
-      node = li;
-    } else if (goR) {
-      node = ri;
-    } else {
-      if (sp == 0) break;
-      node = stack[--sp];
-    }
-  }
-  return found;
+  return bvhTrace(o, d, 0.0, tMax, anyHit, tHit, triHit, bary);
 }
 
 bool occluded(vec3 o, vec3 d, float tMax) {

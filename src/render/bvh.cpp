@@ -33,9 +33,6 @@ struct Box {
 float bitsToFloat(uint32_t u) {
   return std::bit_cast<float>(u);
 }
-uint32_t floatToBits(float f) {
-  return std::bit_cast<uint32_t>(f);
-}
 
 struct Builder {
   const std::vector<BvhTriangle>& tris;
@@ -170,18 +167,6 @@ struct Builder {
   }
 };
 
-// Slab test; returns the entry distance, or +inf on a miss.
-inline float hitBox(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& o,
-                    const glm::vec3& inv, float tMin, float tMax) {
-  const glm::vec3 t0 = (lo - o) * inv;
-  const glm::vec3 t1 = (hi - o) * inv;
-  const glm::vec3 tn = glm::min(t0, t1);
-  const glm::vec3 tf = glm::max(t0, t1);
-  const float enter = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
-  const float exit = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax));
-  return enter <= exit ? enter : INFINITY;
-}
-
 }  // namespace
 
 bool intersectTriangle(const BvhRay& ray, const glm::vec3& v0, const glm::vec3& e1,
@@ -237,78 +222,30 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
   Box all;
   for (const Box& box : b.boxes) all.extend(box);
   sah_ = all.area() > 0.0f ? b.sah / all.area() : 0.0;
-  v0_.resize(n);
-  e1_.resize(n);
-  e2_.resize(n);
+  triangles_.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const BvhTriangle& t = triangles[order_[i]];
-    v0_[i] = t.v0;
-    e1_[i] = t.v1 - t.v0;
-    e2_[i] = t.v2 - t.v0;
+    triangles_[i].v0 = glm::vec4(t.v0, 0.0f);
+    triangles_[i].e1 = glm::vec4(t.v1 - t.v0, 0.0f);
+    triangles_[i].e2 = glm::vec4(t.v2 - t.v0, 0.0f);
   }
-}
-
-std::vector<gpu::GpuPtTriangle> Bvh::gpuTriangles() const {
-  std::vector<gpu::GpuPtTriangle> out(order_.size());
-  for (size_t i = 0; i < out.size(); ++i) {
-    out[i].v0 = glm::vec4(v0_[i], 0.0f);
-    out[i].e1 = glm::vec4(e1_[i], 0.0f);
-    out[i].e2 = glm::vec4(e2_[i], 0.0f);
-  }
-  return out;
 }
 
 template <bool kAnyHit>
 bool Bvh::traverse(const BvhRay& ray, BvhHit* hit) const {
   if (nodes_.empty()) return false;
-  const glm::vec3 inv = 1.0f / ray.direction;  // +-inf for axis-parallel rays is what slabs want
-  float tMax = ray.tMax;
-  bool found = false;
-  uint32_t stack[gpu::kPtStackSize];
-  int sp = 0;
-  stack[sp++] = 0;
-  while (sp > 0) {
-    const gpu::GpuBvhNode& node = nodes_[stack[--sp]];
-    const float tl =
-        hitBox(glm::vec3(node.leftMin), glm::vec3(node.leftMax), ray.origin, inv, ray.tMin, tMax);
-    const float tr =
-        hitBox(glm::vec3(node.rightMin), glm::vec3(node.rightMax), ray.origin, inv, ray.tMin, tMax);
-    uint32_t push[2];
-    int np = 0;
-    const uint32_t idx[2] = {floatToBits(node.leftMin.w), floatToBits(node.rightMin.w)};
-    const uint32_t cnt[2] = {floatToBits(node.leftMax.w), floatToBits(node.rightMax.w)};
-    const float th[2] = {tl, tr};
-    // Nearer child first: it is pushed last.
-    const int first = tr < tl ? 1 : 0;
-    for (int k = 0; k < 2; ++k) {
-      const int c = k == 0 ? first : 1 - first;
-      if (th[c] == INFINITY) continue;
-      if (cnt[c] == 0) {
-        if (idx[c] == 0) continue;  // empty child
-        push[np++] = idx[c];
-        continue;
-      }
-      for (uint32_t i = idx[c]; i < idx[c] + cnt[c]; ++i) {
-        BvhRay r = ray;
-        r.tMax = tMax;
-        float t, u, v;
-        if (intersectTriangle(r, v0_[i], e1_[i], e2_[i], &t, &u, &v)) {
-          found = true;
-          if (kAnyHit) return true;
-          tMax = t;
-          hit->t = t;
-          hit->u = u;
-          hit->v = v;
-          hit->triangle = static_cast<int>(order_[i]);
-        }
-      }
-    }
-    for (int k = np - 1; k >= 0; --k) {
-      VOXGI_CHECK_LT(sp, static_cast<int>(gpu::kPtStackSize));
-      stack[sp++] = push[k];
-    }
-  }
-  return found;
+  const gpu::BvhArrays arrays{nodes_.data(), triangles_.data()};
+  float t = 0.0f;
+  uint32_t triangle = 0;
+  glm::vec2 bary(0.0f);
+  if (!gpu::bvhTrace(arrays, ray.origin, ray.direction, ray.tMin, ray.tMax, kAnyHit, t, triangle,
+                     bary))
+    return false;
+  hit->t = t;
+  hit->u = bary.x;
+  hit->v = bary.y;
+  hit->triangle = static_cast<int>(order_[triangle]);
+  return true;
 }
 
 bool Bvh::intersect(const BvhRay& ray, BvhHit* hit) const {

@@ -8,8 +8,8 @@
 // reordered so every leaf is a contiguous run; order()[i] is the input index of the
 // i-th triangle in BVH order.
 //
-// The CPU traversal here walks the same flattened nodes as the compute shader and is
-// what the tests check against brute force (tests/render/bvh_test.cpp).
+// The CPU traversal is the shaders' own (bvh_shared.h, built as C++) over the same
+// flattened nodes; the tests check it against brute force (tests/render/bvh_test.cpp).
 #ifndef VOXGI_RENDER_BVH_H
 #define VOXGI_RENDER_BVH_H
 
@@ -18,6 +18,7 @@
 
 #include <glm/glm.hpp>
 
+#include "bvh_shared.h"
 #include "pathtrace_shared.h"
 
 namespace voxgi::render {
@@ -64,7 +65,7 @@ class Bvh {
   const std::vector<gpu::GpuBvhNode>& nodes() const { return nodes_; }
   const std::vector<uint32_t>& order() const { return order_; }
   // BVH-ordered triangles as the GPU reads them.
-  std::vector<gpu::GpuPtTriangle> gpuTriangles() const;
+  const std::vector<gpu::GpuPtTriangle>& gpuTriangles() const { return triangles_; }
 
   int depth() const { return depth_; }     // deepest node, root = 1
   double sahCost() const { return sah_; }  // expected cost of a random ray, in triangle tests
@@ -80,7 +81,7 @@ class Bvh {
 
   std::vector<gpu::GpuBvhNode> nodes_;
   std::vector<uint32_t> order_;
-  std::vector<glm::vec3> v0_, e1_, e2_;  // BVH order
+  std::vector<gpu::GpuPtTriangle> triangles_;  // BVH order
   int depth_ = 0;
   double sah_ = 0.0;
 };
