@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "bvh_shared.h"
-#include "gl/program_cache.h"
 #include "render/bvh.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
 #include "support/test_paths.h"
+#include "support/twin_shader.h"
 
 namespace voxgi::test {
 namespace {
@@ -34,29 +34,9 @@ double agreement(const render::Bvh& bvh, std::mt19937& rng, float extent, int* h
     rays.push_back(glm::vec4(pos(rng), pos(rng), pos(rng), tMax));
     rays.push_back(glm::vec4(d, i % 2 == 0 ? 0.0f : 1.0f));
   }
-  gl::ProgramCache programs(sourceDir() + "/shaders");
-  const GLuint program = programs.get({{"../tests/render/bvh_twin.comp"}, {}}).id();
   const auto& tris = bvh.gpuTriangles();
-  const gl::Buffer in =
-      gl::createBuffer(static_cast<GLsizeiptr>(rays.size() * sizeof(glm::vec4)), rays.data());
-  const gl::Buffer nodes = gl::createBuffer(
-      static_cast<GLsizeiptr>(bvh.nodes().size() * sizeof(gpu::GpuBvhNode)), bvh.nodes().data());
-  const gl::Buffer triangles = gl::createBuffer(
-      static_cast<GLsizeiptr>(tris.size() * sizeof(gpu::GpuPtTriangle)), tris.data());
-  const gl::Buffer out =
-      gl::createBuffer(static_cast<GLsizeiptr>(kRays * sizeof(glm::vec4)), nullptr);
-  glUseProgram(program);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, nodes.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, triangles.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, out.id());
-  glUniform1ui(0, kRays);
-  glDispatchCompute((kRays + 63) / 64, 1, 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<glm::vec4> gpuOut(kRays);
-  glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(kRays * sizeof(glm::vec4)),
-                          gpuOut.data());
-  glUseProgram(0);
+  const std::vector<glm::vec4> gpuOut = runTwinShader<glm::vec4>(
+      "bvh_twin.comp", {twinInput(rays), twinInput(bvh.nodes()), twinInput(tris)}, kRays);
 
   const gpu::BvhArrays arrays{bvh.nodes().data(), tris.data()};
   int same = 0;

@@ -7,10 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "gl/program_cache.h"
 #include "interleave_shared.h"
 #include "support/gl_fixture.h"
-#include "support/test_paths.h"
+#include "support/twin_shader.h"
 
 namespace voxgi::test {
 namespace {
@@ -30,22 +29,8 @@ TEST_F(GlTest, InterleaveAgreesBetweenGlslAndCpp) {
     inputs.push_back(glm::uvec4(i, w, h, n | (frame << 8u) | (sparse << 31u)));
   }
 
-  gl::ProgramCache programs(sourceDir() + "/shaders");
-  const GLuint program = programs.get({{"../tests/render/interleave_twin.comp"}, {}}).id();
-  const gl::Buffer in =
-      gl::createBuffer(static_cast<GLsizeiptr>(inputs.size() * sizeof(glm::uvec4)), inputs.data());
-  const gl::Buffer out =
-      gl::createBuffer(static_cast<GLsizeiptr>(kCases * sizeof(glm::uvec4)), nullptr);
-  glUseProgram(program);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
-  glUniform1ui(0, kCases);
-  glDispatchCompute((kCases + 63) / 64, 1, 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<glm::uvec4> gpuOut(kCases);
-  glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(kCases * sizeof(glm::uvec4)),
-                          gpuOut.data());
-  glUseProgram(0);
+  const std::vector<glm::uvec4> gpuOut =
+      runTwinShader<glm::uvec4>("interleave_twin.comp", {twinInput(inputs)}, kCases);
 
   // The C++ build of interleave_twin.comp's main.
   int same = 0, traced = 0;

@@ -9,11 +9,10 @@
 #include <random>
 #include <vector>
 
-#include "gl/program_cache.h"
 #include "scene/gpu_scene.h"
 #include "scene/light_tree.h"
 #include "support/gl_fixture.h"
-#include "support/test_paths.h"
+#include "support/twin_shader.h"
 
 namespace voxgi::test {
 namespace {
@@ -55,25 +54,8 @@ TEST_F(GlTest, LightTreeWalkAgreesBetweenGlslAndCpp) {
     inputs.push_back(glm::vec4(unitVector(rng), u01(rng)));
   }
 
-  gl::ProgramCache programs(sourceDir() + "/shaders");
-  const GLuint program = programs.get({{"../tests/render/light_tree_twin.comp"}, {}}).id();
-  const gl::Buffer in =
-      gl::createBuffer(static_cast<GLsizeiptr>(inputs.size() * sizeof(glm::vec4)), inputs.data());
-  const gl::Buffer nodes = gl::createBuffer(
-      static_cast<GLsizeiptr>(tree.size() * sizeof(gpu::GpuLightNode)), tree.data());
-  const gl::Buffer out =
-      gl::createBuffer(static_cast<GLsizeiptr>(kCases * sizeof(glm::vec4)), nullptr);
-  glUseProgram(program);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, nodes.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());
-  glUniform1ui(0, kCases);
-  glDispatchCompute((kCases + 63) / 64, 1, 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<glm::vec4> gpuOut(kCases);
-  glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(kCases * sizeof(glm::vec4)),
-                          gpuOut.data());
-  glUseProgram(0);
+  const std::vector<glm::vec4> gpuOut = runTwinShader<glm::vec4>(
+      "light_tree_twin.comp", {twinInput(inputs), twinInput(tree)}, kCases);
 
   int same = 0, drawn = 0;
   for (int i = 0; i < kCases; ++i) {
