@@ -196,7 +196,8 @@ INSTANTIATE_TEST_SUITE_P(
         SampleCase{"texture_transform_test", "texture_transform_test/TextureTransformTest.gltf", 24,
                    0},
         SampleCase{"texture_coordinate_test", "texture_coordinate_test/TextureCoordinateTest.gltf",
-                   10, 0}),
+                   10, 0},
+        SampleCase{"vertex_color_test", "vertex_color_test/VertexColorTest.gltf", 36, 0}),
     [](const ::testing::TestParamInfo<SampleCase>& param) {
       return std::string(param.param.name);
     });
@@ -344,6 +345,49 @@ TEST(GltfLoaderVertexColors, RedGreenQuad) {
                                                  : glm::vec4(0, 1, 0, 1);
     for (int k = 0; k < 4; ++k) EXPECT_EQ(c[k], want[k]) << "vertex " << i << " component " << k;
   }
+}
+
+// The Khronos VertexColorTest (scenes/vertex_color_test): COLOR_0 is float VEC4 on
+// the checks' mesh only. Its top row of checks is multiplied by pure red, green and
+// blue (left to right, 4 vertices each), the bottom row and the backdrop by white or
+// grey; the label mesh, without COLOR_0, reads white.
+TEST(GltfLoaderVertexColors, KhronosVertexColorTest) {
+  const Scene s = loadGltf(sample("vertex_color_test/VertexColorTest.gltf"));
+  EXPECT_EQ(s.triangleCount(), 36u);
+  ASSERT_TRUE(s.hasVertexColors());
+  ASSERT_EQ(s.colors.size(), s.vertices.size());
+  size_t red = 0, green = 0, blue = 0, grey = 0, white = 0;
+  for (size_t i = 0; i < s.vertices.size(); ++i) {
+    SCOPED_TRACE("vertex " + std::to_string(i));
+    const glm::vec3 p = s.vertices[i].position + glm::vec3(s.origin);
+    const glm::vec4 c = s.colors[i];
+    EXPECT_EQ(c.a, 1.0f);
+    if (c == glm::vec4(1, 0, 0, 1)) {
+      ++red;
+      EXPECT_LT(p.x, -0.3f);
+    } else if (c == glm::vec4(0, 1, 0, 1)) {
+      ++green;
+      EXPECT_LT(std::abs(p.x), 0.24f);
+    } else if (c == glm::vec4(0, 0, 1, 1)) {
+      ++blue;
+      EXPECT_GT(p.x, 0.3f);
+    } else if (c.r == c.g && c.g == c.b && c.r > 0.5f && c.r < 0.52f) {
+      ++grey;
+      continue;
+    } else {
+      EXPECT_GT(c.r, 0.99f);
+      EXPECT_GT(c.g, 0.99f);
+      EXPECT_EQ(c.b, 1.0f);
+      ++white;
+      continue;
+    }
+    EXPECT_GT(p.y, 0.1f) << "the coloured checks are the top row";
+  }
+  EXPECT_EQ(red, 4u);
+  EXPECT_EQ(green, 4u);
+  EXPECT_EQ(blue, 4u);
+  EXPECT_EQ(grey, 18u);
+  EXPECT_EQ(red + green + blue + grey + white, s.vertices.size());
 }
 
 // Scenes without COLOR_0 carry no colour stream.
