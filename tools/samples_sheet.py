@@ -19,6 +19,7 @@ import re
 import shlex
 import subprocess
 import sys
+import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -38,7 +39,8 @@ BUILTIN = [
     "box",
 ]
 
-# Render options a sample needs to be legible at the sheet's size, every mode.
+# Render options a sample needs to be legible at the sheet's size, every mode, e.g.
+# {"name": ["--exposure", "2"]}. None of the built-in samples needs any at 160x160.
 SAMPLE_OPTIONS = {}
 
 MODE_LABELS = {
@@ -197,6 +199,24 @@ def tile(cells, samples, modes, out_png, size):
     os.replace(tmp, out_png)
 
 
+def flip_over_lit(test, ref):
+    """(mean FLIP over the pixels that are not black in either image, their share of
+    the image): the samples float on a black background, which is no error in every
+    mode and dilutes the image's mean by how little of the frame a sample fills."""
+    import flip_evaluator
+    import numpy as np
+    from flip import srgb8
+
+    with tempfile.TemporaryDirectory() as tmp:
+        t, r = srgb8(test, tmp), srgb8(ref, tmp)
+    err, _, _ = flip_evaluator.evaluate(r, t, "LDR", inputsRGB=True, applyMagma=False)
+    err = np.asarray(err).reshape(t.shape[:2])
+    lit = (t.max(axis=2) > 0) | (r.max(axis=2) > 0)
+    if not lit.any():
+        return 0.0, 0.0
+    return float(err[lit].mean()), float(lit.mean())
+
+
 def main():
     ap = argparse.ArgumentParser(
         prog="tools/samples-sheet", description=__doc__.split("\n\n")[0],
@@ -258,7 +278,14 @@ def main():
     with open(os.path.join(out, "command.txt"), "w") as f:
         f.write(" ".join(shlex.quote(a) for a in ["tools/samples-sheet"] + sys.argv[1:]) + "\n")
 
-    cells, times, failed = {}, {}, False
+    # Render times, kept across --reuse runs.
+    times_csv = os.path.join(out, "times.csv")
+    times = {}
+    if os.path.isfile(times_csv):
+        with open(times_csv) as f:
+            for r in csv.DictReader(f):
+                times[(r["sample"], r["mode"])] = float(r["seconds"])
+    cells, failed = {}, False
     total, i = len(samples) * len(modes), 0
     for name, path in samples:
         options = SAMPLE_OPTIONS.get(name, [])
@@ -286,6 +313,12 @@ def main():
                 print(f" {dt:.1f} s", flush=True)
                 cells[(name, mode)] = png
 
+    with open(times_csv, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["sample", "mode", "seconds"])
+        for (name, mode), dt in sorted(times.items()):
+            w.writerow([name, mode, f"{dt:.1f}"])
+
     sheet = os.path.join(out, "samples.png")
     tile(cells, samples, modes, sheet, args.size)
     print(f"sheet: {sheet} ({len(modes)} rows x {len(samples)} columns, "
@@ -302,6 +335,7 @@ def main():
             if not (os.path.isfile(ref) and os.path.isfile(test)):
                 continue
             value = flip_of(test, ref)
+            lit_value, lit_share = flip_over_lit(test, ref)
             rows.append({
                 "sample": name,
                 "file": os.path.relpath(path, ROOT) if path.startswith(ROOT + os.sep) else path,
@@ -311,18 +345,22 @@ def main():
                 "rtgi_frames": args.frames or 64,
                 "rtgi_seconds": round(times.get((name, "rtgi"), float("nan")), 1),
                 "flip": round(value, 4),
+                "lit_share": round(lit_share, 3),
+                "flip_lit": round(lit_value, 4),
             })
-            print(f"flip {name}: {value:.4f}", flush=True)
+            print(f"flip {name}: {value:.4f} (over its lit pixels, {100 * lit_share:.0f}% of "
+                  f"the image: {lit_value:.4f})", flush=True)
         with open(os.path.join(out, "flip.csv"), "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=list(rows[0].keys()) if rows else ["sample"])
             w.writeheader()
             w.writerows(rows)
         with open(os.path.join(out, "flip.md"), "w") as f:
-            f.write("| sample | path tracer (s) | rtgi (s) | FLIP rtgi vs path tracer |\n")
-            f.write("|---|---:|---:|---:|\n")
+            f.write("| sample | path tracer (s) | rtgi (s) | FLIP | lit pixels | FLIP over "
+                    "them |\n")
+            f.write("|---|---:|---:|---:|---:|---:|\n")
             for r in rows:
                 f.write(f"| {r['sample']} | {r['ref_seconds']} | {r['rtgi_seconds']} | "
-                        f"{r['flip']:.3f} |\n")
+                        f"{r['flip']:.3f} | {100 * r['lit_share']:.0f}% | {r['flip_lit']:.3f} |\n")
         print(f"flip: {os.path.join(out, 'flip.csv')}, {os.path.join(out, 'flip.md')}", flush=True)
     return 1 if failed else 0
 
