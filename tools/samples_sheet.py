@@ -122,7 +122,7 @@ def render(args, sample_path, options, mode, outputs):
     if p.returncode != 0:
         lines = [l for l in (p.stderr + p.stdout).splitlines() if l.strip()]
         line = lines[-1] if lines else f"exit {p.returncode}"
-        return dt, line.replace(sample_path + ": ", "")
+        return dt, line.replace("voxgi: error: ", "").replace(sample_path + ": ", "")
     return dt, None
 
 
