@@ -308,6 +308,50 @@ def mode_table(rows):
     return lines
 
 
+# The README's summary: (label, mode, params of the grid point; None: the mean over
+# the mode's points at REF_SIZE, frame time only).
+SUMMARY = [
+    ("raster", "raster", "--frames 5"),
+    ("points (mean over its grid points)", "points", None),
+    ("dvr (mean over its grid points)", "dvr", None),
+    ("rtgi, 1 frame", "rtgi", "--frames 1"),
+    ("rtgi, 16 frames", "rtgi", "--frames 16"),
+    ("rtgi, 64 frames (the default)", "rtgi", "--frames 64"),
+    ("rtgi, 256 frames", "rtgi", "--frames 256"),
+    ("rtgi, 64 frames, `--denoise off`", "rtgi", "--denoise off"),
+    ("rtgi, 64 frames, `--indirect cones`", "rtgi", "--indirect cones"),
+    ("rtgi, 64 frames, `--voxel-rays`", "rtgi", "--voxel-rays"),
+    ("rtgi, 64 frames, `--interleave 16`", "rtgi", "--interleave 16"),
+] + [(f"pathtrace, {n} spp", "pathtrace", f"--spp {n} --seed {SEED} --no-progress")
+     for n in (1, 16, 256, 1024, 4096)]
+
+
+def summary_table(rows):
+    """One row per SUMMARY setting, both scenes: time to the image, RMSE, FLIP."""
+    head = "| setting, " + REF_SIZE + " | " + " | ".join(
+        f"{s}: time (ms) | {s}: RMSE | {s}: FLIP" for s in SCENES) + " |"
+    lines = [head, "|---|" + "---:|---:|---:|" * len(SCENES)]
+    for label, mode, params in SUMMARY:
+        cells, found = [], False
+        for scene in SCENES:
+            sel = [r for r in rows if r["scene"] == scene and r["mode"] == mode and
+                   at_ref_size(r) and (params is None or r["params"] == params)]
+            if not sel:
+                cells += ["-", "-", "-"]
+                continue
+            found = True
+            if params is None:
+                ms = sum(float(r["frame_ms"]) for r in sel) / len(sel)
+                cells += [f"{ms:.1f}", "-", "-"]
+                continue
+            r = sel[0]
+            err = [f"{float(r[k]):.4f}" if r[k] != "" else "-" for k in ("rmse", "flip")]
+            cells += [f"{image_ms(r):.0f}"] + err
+        if found:
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def tables(rows, refs, outdir):
     lines = []
     for scene in SCENES:
@@ -315,7 +359,7 @@ def tables(rows, refs, outdir):
         if spp:
             lines += [f"**{scene}**, {REF_SIZE}, against a {refs[scene]}-spp reference", ""]
             lines += spp + [""]
-    lines += mode_table(rows)
+    lines += mode_table(rows) + [""] + summary_table(rows)
     for scene in SCENES:
         rt = rtgi_table(rows, scene)
         if rt:
@@ -342,9 +386,12 @@ def block_text(name, rows):
         lines = rtgi_table(rows, scene)
     elif kind == "modes" and not scene:
         lines = mode_table(rows)
+    elif kind == "summary" and not scene:
+        lines = summary_table(rows)
     else:
         raise SystemExit(f"sweep tables: error: unknown table {name!r} (pathtrace-spp:SCENE, "
-                         f"rtgi-knobs:SCENE, modes; SCENE one of {', '.join(SCENES)})")
+                         f"rtgi-knobs:SCENE, modes, summary; SCENE one of "
+                         f"{', '.join(SCENES)})")
     if not lines:
         raise SystemExit(f"sweep tables: error: {name}: no rows for it in the CSV")
     return "\n".join(lines)
