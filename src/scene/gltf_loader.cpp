@@ -32,9 +32,11 @@ namespace fs = std::filesystem;
 constexpr uint64_t kMaxFileBytes = 0xffffffffu;
 constexpr int kMaxJsonDepth = 256;
 
-const std::set<std::string> kSupportedRequired = {"KHR_lights_punctual",
-                                                  "KHR_materials_emissive_strength",
-                                                  "KHR_mesh_quantization", "KHR_texture_transform"};
+// The extensions voxgi implements: accepted in extensionsRequired. Any other is
+// refused there and warned about in extensionsUsed (Loader::warnIgnored).
+const std::set<std::string> kSupportedExtensions = {
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
+    "KHR_texture_transform"};
 
 // Accessors without a bufferView (zeros) or with a sparse part are copied out dense:
 // a small file must not ask for gigabytes.
@@ -190,6 +192,44 @@ std::vector<uint32_t> triangleList(std::vector<uint32_t> idx, int mode) {
   return idx;
 }
 
+// The places in a file that hold one kind of thing voxgi ignores or reads only in
+// part, each counted once however often the traversal meets it.
+struct Tally {
+  std::set<std::string> seen;
+  std::string first;  // the first met
+  void add(const std::string& where) {
+    if (seen.insert(where).second && seen.size() == 1) first = where;
+  }
+  size_t count() const { return seen.size(); }
+  // "materials[2]", or "3 materials (materials[2] first)".
+  std::string named(const char* many) const {
+    return count() == 1 ? first : strf("%zu %s (%s first)", count(), many, first.c_str());
+  }
+};
+
+struct IgnoredParts {
+  Tally pointsAndLines;  // primitives of points or lines, skipped
+  Tally morphed;         // primitives with morph targets, drawn without them
+  Tally weightChannels;  // animation channels of morph target weights
+  Tally skinned;         // nodes with a mesh and a skin, drawn undeformed
+  Tally orthographic;    // orthographic cameras, not used
+  Tally laterCameras;    // perspective cameras after the one the view is from
+};
+
+// How a file renders without an optional extension voxgi does not implement.
+std::string renderedWithout(const std::string& extension) {
+  if (extension == "KHR_draco_mesh_compression" || extension == "EXT_meshopt_compression")
+    return "the uncompressed geometry is drawn";
+  if (extension == "KHR_texture_basisu" || extension == "EXT_texture_webp" ||
+      extension == "EXT_texture_avif")
+    return "textures read their PNG or JPEG source";
+  if (extension == "KHR_materials_variants") return "the default materials are drawn";
+  if (extension == "EXT_mesh_gpu_instancing") return "each mesh is drawn once, at its node";
+  if (extension.find("_materials_") != std::string::npos) return "materials render without it";
+  if (extension.find("_lights_") != std::string::npos) return "its lights are not drawn";
+  return "the file renders without it";
+}
+
 class Loader {
  public:
   Loader(const std::string& path, const LoadOptions& opt) : path_(path), opt_(opt) {}
@@ -266,6 +306,7 @@ class Loader {
     readMaterials();
     readNodesAndAnimations();
     traverse();
+    warnIgnored();
     // One line each, however many primitives share the problem.
     if (dropped_)
       warn_(strf("dropped %zu degenerate triangles: zero area or collinear (%s%s)", dropped_,
@@ -400,7 +441,7 @@ class Loader {
       for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
         const std::string where = strf("animation %zu channel %zu", a, ci);
         if (anim.channels[ci].target_path == "weights") {
-          warn_(where + ": morph target weights are not animated; skipped");
+          ignored_.weightChannels.add(where);
           continue;
         }
         AnimationChannel c = readChannel(anim, anim.channels[ci], where);
@@ -577,7 +618,7 @@ class Loader {
     const auto& used = model_.extensionsUsed;
     for (size_t i = 0; i < model_.extensionsRequired.size(); ++i) {
       const std::string& r = model_.extensionsRequired[i];
-      if (!kSupportedRequired.count(r)) fail("requires the unsupported extension " + r);
+      if (!kSupportedExtensions.count(r)) fail("requires the unsupported extension " + r);
       if (std::find(used.begin(), used.end(), r) == used.end())
         fail(strf("extensionsRequired[%zu] %s is not in extensionsUsed", i, r.c_str()));
     }
@@ -1309,6 +1350,7 @@ class Loader {
       if (node.mesh != -1) {
         if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= model_.meshes.size())
           fail(strf("node %d: mesh %d does not exist", index, node.mesh));
+        if (node.skin != -1) ignored_.skinned.add(strf("nodes[%d]", index));
         addMesh(node.mesh, index, world);
       }
       if (node.camera != -1) addCamera(node.camera, index, world);
@@ -1390,15 +1432,65 @@ class Loader {
       scene_.lights[i].position = glm::vec3(lightWorld_[i] - origin);
   }
 
+  // --- read with a warning, or not read -------------------------------------------
+  // One line per kind and file, however many places share it: optional extensions
+  // voxgi does not implement, extra scenes, skins, morph targets, BLEND materials,
+  // points and lines, cameras not used.
+  void warnIgnored() {
+    for (const std::string& e : model_.extensionsUsed)
+      if (!kSupportedExtensions.count(e))
+        warn_("extension " + e + " is not supported; " + renderedWithout(e));
+    if (model_.scenes.size() > 1)
+      warn_(
+          strf("%zu scenes: only scenes[%d] is drawn (%s)", model_.scenes.size(),
+               std::max(model_.defaultScene, 0),
+               model_.defaultScene >= 0 ? "the default" : "the first; the file names no default"));
+    const IgnoredParts& i = ignored_;
+    if (i.skinned.count())
+      warn_(i.skinned.named("nodes") +
+            ": skins are not applied; the meshes are drawn undeformed, as stored");
+    if (i.morphed.count())
+      warn_(i.morphed.named("primitives") +
+            ": morph targets are not applied; the base geometry is drawn");
+    if (i.weightChannels.count())
+      warn_(i.weightChannels.named("channels") +
+            ": morph target weights are not animated; skipped");
+    warnBlend();
+    if (i.pointsAndLines.count())
+      warn_(i.pointsAndLines.named("primitives") + ": points and lines are not rendered; skipped");
+    const std::string view =
+        camera_ >= 0 ? strf("the view is from cameras[%d]", camera_) : "framing the scene instead";
+    if (i.orthographic.count())
+      warn_(i.orthographic.named("cameras") + ": orthographic cameras are not used; " + view);
+    if (i.laterCameras.count())
+      warn_(i.laterCameras.named("cameras") + ": only the first perspective camera is used; " +
+            view);
+  }
+
+  // The materials drawn with alphaMode BLEND: drawn opaque (alpha ignored).
+  void warnBlend() {
+    std::set<int> drawn;
+    for (const Draw& d : scene_.draws) drawn.insert(d.material);
+    Tally blend;
+    for (int m : drawn)
+      if (m != defaultMaterial_ && model_.materials[static_cast<size_t>(m)].alphaMode == "BLEND")
+        blend.add(strf("materials[%d]", m));
+    if (blend.count()) warn_(blend.named("materials") + ": alphaMode BLEND is drawn opaque");
+  }
+
   void addCamera(int index, int node, const glm::dmat4& world) {
     if (index < 0 || static_cast<size_t>(index) >= model_.cameras.size())
       fail(strf("node %d: camera %d does not exist", node, index));
-    if (scene_.camera.fromFile) return;  // the first camera wins
     const auto& c = model_.cameras[static_cast<size_t>(index)];
     if (c.type != "perspective") {
-      warn_(strf("camera %d: only perspective cameras are used; framing the scene instead", index));
+      ignored_.orthographic.add(strf("cameras[%d]", index));
       return;
     }
+    if (scene_.camera.fromFile) {  // the first perspective camera wins
+      if (index != camera_) ignored_.laterCameras.add(strf("cameras[%d]", index));
+      return;
+    }
+    camera_ = index;
     Camera cam;
     cameraWorld_ = glm::dvec3(world[3]);
     cam.forward = glm::vec3(glm::normalize(-glm::dvec3(world[2])));
@@ -1465,9 +1557,10 @@ class Loader {
       fail(strf("%s: mode %d is not a glTF primitive mode (0-6)", where.c_str(), mode));
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-      warn_(where + ": points and lines are not rendered; skipped");
+      ignored_.pointsAndLines.add(where);
       return;
     }
+    if (!prim.targets.empty()) ignored_.morphed.add(where);
     const PrimitiveAttributes attr = readAttributes(prim, where);
     const size_t count = attr.position.count;
     const std::vector<uint32_t> idx = triangleList(readIndices(prim, count, where), mode);
@@ -1864,6 +1957,8 @@ class Loader {
   std::map<std::string, std::string> texCoordField_;
   std::vector<std::string> uvField_;
   glm::dvec3 cameraWorld_{0.0};
+  int camera_ = -1;  // the camera the view is from (cameras[i]); -1: framed
+  IgnoredParts ignored_;
   std::vector<glm::dvec3> lightWorld_;
 };
 
