@@ -16,6 +16,7 @@ import argparse
 import json
 import math
 import os
+import re
 import statistics
 import struct
 import subprocess
@@ -181,6 +182,16 @@ def flip(test, ref):
     return float(r.stdout.split()[-1])
 
 
+def best_reference(folder, name, size):
+    """The highest-spp reference of the scene at this size (NAME_SIZE_Nspp.exr)."""
+    found = []
+    for p in folder.glob(f"{name}_{size}_*spp.exr"):
+        m = re.fullmatch(rf"{re.escape(name)}_{size}_(\d+)spp\.exr", p.name)
+        if m:
+            found.append((int(m.group(1)), p))
+    return max(found)[1] if found else folder / f"{name}_{size}_4096spp.exr"
+
+
 def voxgi_run(scene, device, size, spp, out_dir):
     stats = out_dir / f"{scene.stem}_{device}.json"
     image = out_dir / f"{scene.stem}_{device}.exr"
@@ -211,7 +222,7 @@ def main():
         scene = ROOT / "scenes" / name / f"{name}.gltf"
         if not scene.exists():
             raise SystemExit(f"bench-pathtrace: {scene}: no such scene")
-        ref = Path(args.reference_dir) / f"{name}_{args.size}_1024spp.exr"
+        ref = best_reference(Path(args.reference_dir), name, args.size)
         row = {"scene": name, "size": args.size, "spp": args.spp, "reference": str(ref)}
         rates = {d: [] for d in devices}
         mi_rates = []
