@@ -21,13 +21,19 @@ box_pos, box_idx = box((-0.25, 0.0, -0.25), (0.25, 0.5, 0.25))
 times = [0.0, 1.0, 2.0]
 moves = [(-0.5, 0.0, 0.0), (0.5, 0.0, 0.0), (-0.5, 0.0, 0.0)]
 
-buf = Buffer()
-add = buf.add
 
-fp = add(floor_pos, "<3f", "VEC3", 5126, 34962, bounds(floor_pos))
-fi = add(floor_idx, "<I", "SCALAR", 5125, 34963)
-bp = add(box_pos, "<3f", "VEC3", 5126, 34962, bounds(box_pos))
-bi = add(box_idx, "<I", "SCALAR", 5125, 34963)
+def floor_and_box():
+    """A new buffer holding the floor's and the box's accessors, their indices."""
+    buf = Buffer()
+    add = buf.add
+    return (buf, add(floor_pos, "<3f", "VEC3", 5126, 34962, bounds(floor_pos)),
+            add(floor_idx, "<I", "SCALAR", 5125, 34963),
+            add(box_pos, "<3f", "VEC3", 5126, 34962, bounds(box_pos)),
+            add(box_idx, "<I", "SCALAR", 5125, 34963))
+
+
+buf, fp, fi, bp, bi = floor_and_box()
+add = buf.add
 ti = add(times, "<f", "SCALAR", 5126, None, [[0.0], [2.0]])
 tv = add(moves, "<3f", "VEC3", 5126)
 
@@ -59,12 +65,8 @@ write(buf.finish(gltf), "moving_box.gltf")
 # two keys 2 s apart, x from -0.5 to 0.5, leaving with tangent (1, 0, 0) per second
 # and arriving with tangent (0, 0, 0); and its rotation a CUBICSPLINE about y from 0
 # to 90 degrees with zero tangents (the spline of two unit quaternions, normalized).
-buf = Buffer()
+buf, fp, fi, bp, bi = floor_and_box()
 add = buf.add
-fp = add(floor_pos, "<3f", "VEC3", 5126, 34962, bounds(floor_pos))
-fi = add(floor_idx, "<I", "SCALAR", 5125, 34963)
-bp = add(box_pos, "<3f", "VEC3", 5126, 34962, bounds(box_pos))
-bi = add(box_idx, "<I", "SCALAR", 5125, 34963)
 ti = add([0.0, 2.0], "<f", "SCALAR", 5126, None, [[0.0], [2.0]])
 # (in-tangent, value, out-tangent) per key
 tv = add([(0, 0, 0), (-0.5, 0, 0), (1, 0, 0), (0, 0, 0), (0.5, 0, 0), (0, 0, 0)], "<3f", "VEC3", 5126)
