@@ -48,8 +48,16 @@ void main() {
   vec3 emission = m.emission.rgb;
 #ifndef VOXGI_NO_TEXTURES
   // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
+  // The textures that shading depends on non-linearly (metallic-roughness, normal
+  // map) are read at their finest level, as the path tracer reads them: rtgi
+  // averages its jittered samples over the pixel, so it averages the lighting of
+  // each texel, where a mip level would average the parameters first (a coarse
+  // mip's mean roughness and flattened normals give another highlight: on the
+  // lights_punctual_lamp sample at 160x160 the brass read 1.58x the path tracer's
+  // light with mips, 1.17x without). Base colour and emission, which the light
+  // scales linearly, keep their mipmaps.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = texture(metallicRoughnessTexture, vUv);
+    vec4 mr = textureLod(metallicRoughnessTexture, vUv, 0.0);
     metallic *= mr.b;
     roughness *= mr.g;
   }
@@ -67,7 +75,7 @@ void main() {
     packedSurfaceNormal = packSurfaceNormal(n);  // for rtgi's leak rule
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
-    n = perturbNormal(n, tangent, texture(normalTexture, vUv).rgb, m.params.w);
+    n = perturbNormal(n, tangent, textureLod(normalTexture, vUv, 0.0).rgb, m.params.w);
     n = bendShadingNormal(n, normalize(frame.cameraPosition.xyz - vPosition));
   }
 #endif
