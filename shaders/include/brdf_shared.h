@@ -46,6 +46,12 @@ VOXGI_FN vec3 metallicF0(vec3 baseColor, float metallic) {
   return mix(vec3(0.04f), baseColor, metallic);
 }
 
+// Schlick's Fresnel at the cosine c between the view (or light) and the normal
+// that reflects it (0 <= c <= 1).
+VOXGI_FN vec3 schlickFresnel(vec3 f0, float c) {
+  return f0 + (1.0f - f0) * pow(1.0f - c, 5.0f);
+}
+
 VOXGI_FN float ggxD(float nh, float alpha) {
   float a2 = alpha * alpha;
   float d = nh * nh * (a2 - 1.0f) + 1.0f;
@@ -97,7 +103,7 @@ VOXGI_FN Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float nv
   b.alpha = clamp(roughness * roughness, 1e-3f, 1.0f);
   b.specularChance = 1.0f;
   if (b.kind != kBsdfGgx) return b;  // the lobe choice is the GGX kind's alone
-  vec3 fv = b.f0 + (1.0f - b.f0) * pow(1.0f - nv, 5.0f);
+  vec3 fv = schlickFresnel(b.f0, nv);
   float ws = luminance(fv);
   float wd = luminance(b.diffuse) * (1.0f - ws);
   b.specularChance = ws + wd > 0.0f ? clamp(ws / (ws + wd), 0.1f, 1.0f) : 1.0f;
@@ -119,7 +125,7 @@ VOXGI_FN vec3 evalBsdf(Bsdf b, vec3 n, vec3 wo, vec3 wi, VOXGI_OUT(float) pdf) {
   float nh = max(dot(n, h), 0.0f);
   float vh = max(dot(wo, h), 0.0f);
   float d = ggxD(nh, b.alpha);
-  vec3 f = b.f0 + (1.0f - b.f0) * pow(1.0f - vh, 5.0f);
+  vec3 f = schlickFresnel(b.f0, vh);
   vec3 spec = f * d * smithVisibility(nl, nv, b.alpha);
   vec3 diff = (1.0f - f) * b.diffuse / kPi;
   // Visible-normal sampling: pdf(wi) = G1(wo) D(h) / (4 n.wo).

@@ -95,7 +95,7 @@ vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
   float nh = max(dot(s.n, h), 0.0);
   float vh = max(dot(s.v, h), 0.0);
   float alpha = clamp(max(s.alpha, alphaMin), 2e-3, 1.0);
-  vec3 f = s.specular * (s.f0 + (1.0 - s.f0) * pow(1.0 - vh, 5.0));
+  vec3 f = s.specular * schlickFresnel(s.f0, vh);
   vec3 spec = f * ggxD(nh, alpha) * smithVisibility(nl, nv, alpha);
   vec3 diff = (1.0 - f) * s.diffuse / kPi;
   return (diff + spec) * irradiance;

@@ -106,7 +106,7 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     if (roughness < kMirrorRoughness) {
       // A mirror: on along the reflection, weighted as the first (Schlick).
       if (bounce == kMaxMirrorChain) break;
-      throughput *= f0 + (1.0 - f0) * pow(1.0 - clamp(dot(ns, -dir), 0.0, 1.0), 5.0);
+      throughput *= schlickFresnel(f0, clamp(dot(ns, -dir), 0.0, 1.0));
       dir = reflect(dir, ns);
       if (dot(dir, ng) <= 0.0) break;
       o = p + ng * eps;
@@ -152,7 +152,7 @@ void main() {
     if (!mirror) {
       Surface s = p.s;
       vec3 dir = reflect(-s.v, s.n);
-      vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, s.n), 0.0, 1.0), 5.0);
+      vec3 f = schlickFresnel(s.f0, clamp(dot(s.v, s.n), 0.0, 1.0));
       if (dot(dir, s.n) > 0.0)
         result = f * coneRadiance(surfaceRayOrigin(px, s), dir, glossyConeHalfTan(s.alpha));
       imageStore(specularOut, px, vec4(result, 1.0));
@@ -174,7 +174,7 @@ void main() {
       dir = reflect(-s.v, h);
     }
     if (dot(dir, s.n) > 0.0) {
-      vec3 f = s.f0 + (1.0 - s.f0) * pow(1.0 - clamp(dot(s.v, h), 0.0, 1.0), 5.0);
+      vec3 f = schlickFresnel(s.f0, clamp(dot(s.v, h), 0.0, 1.0));
 #ifdef RTGI_BVH
       result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror);
 #else
