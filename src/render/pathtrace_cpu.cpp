@@ -179,23 +179,10 @@ int CpuPathtracer::threads() const {
 
 namespace {
 
-// A ray from o along d over (0, tMax), for rtcIntersect1 and rtcOccluded1.
-RTCRay makeRay(const glm::vec3& o, const glm::vec3& d, float tMax) {
-  RTCRay ray;
-  ray.org_x = o.x;
-  ray.org_y = o.y;
-  ray.org_z = o.z;
-  ray.tnear = 0.0f;
-  ray.dir_x = d.x;
-  ray.dir_y = d.y;
-  ray.dir_z = d.z;
-  ray.time = 0.0f;
-  ray.tfar = tMax;
-  ray.mask = 0xffffffffu;
-  ray.id = 0;
-  ray.flags = 0;
-  return ray;
-}
+// Embree's packets: 8 rays for closest hits, 16 for shadow rays, the widths that
+// trace a tile's rays fastest (docs/pathtracer.md, "What limits throughput").
+constexpr int kHitPacket = 8;
+constexpr int kShadowPacket = 16;
 
 RTCIntersectContext incoherentContext() {
   RTCIntersectContext context;
@@ -204,87 +191,121 @@ RTCIntersectContext incoherentContext() {
   return context;
 }
 
+// Lane k of an Embree packet: the ray from o along d over (0, tMax).
+template <typename Packet>
+void setLane(Packet* ray, int k, const glm::vec3& o, const glm::vec3& d, float tMax) {
+  ray->org_x[k] = o.x;
+  ray->org_y[k] = o.y;
+  ray->org_z[k] = o.z;
+  ray->tnear[k] = 0.0f;
+  ray->dir_x[k] = d.x;
+  ray->dir_y[k] = d.y;
+  ray->dir_z[k] = d.z;
+  ray->time[k] = 0.0f;
+  ray->tfar[k] = tMax;
+  ray->mask[k] = 0xffffffffu;
+  ray->id[k] = 0;
+  ray->flags[k] = 0;
+}
+
 }  // namespace
 
-bool CpuPathtracer::intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const {
+void CpuPathtracer::intersect(const Path* paths, const std::vector<uint32_t>& active,
+                              std::vector<Hit>* hits) const {
   RTCIntersectContext context = incoherentContext();
-  RTCRayHit rh;
-  rh.ray = makeRay(o, d, std::numeric_limits<float>::infinity());
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(embree_->scene, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit->triangle = rh.hit.primID;
-  hit->t = rh.ray.tfar;
-  hit->bc = glm::vec2(rh.hit.u, rh.hit.v);
-  return true;
-}
-
-bool CpuPathtracer::occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const {
-  if (!(tMax > 0.0f)) return false;
-  RTCIntersectContext context = incoherentContext();
-  RTCRay ray = makeRay(o, d, tMax);
-  rtcOccluded1(embree_->scene, &context, &ray);
-  return ray.tfar < 0.0f;  // -inf on a hit
-}
-
-// One path, step for step as radiance() in shaders/render/pathtrace.comp.
-glm::vec3 CpuPathtracer::radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const {
-  using namespace gpu;
-  const PtTables tables{pt_.emitters.data(), texels_.data(), textureTable_.data()};
-  vec3 result(0.0f);
-  vec3 throughput(1.0f);
-  const float eps = pt_.epsilon;
-  const int maxDepth = settings_.maxDepth;
-  const int rrDepth = settings_.rrDepth;
-  const auto emitterCount = static_cast<uint>(pt_.emitters.size());
-  const bool lightsByNee = settings_.nextEventEstimation && emitterCount > 0;
-  float lastPdf = 0.0f;   // solid-angle pdf of the BSDF sample that led here
-  bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
-  for (int depth = 1; depth <= maxDepth; ++depth) {
-    Hit hit;
-    if (!intersect(o, d, &hit)) break;  // black background
-    Surface s = surfaceAt(tables, hit, d);
-    const vec3 emission(s.m.emission);
-    if (emission != vec3(0.0f) && (s.front || (s.m.flags & kMaterialDoubleSided) != 0u)) {
-      float w = 1.0f;
-      const float areaPdf = triangles_[hit.triangle].emitterAreaPdf;
-      if (!lastDelta && lightsByNee && areaPdf > 0.0f)
-        w = emissionMisWeight(lastPdf, areaPdf, hit.t, abs(dot(s.ng, d)));
-      result += throughput * emission * w;
+  hits->resize(active.size());
+  for (size_t first = 0; first < active.size(); first += kHitPacket) {
+    const int lanes = static_cast<int>(std::min<size_t>(kHitPacket, active.size() - first));
+    alignas(32) int valid[kHitPacket];
+    alignas(32) RTCRayHit8 packet;
+    for (int k = 0; k < kHitPacket; ++k) {
+      valid[k] = k < lanes ? -1 : 0;
+      const Path& p = paths[active[first + static_cast<size_t>(k < lanes ? k : 0)]];
+      setLane(&packet.ray, k, p.o, p.d, std::numeric_limits<float>::infinity());
+      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    if (depth == maxDepth) break;
-
-    orientSurface(tables, hit, &s);
-    const vec3 wo = -d;
-    const Bsdf bsdf = makeBsdf(vec3(s.baseColor), s.m.params.x, s.m.params.y, dot(s.ns, wo));
-    if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) break;  // reflects nothing
-
-    const vec3 origin = s.p + s.ng * eps;
-    if (bsdf.kind == kBsdfMirror) {
-      d = reflect(d, s.ns);
-      if (dot(d, s.ng) <= 0.0f) break;
-      throughput *= bsdf.base;
-      lastDelta = true;
-    } else {
-      addDirectLight(tables, bsdf, s, origin, throughput, rng, &result);
-      vec3 wi;
-      if (!sampleBsdf(bsdf, s.ns, wo, rng, wi) || dot(wi, s.ng) <= 0.0f) break;
-      const vec3 f = evalBsdf(bsdf, s.ns, wo, wi, lastPdf);
-      if (!(lastPdf > 0.0f)) break;
-      throughput *= f / lastPdf;
-      d = wi;
-      lastDelta = false;
-    }
-    o = origin;
-    // Russian roulette from rrDepth on, as Mitsuba does it.
-    if (depth >= rrDepth) {
-      const float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95f);
-      if (!(pcgNext01(rng) < q)) break;
-      throughput /= q;
+    rtcIntersect8(valid, embree_->scene, &context, &packet);
+    for (int k = 0; k < lanes; ++k) {
+      Hit& hit = (*hits)[first + static_cast<size_t>(k)];
+      hit.triangle = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? kMiss : packet.hit.primID[k];
+      hit.t = packet.ray.tfar[k];
+      hit.bc = glm::vec2(packet.hit.u[k], packet.hit.v[k]);
     }
   }
-  return result;
+}
+
+void CpuPathtracer::castShadows(const std::vector<ShadowRay>& shadows, Path* paths) const {
+  RTCIntersectContext context = incoherentContext();
+  for (size_t first = 0; first < shadows.size(); first += kShadowPacket) {
+    const int lanes = static_cast<int>(std::min<size_t>(kShadowPacket, shadows.size() - first));
+    alignas(64) int valid[kShadowPacket];
+    alignas(64) RTCRay16 packet;
+    for (int k = 0; k < kShadowPacket; ++k) {
+      const ShadowRay& r = shadows[first + static_cast<size_t>(k < lanes ? k : 0)];
+      // A ray with no length left after the offsets is not blocked.
+      valid[k] = k < lanes && r.tMax > 0.0f ? -1 : 0;
+      setLane(&packet, k, r.o, r.d, valid[k] != 0 ? r.tMax : 0.0f);
+    }
+    rtcOccluded16(valid, embree_->scene, &context, &packet);
+    // In queue order, so that each path adds its lights in the order it drew them.
+    for (int k = 0; k < lanes; ++k) {
+      const ShadowRay& r = shadows[first + static_cast<size_t>(k)];
+      if (valid[k] == 0 || packet.tfar[k] >= 0.0f) paths[r.path].result += r.light;  // -inf: hit
+    }
+  }
+}
+
+// One bounce of a path, step for step as the loop body of radiance() in
+// shaders/render/pathtrace.comp after its ray was traced: emission, next-event
+// estimation (queued as shadow rays), the BSDF sample and Russian roulette.
+bool CpuPathtracer::bounce(const gpu::PtTables& tables, const Hit& hit, int depth, uint32_t index,
+                           Path* path, std::vector<ShadowRay>* shadows) const {
+  using namespace gpu;
+  Path& p = *path;
+  if (hit.triangle == kMiss) return false;  // black background
+  const float eps = pt_.epsilon;
+  const bool lightsByNee = settings_.nextEventEstimation && !pt_.emitters.empty();
+  Surface s = surfaceAt(tables, hit, p.d);
+  const vec3 emission(s.m.emission);
+  if (emission != vec3(0.0f) && (s.front || (s.m.flags & kMaterialDoubleSided) != 0u)) {
+    float w = 1.0f;
+    const float areaPdf = triangles_[hit.triangle].emitterAreaPdf;
+    if (!p.lastDelta && lightsByNee && areaPdf > 0.0f)
+      w = emissionMisWeight(p.lastPdf, areaPdf, hit.t, abs(dot(s.ng, p.d)));
+    p.result += p.throughput * emission * w;
+  }
+  if (depth == settings_.maxDepth) return false;
+
+  orientSurface(tables, hit, &s);
+  const vec3 wo = -p.d;
+  const Bsdf bsdf = makeBsdf(vec3(s.baseColor), s.m.params.x, s.m.params.y, dot(s.ns, wo));
+  if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) return false;  // reflects nothing
+
+  const vec3 origin = s.p + s.ng * eps;
+  if (bsdf.kind == kBsdfMirror) {
+    p.d = reflect(p.d, s.ns);
+    if (dot(p.d, s.ng) <= 0.0f) return false;
+    p.throughput *= bsdf.base;
+    p.lastDelta = true;
+  } else {
+    queueDirectLight(tables, bsdf, s, origin, p.throughput, index, &p.rng, shadows);
+    vec3 wi;
+    if (!sampleBsdf(bsdf, s.ns, wo, p.rng, wi) || dot(wi, s.ng) <= 0.0f) return false;
+    const vec3 f = evalBsdf(bsdf, s.ns, wo, wi, p.lastPdf);
+    if (!(p.lastPdf > 0.0f)) return false;
+    p.throughput *= f / p.lastPdf;
+    p.d = wi;
+    p.lastDelta = false;
+  }
+  p.o = origin;
+  // Russian roulette from rrDepth on, as Mitsuba does it.
+  if (depth >= settings_.rrDepth) {
+    const float q = min(max(p.throughput.r, max(p.throughput.g, p.throughput.b)), 0.95f);
+    if (!(pcgNext01(p.rng) < q)) return false;
+    p.throughput /= q;
+  }
+  return true;
 }
 
 CpuPathtracer::Surface CpuPathtracer::surfaceAt(const gpu::PtTables& tables, const Hit& hit,
@@ -329,18 +350,18 @@ void CpuPathtracer::orientSurface(const gpu::PtTables& tables, const Hit& hit, S
   s->ns = ns;
 }
 
-void CpuPathtracer::addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf,
-                                   const Surface& s, const glm::vec3& origin,
-                                   const glm::vec3& throughput, uint32_t& rng,
-                                   glm::vec3* result) const {
+void CpuPathtracer::queueDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf,
+                                     const Surface& s, const glm::vec3& origin,
+                                     const glm::vec3& throughput, uint32_t path, uint32_t* rng,
+                                     std::vector<ShadowRay>* shadows) const {
   using namespace gpu;
   const float eps = pt_.epsilon;
   const auto emitterCount = static_cast<uint>(pt_.emitters.size());
   const vec3 wo = s.wo;
   if (settings_.nextEventEstimation && emitterCount > 0) {
-    const float u0 = pcgNext01(rng);
-    const float u1 = pcgNext01(rng);
-    const float u2 = pcgNext01(rng);
+    const float u0 = pcgNext01(*rng);
+    const float u1 = pcgNext01(*rng);
+    const float u2 = pcgNext01(*rng);
     const EmitterSample ls = sampleEmitter(tables, s.p, emitterCount, u0, u1, u2);
     if (ls.pdfLight > 0.0f) {
       float pdfBsdf = 0.0f;
@@ -350,10 +371,12 @@ void CpuPathtracer::addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf&
       // short of tMax wherever that surface is inclined to it.
       const vec3 toLight = s.p + ls.wi * ls.dist - origin;
       const float shadowDist = length(toLight);
-      if (f != vec3(0.0f) && dot(s.ng, ls.wi) > 0.0f &&
-          !occluded(origin, toLight / shadowDist, shadowDist * (1.0f - 1e-4f) - eps))
-        *result +=
-            throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight);
+      const float tMax = shadowDist * (1.0f - 1e-4f) - eps;
+      if (f != vec3(0.0f) && dot(s.ng, ls.wi) > 0.0f)
+        shadows->push_back(
+            {origin, toLight / shadowDist, tMax,
+             throughput * f * ls.radiance * (powerHeuristic(ls.pdfLight, pdfBsdf) / ls.pdfLight),
+             path});
     }
   }
   for (const GpuLight& light : lights_) {
@@ -362,8 +385,8 @@ void CpuPathtracer::addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf&
     float pdf = 0.0f;
     const vec3 f = evalBsdf(bsdf, s.ns, wo, ls.wi, pdf);
     if (f == vec3(0.0f)) continue;
-    if (occluded(origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps)) continue;
-    *result += throughput * f * ls.radiance;
+    shadows->push_back(
+        {origin, ls.wi, ls.dist * (1.0f - 1e-4f) - eps, throughput * f * ls.radiance, path});
   }
 }
 
@@ -382,7 +405,9 @@ void CpuPathtracer::reset() {
   std::fill(sum_.begin(), sum_.end(), glm::dvec3(0.0));
 }
 
-// One path per pixel, sample index firstSample, added to the running sums.
+// One path per pixel, sample index firstSample, added to the running sums. Each
+// tile's paths advance together, a bounce at a time, so that Embree traces their
+// rays in packets; every path draws the same random numbers as alone.
 void CpuPathtracer::tracePass(int firstSample) {
   const scene::Camera& cam = camera_;
   const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
@@ -393,25 +418,48 @@ void CpuPathtracer::tracePass(int firstSample) {
   const glm::vec3 right = right0 * (tanHalf * aspect);
   const uint32_t seedHash = gpu::pcgHash(settings_.seed);
   const auto sample = static_cast<uint32_t>(firstSample);
+  const gpu::PtTables tables{pt_.emitters.data(), texels_.data(), textureTable_.data()};
   constexpr int kTile = 16;
   embree_->arena->execute([&] {
     tbb::parallel_for(
         tbb::blocked_range2d<int>(0, height_, kTile, 0, width_, kTile),
         [&](const tbb::blocked_range2d<int>& r) {
+          Path paths[kTile * kTile];
+          uint32_t pixels[kTile * kTile];
+          std::vector<uint32_t> active, next;
+          std::vector<Hit> hits;
+          std::vector<ShadowRay> shadows;
           for (int y = r.rows().begin(); y != r.rows().end(); ++y)
             for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
               const auto pixelIndex = static_cast<uint32_t>(y * width_ + x);
-              uint32_t rng = gpu::pcgHash(gpu::pcgHash(seedHash + pixelIndex) + sample);
+              const auto i = static_cast<uint32_t>(active.size());
+              Path& p = paths[i];
+              p = Path{};
+              p.rng = gpu::pcgHash(gpu::pcgHash(seedHash + pixelIndex) + sample);
               // Box filter: a uniform point in the pixel's footprint; y grows upwards.
-              const float jx = gpu::pcgNext01(rng);
-              const float jy = gpu::pcgNext01(rng);
+              const float jx = gpu::pcgNext01(p.rng);
+              const float jy = gpu::pcgNext01(p.rng);
               const glm::vec2 ndc =
                   (glm::vec2(static_cast<float>(x), static_cast<float>(y)) + glm::vec2(jx, jy)) /
                       glm::vec2(static_cast<float>(width_), static_cast<float>(height_)) * 2.0f -
                   1.0f;
-              const glm::vec3 dir = glm::normalize(forward + ndc.x * right + ndc.y * up);
-              sum_[pixelIndex] += glm::dvec3(radiance(cam.position, dir, rng));
+              p.o = cam.position;
+              p.d = glm::normalize(forward + ndc.x * right + ndc.y * up);
+              pixels[i] = pixelIndex;
+              active.push_back(i);
             }
+          const auto count = active.size();
+          for (int depth = 1; depth <= settings_.maxDepth && !active.empty(); ++depth) {
+            intersect(paths, active, &hits);
+            next.clear();
+            shadows.clear();
+            for (size_t k = 0; k < active.size(); ++k)
+              if (bounce(tables, hits[k], depth, active[k], &paths[active[k]], &shadows))
+                next.push_back(active[k]);
+            castShadows(shadows, paths);
+            std::swap(active, next);
+          }
+          for (size_t i = 0; i < count; ++i) sum_[pixels[i]] += glm::dvec3(paths[i].result);
         },
         tbb::simple_partitioner());
   });

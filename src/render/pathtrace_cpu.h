@@ -1,7 +1,10 @@
 // The path tracer's CPU device (`--pt-device cpu`): the same transport as the GL
 // kernel (render/pathtrace_pass.h describes it), with rays cast by Embree 3
 // (Wald et al. 2014, "Embree: A Kernel Framework for Efficient CPU Ray Tracing")
-// and pixels spread over TBB worker threads. Shading, light sampling, MIS and the
+// and pixels spread over TBB worker threads in 16x16 tiles. A tile's paths advance
+// together, a bounce at a time, and Embree traces each bounce's rays and shadow
+// rays in packets (rtcIntersect8, rtcOccluded16); each path draws the same random
+// numbers, in the same order, as it would alone. Shading, light sampling, MIS and the
 // random stream are the shared sources that the kernel includes (see
 // render/pathtracer.h), so the two devices agree in distribution, and on most
 // paths sample for sample.
@@ -82,11 +85,35 @@ class CpuPathtracer final : public Pathtracer {
     float t;
     glm::vec2 bc;  // barycentrics of v1 and v2
   };
+  static constexpr uint32_t kMiss = 0xffffffffu;  // Hit::triangle of a ray that hit nothing
+  // A path between its bounces: the wavefront of tracePass() keeps one per pixel
+  // of a tile.
+  struct Path {
+    glm::vec3 o{0.0f}, d{0.0f};  // the ray to trace next
+    glm::vec3 throughput{1.0f};
+    glm::vec3 result{0.0f};
+    float lastPdf = 0.0f;   // solid-angle pdf of the BSDF sample that led here
+    bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
+    uint32_t rng = 0;
+  };
+  // A shadow ray a bounce queued: `light` reaches path `path` unless something lies
+  // on the ray within (0, tMax).
+  struct ShadowRay {
+    glm::vec3 o, d;
+    float tMax;
+    glm::vec3 light;
+    uint32_t path;
+  };
   void allocate(int width, int height);
-  bool intersect(const glm::vec3& o, const glm::vec3& d, Hit* hit) const;
-  bool occluded(const glm::vec3& o, const glm::vec3& d, float tMax) const;
-  glm::vec3 radiance(glm::vec3 o, glm::vec3 d, uint32_t& rng) const;
-  // The steps of radiance(). The surface a path hits, as the kernel shades it.
+  // The closest hits of the rays of paths[active[i]], in Embree packets.
+  void intersect(const Path* paths, const std::vector<uint32_t>& active,
+                 std::vector<Hit>* hits) const;
+  // Traces the shadow rays in packets and adds the light of those unblocked.
+  void castShadows(const std::vector<ShadowRay>& shadows, Path* paths) const;
+  // One bounce of path `index` at its hit; false when the path ends there.
+  bool bounce(const gpu::PtTables& tables, const Hit& hit, int depth, uint32_t index, Path* path,
+              std::vector<ShadowRay>* shadows) const;
+  // The steps of bounce(). The surface a path hits, as the kernel shades it.
   struct Surface {
     gpu::GpuMaterial m;   // textured
     glm::vec4 baseColor;  // times the vertex colour
@@ -100,10 +127,11 @@ class CpuPathtracer final : public Pathtracer {
   // Turns ng and ns to the side the ray arrived from; ns past the silhouette, then
   // normal-mapped.
   void orientSurface(const gpu::PtTables& tables, const Hit& hit, Surface* s) const;
-  // Next-event estimation and the punctual lights at s, added to *result.
-  void addDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf, const Surface& s,
-                      const glm::vec3& origin, const glm::vec3& throughput, uint32_t& rng,
-                      glm::vec3* result) const;
+  // Next-event estimation and the punctual lights at s, queued as shadow rays of
+  // path `path`.
+  void queueDirectLight(const gpu::PtTables& tables, const gpu::Bsdf& bsdf, const Surface& s,
+                        const glm::vec3& origin, const glm::vec3& throughput, uint32_t path,
+                        uint32_t* rng, std::vector<ShadowRay>* shadows) const;
   // The constructor's steps: triangles_ and the corner arrays; the Embree geometry.
   void buildTriangles(const scene::Scene& scene);
   void attachGeometry(const scene::Scene& scene);
