@@ -8,7 +8,9 @@
 // (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
 // adds the light lent to pixels that have not traced yet; RTGI_REPROJECTED, on a
 // frame after a camera move, starts from the reproject stage's mean; RTGI_MOMENTS
-// (the denoiser) keeps the moments of each pixel's samples beside its mean.
+// (the denoiser) keeps the moments of each pixel's samples beside its mean;
+// RTGI_RELIGHT, on a frame after meshes moved, drops the history of a pixel whose
+// light has changed (historyStale).
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -104,6 +106,59 @@ vec3 borrowedLight(ivec2 px) {
 }
 #endif
 
+#ifdef RTGI_RELIGHT
+// After meshes moved, the light they send and block around them (shadows, bounced
+// light) has changed on surfaces that keep their history, as no disocclusion test
+// can see. A pixel's history is stale when it disagrees with this frame's light on
+// the same surface around it by more than the noise of both allows: the luminance of
+// light over base colour, its mean and variance over the pixels of the 5x5 block
+// that traced this frame and show the pixel's material, normal and depth. The
+// history is then dropped rather than clamped: a restart costs noise, which
+// accumulation removes, where a clamp against a noisy neighbourhood would bias the
+// mean for good.
+const float kStaleSigmas = 3.0;  // how far beyond the noise, in standard deviations
+const float kStaleSlack = 0.1;   // and relative to the light: its spatial variation
+
+float relitLuminance(ivec2 q) {
+#ifdef VOXGI_NO_EMISSION
+  vec3 c = vec3(0.0);
+#else
+  vec3 c = finite(texelFetch(gEmission, q, 0).rgb);
+#endif
+  return luminance((c + tracedLight(q)) / demodulation(q));
+}
+
+bool historyStale(ivec2 px, vec4 previous) {
+  vec4 p0 = texelFetch(gPosition, px, 0);
+  if (p0.w < 0.5) return false;
+  vec3 n0 = texelFetch(gNormal, px, 0).xyz;
+  float d0 = length(p0.xyz - rtgi.camera.xyz);
+  float s1 = 0.0, s2 = 0.0, n = 0.0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      ivec2 q = px + ivec2(dx, dy);
+      if (any(lessThan(q, ivec2(0))) || outside(q)) continue;
+      vec4 p1 = texelFetch(gPosition, q, 0);
+      if (p1.w != p0.w ||
+          !sameSurface(true, n0, d0, true, texelFetch(gNormal, q, 0).xyz,
+                       length(p1.xyz - rtgi.camera.xyz)))
+        continue;
+      float l = relitLuminance(q);
+      s1 += l;
+      s2 += l * l;
+      n += 1.0;
+    }
+  if (n < 4.0) return false;  // too few to judge by
+  float mean = s1 / n;
+  float variance = max(s2 / n - mean * mean, 0.0) * n / (n - 1.0);
+  float h = luminance(previous.rgb / demodulation(px));
+  // The noise of the block's mean and of the history's, n and previous.a samples.
+  float tolerance = kStaleSigmas * sqrt(variance / n + variance / previous.a) +
+                    kStaleSlack * max(mean, h);
+  return abs(h - mean) > tolerance;
+}
+#endif
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
@@ -140,6 +195,11 @@ void main() {
     return;
   }
 #endif
+  bool stale = false;
+#ifdef RTGI_RELIGHT
+  stale = previous.a > 0.0 && historyStale(px, previous);
+  if (stale) previous = vec4(0.0);
+#endif
   vec3 light = tracedLight(px);
   c += light;
   float n = previous.a + 1.0;
@@ -147,7 +207,7 @@ void main() {
   imageStore(accum, px, vec4(mean, n));
 #ifdef RTGI_MOMENTS
   float l = luminance(light / demodulation(px));
-  vec2 m = previousMoments(px);
+  vec2 m = stale ? vec2(0.0) : previousMoments(px);
   imageStore(moments, px, vec4(m + (vec2(l, l * l) - m) / n, 0.0, 0.0));
 #endif
 }

@@ -336,6 +336,7 @@ bool sameCamera(const scene::Camera& a, const scene::Camera& b) {
 
 void Renderer::renderFrame(const scene::Camera& camera) {
   const auto frameStart = std::chrono::steady_clock::now();
+  if (settings_.mode == Mode::kRtgi && rtgi_) rtgi_->setMeshesMoved(meshesMoved_);
   const bool reproject = followCamera(camera);
   const glm::mat4 previousViewProj = uploadFrameUniforms(camera);
   gl::FrameContext ctx{programs_, timer_, settings_.width, settings_.height, frameUniforms_.id()};

@@ -202,6 +202,7 @@ RtgiPass::FramePlan RtgiPass::planFrame(const gl::FrameContext& ctx, const GpuSc
     throw Error(strf("rtgi: interleave %d: must be 1, 2, 4, 8 or 16", settings_.interleave));
   FramePlan f;
   f.reprojecting = moved && frameIndex > 0;
+  f.relight = f.reprojecting && meshesMoved_ && settings_.dropStaleHistory;
   // Without shadow rays the direct stage is cheap unshadowed light, run only when
   // there is light to add.
   f.shadows = settings_.features.shadows;
@@ -371,6 +372,7 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
     std::vector<std::string> defines = settings_.features.defines();
     if (settings_.denoise) defines.emplace_back("RTGI_MOMENTS");
     if (plan.lends) defines.emplace_back("RTGI_SPARSE_START");
+    if (plan.relight) defines.emplace_back("RTGI_RELIGHT");
     if (plan.reprojecting) {
       defines.emplace_back("RTGI_REPROJECTED");
       glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,

@@ -82,6 +82,10 @@ class RtgiPass {
     // (glossy surfaces at most kGlossyHistory, mirrors none), so the light follows
     // the view; a still camera accumulates without a cap.
     int historyCap = 16;
+    // After meshes moved, a pixel whose history disagrees with this frame's light
+    // around it beyond their noise (a shadow or bounce that moved) drops it
+    // (rtgi_accumulate.comp, RTGI_RELIGHT).
+    bool dropStaleHistory = true;
     // The image shown is the running mean denoised (rtgi_denoise.glsl): each pixel's
     // light filtered with its neighbours' on the same surface, as strongly as the
     // mean's measured noise asks, so less and less as a still image converges.
@@ -117,6 +121,8 @@ class RtgiPass {
   // The share of all pixels, pattern included, the next frame should trace (frame
   // budget; with Select::kMask or kUniform).
   void setTraceFraction(double f) { traceFraction_ = f; }
+  // Whether meshes moved since the last frame (the next execute() reprojects).
+  void setMeshesMoved(bool moved) { meshesMoved_ = moved; }
   // Pixels that traced in the last frame, as a share of all.
   double lastTracedFraction() const { return lastTraced_; }
   // The last work mask, [0, 1) per pixel, top-left origin (empty before one ran).
@@ -143,6 +149,7 @@ class RtgiPass {
   // This frame's choices, from the settings, the scene and the frame (execute).
   struct FramePlan {
     bool reprojecting = false;  // after a camera move, not on the first frame
+    bool relight = false;       // reprojecting after meshes moved: stale history drops
     bool shadows = false;       // the direct stage traces shadow rays
     bool direct = false;        // the direct stage runs
     int interleave = 1;         // this frame's (a sparse start's first may differ)
@@ -208,6 +215,7 @@ class RtgiPass {
   const gl::Program* indirect_ = nullptr;
   const gl::Program* specular_ = nullptr;
   double traceFraction_ = 1.0;
+  bool meshesMoved_ = false;
   double lastTraced_ = 1.0;
   bool maskValid_ = false;
   gl::Texture maskKeyImage_, edgeImage_, maskImage_, tracedImage_;
