@@ -19,8 +19,8 @@ VOXGI_CONST int kTonemapLocation = 2;
 VOXGI_CONST int kAmbientLocation = 3;  // raster.frag: the uniform ambient radiance
 
 // Vertex attribute locations (scene::GpuScene's vertex array): position, normal
-// and uv from scene::Vertex; the vertex colour (COLOR_0, RGBA) from its own stream,
-// present only in scenes that have one (otherwise a constant white).
+// and uv (0, 1, 2) and uv2 (kUv2Attribute) from scene::Vertex; the vertex colour (COLOR_0, RGBA)
+// from its own stream, present only in scenes that have one (otherwise a constant white).
 VOXGI_CONST uint kColorAttribute = 3u;
 // The position in the previous frame (motion vectors for rtgi's reprojection):
 // scene::Vertex's, from a copy kept only while meshes move.
@@ -28,6 +28,9 @@ VOXGI_CONST uint kPreviousPositionAttribute = 4u;
 // The tangent for normal maps (xyz, w handedness; scene::Scene::tangents), a stream
 // of its own present only in scenes with normal maps.
 VOXGI_CONST uint kTangentAttribute = 5u;
+// Texture-coordinate channel 1 (scene::Vertex::uv2), read by the slots whose
+// kMaterial*Uv2 bit is set.
+VOXGI_CONST uint kUv2Attribute = 6u;
 
 // Material flags.
 VOXGI_CONST uint kMaterialHasTexture = 1u;
@@ -37,6 +40,13 @@ VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
 VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
 VOXGI_CONST uint kMaterialHasNormalTexture = 32u;     // params.w scale, emission.w the texture
 VOXGI_CONST uint kMaterialHasOcclusionTexture = 64u;  // occlusion: x strength, y the texture
+// The texture slots that read texture-coordinate channel 1 (scene::Vertex::uv2)
+// rather than channel 0 (uv): one bit a slot. The base colour reads channel 0.
+VOXGI_CONST uint kMaterialEmissiveUv2 = 128u;
+VOXGI_CONST uint kMaterialMetallicRoughnessUv2 = 256u;
+VOXGI_CONST uint kMaterialNormalUv2 = 512u;
+VOXGI_CONST uint kMaterialOcclusionUv2 = 1024u;
+VOXGI_CONST uint kMaterialAnyUv2 = 1920u;  // all four
 
 // The texture table's flags (the w of each entry; render/pathtrace_scene.h, read by
 // texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap

@@ -34,7 +34,8 @@ layout(std430, binding = kLargeIndexBinding) writeonly buffer LargeIndices { uin
 layout(std430, binding = kDrawCommandBinding) buffer DrawCommands { uint drawCommands[]; };
 layout(binding = kBaseColorUnit) uniform sampler2D baseColorTexture;
 layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
-// The scene's vertices (scene::Vertex, 32 bytes: 2 texels) and indices.
+// The scene's vertices (scene::Vertex, 40 bytes: 5 RG32F texels, position.xy,
+// position.z normal.x, normal.yz, uv, uv2) and indices.
 layout(binding = kVoxelVertexUnit) uniform samplerBuffer vertexData;
 layout(binding = kVoxelIndexUnit) uniform usamplerBuffer indexData;
 #ifndef VOXGI_NO_COLORS
@@ -55,16 +56,24 @@ void main() {
 
   vec3 g[3], vn[3];
   vec2 vt[3];
+#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+  vec2 vt2[3];  // channel 1: the emissive texture's with kMaterialEmissiveUv2
+  bool uv2 = (materials[materialIndex].flags & kMaterialEmissiveUv2) != 0u;
+#endif
   vec4 vc[3];
   uint index[3];
   for (int i = 0; i < 3; ++i) {
     index[i] = texelFetch(indexData, int(firstIndex + 3u * t) + i).x;
     int v = int(index[i]);
-    vec4 a = texelFetch(vertexData, 2 * v);
-    vec4 b = texelFetch(vertexData, 2 * v + 1);
-    g[i] = voxelGridPosition(a.xyz);
-    vn[i] = vec3(a.w, b.xy);
-    vt[i] = b.zw;
+    vec2 p = texelFetch(vertexData, 5 * v).xy;
+    vec2 pn = texelFetch(vertexData, 5 * v + 1).xy;
+    vec2 nn = texelFetch(vertexData, 5 * v + 2).xy;
+    g[i] = voxelGridPosition(vec3(p, pn.x));
+    vn[i] = vec3(pn.y, nn);
+    vt[i] = texelFetch(vertexData, 5 * v + 3).xy;
+#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+    vt2[i] = uv2 ? texelFetch(vertexData, 5 * v + 4).xy : vt[i];
+#endif
 #ifndef VOXGI_NO_COLORS
     vc[i] = hasColors != 0u ? texelFetch(colorData, v) : vec4(1.0);
 #endif
@@ -140,6 +149,10 @@ void main() {
 #ifndef VOXGI_NO_TEXTURES
   vec2 duvdx = (vt[1] - vt[0]) * db1.x + (vt[2] - vt[0]) * db2.x;
   vec2 duvdy = (vt[1] - vt[0]) * db1.y + (vt[2] - vt[0]) * db2.y;
+#ifndef VOXGI_NO_EMISSION
+  vec2 duv2dx = (vt2[1] - vt2[0]) * db1.x + (vt2[2] - vt2[0]) * db2.x;
+  vec2 duv2dy = (vt2[1] - vt2[0]) * db1.y + (vt2[2] - vt2[0]) * db2.y;
+#endif
 #endif
 
   // First which pixels of the box any sample covers, one bit each, then one pass per
@@ -186,8 +199,14 @@ void main() {
       if ((m.flags & kMaterialHasTexture) != 0u)
         base *= textureGrad(baseColorTexture, uv, duvdx, duvdy);
 #ifndef VOXGI_NO_EMISSION
-      if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
-        emitted *= textureGrad(emissiveTexture, uv, duvdx, duvdy).rgb;
+      if ((m.flags & kMaterialHasEmissiveTexture) != 0u) {
+        if (uv2)
+          emitted *= textureGrad(emissiveTexture, b0 * vt2[0] + b1 * vt2[1] + b2 * vt2[2], duv2dx,
+                                 duv2dy)
+                         .rgb;
+        else
+          emitted *= textureGrad(emissiveTexture, uv, duvdx, duvdy).rgb;
+      }
 #endif
     }
 #endif

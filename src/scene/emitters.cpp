@@ -138,15 +138,17 @@ void measureEmissiveTextures(Scene* scene) {
       const uint32_t* idx = &scene->indices[d.firstIndex + t * 3];
       // Corners in texel space: texel (i, j) has its centre at (i, j).
       glm::vec2 q[3];
-      for (int k = 0; k < 3; ++k) q[k] = scene->vertices[idx[k]].uv * glm::vec2(e.w, e.h) - 0.5f;
+      // The emissive texture's channel at each corner.
+      glm::vec2 uv[3];
+      for (int k = 0; k < 3; ++k) uv[k] = channelUv(scene->vertices[idx[k]], m.emissiveChannel);
+      for (int k = 0; k < 3; ++k) q[k] = uv[k] * glm::vec2(e.w, e.h) - 0.5f;
       glm::dvec3 mean(0.0);
       if (texelCentreMean(e, q, &mean) >= 4) {
         d.emissiveMean[t] = glm::vec3(mean);
         continue;
       }
       // Fewer than four texel centres inside: the texture sampled over the triangle.
-      d.emissiveMean[t] = sampledMean(e, scene->vertices[idx[0]].uv, scene->vertices[idx[1]].uv,
-                                      scene->vertices[idx[2]].uv);
+      d.emissiveMean[t] = sampledMean(e, uv[0], uv[1], uv[2]);
     }
     measured += tris;
   }

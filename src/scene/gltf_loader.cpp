@@ -1,6 +1,7 @@
 #include "scene/gltf_loader.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -1177,7 +1178,7 @@ class Loader {
         mat.occlusionUv = transform(m.occlusionTexture.texCoord, m.occlusionTexture.extensions,
                                     at + ".occlusionTexture");
       }
-      mat.uv = bakedUv(mat, at);
+      bakeChannels(&mat, at);
       scene_.materials.push_back(mat);
     }
     // The glTF default material, for primitives without one.
@@ -1185,7 +1186,7 @@ class Loader {
     Material d;
     d.name = "default";
     scene_.materials.push_back(d);
-    uvField_.push_back("");
+    uvField_.push_back({});
   }
 
   // A texture a material reads: its source and sampler must exist (a texture no
@@ -1263,39 +1264,65 @@ class Loader {
     return t;
   }
 
-  // The set and transform baked into the vertex UVs of the primitives drawn with
-  // `mat`: the one all its textures share. Where they differ, the base colour's
-  // (else the first texture's), with a warning: the others read it too.
-  // Records in uvField_ the field that names the chosen set.
-  TextureTransform bakedUv(const Material& mat, const std::string& at) {
-    std::vector<std::pair<const char*, const TextureTransform*>> slots;
-    if (mat.baseColorTexture >= 0) slots.push_back({"baseColorTexture", &mat.baseColorUv});
-    if (mat.metallicRoughnessTexture >= 0)
-      slots.push_back({"metallicRoughnessTexture", &mat.metallicRoughnessUv});
-    if (mat.emissiveTexture >= 0) slots.push_back({"emissiveTexture", &mat.emissiveUv});
-    if (mat.normalTexture >= 0) slots.push_back({"normalTexture", &mat.normalUv});
-    if (mat.occlusionTexture >= 0) slots.push_back({"occlusionTexture", &mat.occlusionUv});
+  // The channels baked into the vertex UVs of the primitives drawn with `mat`:
+  // its textures grouped by mapping (set and transform), the first distinct one
+  // (the base colour's, else the first texture's) into channel 0 (mat->uv), the
+  // second into channel 1 (mat->uv2); each texture's *Channel names its own. A
+  // third distinct mapping is read through channel 0, with a warning. Records in
+  // uvField_ the fields that name the two channels' sets.
+  void bakeChannels(Material* mat, const std::string& at) {
+    struct Slot {
+      const char* name;
+      const TextureTransform* uv;
+      int* channel;
+    };
+    std::vector<Slot> slots;
+    if (mat->baseColorTexture >= 0)
+      slots.push_back({"baseColorTexture", &mat->baseColorUv, &mat->baseColorChannel});
+    if (mat->metallicRoughnessTexture >= 0)
+      slots.push_back(
+          {"metallicRoughnessTexture", &mat->metallicRoughnessUv, &mat->metallicRoughnessChannel});
+    if (mat->emissiveTexture >= 0)
+      slots.push_back({"emissiveTexture", &mat->emissiveUv, &mat->emissiveChannel});
+    if (mat->normalTexture >= 0)
+      slots.push_back({"normalTexture", &mat->normalUv, &mat->normalChannel});
+    if (mat->occlusionTexture >= 0)
+      slots.push_back({"occlusionTexture", &mat->occlusionUv, &mat->occlusionChannel});
+    auto field = [&](const char* name) {
+      const std::string n = name;
+      const bool pbr = n == "baseColorTexture" || n == "metallicRoughnessTexture";
+      return texCoordField_[at + (pbr ? ".pbrMetallicRoughness." : ".") + n];
+    };
+    std::array<std::string, 2> fields;
     if (slots.empty()) {
-      uvField_.push_back("");
-      return TextureTransform{};
+      uvField_.push_back(fields);
+      return;
     }
-    const std::string slotAt =
-        at +
-        (std::string(slots.front().first) == "baseColorTexture" ||
-                 std::string(slots.front().first) == "metallicRoughnessTexture"
-             ? ".pbrMetallicRoughness."
-             : ".") +
-        slots.front().first;
-    uvField_.push_back(texCoordField_[slotAt]);
-    for (const auto& [name, uv] : slots)
-      if (*uv != *slots.front().second) {
-        warn_(
-            strf("%s: %s and %s read different texture coordinates (texCoord or "
-                 "KHR_texture_transform); all its textures read those of %s",
-                 at.c_str(), slots.front().first, name, slots.front().first));
-        break;
+    mat->uv = *slots.front().uv;
+    fields[0] = field(slots.front().name);
+    const char* second = nullptr;
+    for (const Slot& slot : slots) {
+      if (*slot.uv == mat->uv) {
+        *slot.channel = 0;
+      } else if (!mat->hasUv2 || *slot.uv == mat->uv2) {
+        if (!mat->hasUv2) {
+          mat->hasUv2 = true;
+          mat->uv2 = *slot.uv;
+          fields[1] = field(slot.name);
+          second = slot.name;
+        }
+        *slot.channel = 1;
+      } else {
+        *slot.channel = 0;
+        if (!uvWarned_)
+          warn_(
+              strf("%s: %s reads a third set of texture coordinates (texCoord or "
+                   "KHR_texture_transform) after those of %s and %s; it reads those of %s",
+                   at.c_str(), slot.name, slots.front().name, second, slots.front().name));
+        uvWarned_ = true;
       }
-    return *slots.front().second;
+    }
+    uvField_.push_back(fields);
   }
 
   // Sampler `index`'s wrap modes and filters into `t`; a field the sampler leaves
@@ -1537,10 +1564,15 @@ class Loader {
 
   // The vertex attributes of one primitive, each with POSITION's count.
   struct PrimitiveAttributes {
-    View position, normal, uv, color, tangent;
-    bool hasNormals = false, hasUv = false, hasColor = false, hasTangent = false;
-    TextureTransform uvMap;     // the material's texture coordinates (Material::uv)
+    View position, normal, color, tangent;
+    View uv[2];  // the material's two texture coordinate channels
+    bool hasNormals = false, hasColor = false, hasTangent = false;
+    bool hasUv[2] = {false, false};
+    // The material's texture coordinates: channel 0 (Material::uv) and, where it has
+    // one, channel 1 (Material::uv2; otherwise channel 0 again).
+    TextureTransform uvMap[2];
     bool normalMapped = false;  // the material has a normal texture
+    int normalChannel = 0;      // the channel its normal texture reads
   };
 
   void addMesh(int meshIndex, int nodeIndex, const glm::dmat4& world) {
@@ -1575,7 +1607,8 @@ class Loader {
       // without a normal map: never read.
       scene_.tangents.resize(base + count, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
       if (attr.normalMapped)
-        readTangents(attr.tangent, attr.hasTangent, kept, base, world, mirrored);
+        readTangents(attr.tangent, attr.hasTangent, attr.normalChannel, kept, base, world,
+                     mirrored);
     }
     if (kept.empty()) return;
     if (moving_[static_cast<size_t>(nodeIndex)])
@@ -1595,21 +1628,30 @@ class Loader {
       if (a.normal.count != count) fail(where + ": NORMAL and POSITION counts differ");
       a.hasNormals = true;
     }
-    // The texture coordinates the material's textures read (Material::uv), baked
-    // with its KHR_texture_transform into the vertex UVs.
+    // The texture coordinates the material's textures read (Material::uv, uv2),
+    // baked with their KHR_texture_transform into the vertex UVs.
     const bool hasMaterial =
         prim.material >= 0 && static_cast<size_t>(prim.material) < model_.materials.size();
-    if (hasMaterial) a.uvMap = scene_.materials[static_cast<size_t>(prim.material)].uv;
-    const std::string uvName = strf("TEXCOORD_%d", a.uvMap.texCoord);
-    if (auto it = prim.attributes.find(uvName); it != prim.attributes.end()) {
-      a.uv = vertexAttribute(it->second, uvName.c_str());
-      if (a.uv.count != count)
-        fail(strf("%s: %s and POSITION counts differ", where.c_str(), uvName.c_str()));
-      a.hasUv = true;
-    } else if (a.uvMap.texCoord != 0) {
-      fail(strf("%s: %s %d: the primitive has no %s attribute", where.c_str(),
-                uvField_[static_cast<size_t>(prim.material)].c_str(), a.uvMap.texCoord,
-                uvName.c_str()));
+    const Material* mat =
+        hasMaterial ? &scene_.materials[static_cast<size_t>(prim.material)] : nullptr;
+    if (mat) {
+      a.uvMap[0] = mat->uv;
+      a.uvMap[1] = mat->hasUv2 ? mat->uv2 : mat->uv;
+    }
+    for (int c = 0; c < 2; ++c) {
+      const int set = a.uvMap[c].texCoord;
+      const std::string uvName = strf("TEXCOORD_%d", set);
+      if (auto it = prim.attributes.find(uvName); it != prim.attributes.end()) {
+        a.uv[c] = vertexAttribute(it->second, uvName.c_str());
+        if (a.uv[c].count != count)
+          fail(strf("%s: %s and POSITION counts differ", where.c_str(), uvName.c_str()));
+        a.hasUv[c] = true;
+      } else if (set != 0) {
+        const std::array<std::string, 2>& fields = uvField_[static_cast<size_t>(prim.material)];
+        fail(strf("%s: %s %d: the primitive has no %s attribute", where.c_str(),
+                  (c == 1 && !fields[1].empty() ? fields[1] : fields[0]).c_str(), set,
+                  uvName.c_str()));
+      }
     }
     if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
       a.color = colorAttribute(it->second, count, where);
@@ -1619,8 +1661,8 @@ class Loader {
       a.tangent = tangentAttribute(it->second, count, where);
       a.hasTangent = true;
     }
-    a.normalMapped =
-        hasMaterial && scene_.materials[static_cast<size_t>(prim.material)].normalTexture >= 0;
+    a.normalMapped = mat && mat->normalTexture >= 0;
+    a.normalChannel = mat ? mat->normalChannel : 0;
     return a;
   }
 
@@ -1713,7 +1755,9 @@ class Loader {
         v.normal = normalMatrix * readVec3(a.normal, i);
       }
       v.uv = glm::vec2(0.0f);
-      if (a.hasUv) v.uv = readUv(a.uv, i, a.uvMap);
+      if (a.hasUv[0]) v.uv = readUv(a.uv[0], i, a.uvMap[0]);
+      v.uv2 = glm::vec2(0.0f);
+      if (a.hasUv[1]) v.uv2 = readUv(a.uv[1], i, a.uvMap[1]);
     }
   }
 
@@ -1879,10 +1923,11 @@ class Loader {
   // Tangents of a normal-mapped primitive into scene_.tangents from `base` on: the
   // file's TANGENT through the node transform (a mirroring transform flips the
   // handedness), or, without one, generated with MikkTSpace (scene/tangents.h) over
-  // the primitive's triangles `kept` in world space. A zero tangent or one parallel
+  // the primitive's triangles `kept` in world space, with the UVs of `channel` (the
+  // one the normal texture reads). A zero tangent or one parallel
   // to its normal gets any perpendicular vector; w is read by its sign.
-  void readTangents(const View& t, bool fromFile, const std::vector<uint32_t>& kept, size_t base,
-                    const glm::dmat4& world, bool mirrored) {
+  void readTangents(const View& t, bool fromFile, int channel, const std::vector<uint32_t>& kept,
+                    size_t base, const glm::dmat4& world, bool mirrored) {
     const size_t count = t.count ? t.count : scene_.vertices.size() - base;
     if (!fromFile) {
       std::vector<glm::vec3> pos(count), nrm(count);
@@ -1892,7 +1937,8 @@ class Loader {
         nrm[i] = scene_.vertices[base + i].normal;
         // glTF's v runs down the image, MikkTSpace's up (the bitangent of a glTF
         // tangent points up the image, as exporters write it): v enters flipped.
-        uv[i] = glm::vec2(scene_.vertices[base + i].uv.x, -scene_.vertices[base + i].uv.y);
+        const glm::vec2 tuv = channelUv(scene_.vertices[base + i], channel);
+        uv[i] = glm::vec2(tuv.x, -tuv.y);
       }
       const std::vector<glm::vec4> gen = generateTangents(pos, nrm, uv, kept);
       std::copy(gen.begin(), gen.end(), scene_.tangents.begin() + static_cast<ptrdiff_t>(base));
@@ -1953,9 +1999,10 @@ class Loader {
   std::vector<std::string> droppedIn_, repairedIn_;
   std::vector<std::string> drawWhere_;  // per draw: "mesh M primitive P"
   // The field that names each textureInfo's set (transform()), and per material
-  // the one whose set its vertex UVs hold (bakedUv()).
+  // those whose sets its two vertex UV channels hold (bakeChannels()).
   std::map<std::string, std::string> texCoordField_;
-  std::vector<std::string> uvField_;
+  std::vector<std::array<std::string, 2>> uvField_;
+  bool uvWarned_ = false;  // a material with a third mapping was warned about
   glm::dvec3 cameraWorld_{0.0};
   int camera_ = -1;  // the camera the view is from (cameras[i]); -1: framed
   IgnoredParts ignored_;

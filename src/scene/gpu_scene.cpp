@@ -26,7 +26,11 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
               (m.emissiveTexture >= 0 ? gpu::kMaterialHasEmissiveTexture : 0u) |
               (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u) |
               (m.normalTexture >= 0 ? gpu::kMaterialHasNormalTexture : 0u) |
-              (m.occlusionTexture >= 0 ? gpu::kMaterialHasOcclusionTexture : 0u);
+              (m.occlusionTexture >= 0 ? gpu::kMaterialHasOcclusionTexture : 0u) |
+              (m.emissiveChannel == 1 ? gpu::kMaterialEmissiveUv2 : 0u) |
+              (m.metallicRoughnessChannel == 1 ? gpu::kMaterialMetallicRoughnessUv2 : 0u) |
+              (m.normalChannel == 1 ? gpu::kMaterialNormalUv2 : 0u) |
+              (m.occlusionChannel == 1 ? gpu::kMaterialOcclusionUv2 : 0u);
     if (m.occlusionTexture >= 0)
       g.occlusion =
           glm::vec4(m.occlusionStrength,
@@ -129,12 +133,14 @@ size_t GpuScene::createGeometry(const Scene& s) {
                             offsetof(Vertex, position));
   glVertexArrayAttribBinding(vao, gpu::kPreviousPositionAttribute, 2);
   glVertexArrayElementBuffer(vao, indices_.id());
-  const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
-                             offsetof(Vertex, uv)};
-  const GLint sizes[3] = {3, 3, 2};
-  for (GLuint a = 0; a < 3; ++a) {
+  const GLuint attributes[4] = {0, 1, 2, gpu::kUv2Attribute};
+  const GLuint offsets[4] = {offsetof(Vertex, position), offsetof(Vertex, normal),
+                             offsetof(Vertex, uv), offsetof(Vertex, uv2)};
+  const GLint sizes[4] = {3, 3, 2, 2};
+  for (size_t i = 0; i < 4; ++i) {
+    const GLuint a = attributes[i];
     glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribFormat(vao, a, sizes[i], GL_FLOAT, GL_FALSE, offsets[i]);
     glVertexArrayAttribBinding(vao, a, 0);
   }
   return static_cast<size_t>(vbytes + ibytes) + createOptionalStreams(s);

@@ -20,8 +20,14 @@ namespace voxgi::scene {
 struct Vertex {
   glm::vec3 position;
   glm::vec3 normal;
-  glm::vec2 uv;
+  glm::vec2 uv;   // texture coordinates, channel 0 (Material::uv)
+  glm::vec2 uv2;  // channel 1 (Material::uv2); equal to uv where the material has none
 };
+
+// A vertex's texture coordinates in channel `channel` (0: uv, 1: uv2).
+inline glm::vec2 channelUv(const Vertex& v, int channel) {
+  return channel == 1 ? v.uv2 : v.uv;
+}
 
 enum class AlphaMode { kOpaque, kMask, kBlend };
 
@@ -57,12 +63,19 @@ struct Material {
   float normalScale = 1.0f;           // normalTexture.scale: scales the map's x and y
   int occlusionTexture = -1;          // linear; red channel: ambient occlusion (raster only)
   float occlusionStrength = 1.0f;     // occlusionTexture.strength: 0 none, 1 the full map
-  // What each of the textures above reads. The loader resolves them into
-  // Vertex::uv (see `uv`), so renderers read Vertex::uv alone.
+  // What each of the textures above reads. The loader resolves them into two
+  // baked channels, Vertex::uv and Vertex::uv2 (see `uv`, `uv2`), so renderers read
+  // those alone, each texture the channel its *Channel field names.
   TextureTransform baseColorUv, emissiveUv, metallicRoughnessUv, normalUv, occlusionUv;
-  // The set and transform baked into Vertex::uv of the primitives drawn with this
-  // material: the one its textures share (the base colour's where they differ).
-  TextureTransform uv;
+  // The sets and transforms baked into the vertices of the primitives drawn with
+  // this material: channel 0 (Vertex::uv) holds the first distinct mapping of its
+  // textures (the base colour's, else the first texture's in the order above),
+  // channel 1 (Vertex::uv2) the second one, when there is one (hasUv2).
+  TextureTransform uv, uv2;
+  bool hasUv2 = false;
+  // The channel (0 or 1) each texture reads; a third distinct mapping reads 0.
+  int baseColorChannel = 0, emissiveChannel = 0, metallicRoughnessChannel = 0, normalChannel = 0,
+      occlusionChannel = 0;
   bool doubleSided = false;
   AlphaMode alphaMode = AlphaMode::kOpaque;
   float alphaCutoff = 0.5f;

@@ -270,7 +270,9 @@ void VoxelizePass::rasterSmall(const scene::GpuScene& gs) {
   // Views made afresh each time: a buffer name can come back for another scene.
   const gl::Texture vertexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
   const gl::Texture indexTexture = gl::createTexture(GL_TEXTURE_BUFFER);
-  if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RGBA32F, gs.vertexBuffer());
+  // scene::Vertex as 5 RG32F texels (its 40 bytes are not a whole number of RGBA32F).
+  static_assert(sizeof(scene::Vertex) == 5 * sizeof(glm::vec2));
+  if (!s.vertices.empty()) glTextureBuffer(vertexTexture.id(), GL_RG32F, gs.vertexBuffer());
   if (!s.indices.empty()) glTextureBuffer(indexTexture.id(), GL_R32UI, gs.indexBuffer());
   const gl::Texture colorTexture = gl::createTexture(GL_TEXTURE_BUFFER);
   if (s.hasVertexColors()) glTextureBuffer(colorTexture.id(), GL_RGBA32F, gs.colorBuffer());

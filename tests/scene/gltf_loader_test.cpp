@@ -563,21 +563,84 @@ TEST(GltfLoaderTextureTransform, BakedIntoTheVertexUvs) {
   }
 }
 
-// A material whose textures read different coordinates: one set of UVs per vertex,
-// so all read the base colour's (untransformed here), with a warning naming it.
-TEST(GltfLoaderTextureTransform, DifferingSlotsWarnAndReadTheBaseColours) {
-  const Scene s = loadGltf(test::testDataDir() + "/texcoords/mixed_transforms.gltf");
+// A material whose textures read different coordinates: the base colour's into
+// channel 0 (Vertex::uv), the other one into channel 1 (Vertex::uv2), no warning.
+TEST(GltfLoaderTextureTransform, DifferingSlotsReadTheirOwnChannels) {
+  const std::string dir = test::testDataDir() + "/texcoords";
+  const glm::vec2 right[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  const glm::vec2 transformed[4] = {{1.5f, 1.0f}, {1.5f, -1.0f}, {0.5f, -1.0f}, {0.5f, 1.0f}};
+  {
+    SCOPED_TRACE("mixed_transforms.gltf: emissive transformed");
+    const Scene s = loadGltf(dir + "/mixed_transforms.gltf");
+    EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+    const Material& m = s.materials[0];
+    EXPECT_EQ(m.uv, TextureTransform{});
+    EXPECT_TRUE(m.hasUv2);
+    EXPECT_EQ(m.uv2, m.emissiveUv);
+    EXPECT_EQ(m.baseColorChannel, 0);
+    EXPECT_EQ(m.emissiveChannel, 1);
+    ASSERT_EQ(s.vertices.size(), 4u);
+    for (size_t i = 0; i < 4; ++i) {
+      expectNear(s.vertices[i].uv, right[i], "base colour's UVs");
+      expectNear(s.vertices[i].uv2, transformed[i], "emissive UVs");
+    }
+  }
+  {
+    SCOPED_TRACE("occlusion_texcoord1.gltf: occlusion on TEXCOORD_1");
+    const Scene s = loadGltf(dir + "/occlusion_texcoord1.gltf");
+    EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+    const Material& m = s.materials[0];
+    EXPECT_EQ(m.uv.texCoord, 0);
+    EXPECT_EQ(m.uv2.texCoord, 1);
+    EXPECT_EQ(m.baseColorChannel, 0);
+    EXPECT_EQ(m.emissiveChannel, 0);
+    EXPECT_EQ(m.occlusionChannel, 1);
+    ASSERT_EQ(s.vertices.size(), 4u);
+    for (size_t i = 0; i < 4; ++i) {
+      expectNear(s.vertices[i].uv, right[i], "TEXCOORD_0");
+      expectNear(s.vertices[i].uv2, glm::vec2(1.0f) - right[i], "TEXCOORD_1");
+    }
+  }
+  {
+    SCOPED_TRACE("normal_transform.gltf: the normal map transformed");
+    const Scene s = loadGltf(dir + "/normal_transform.gltf");
+    EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+    const Material& m = s.materials[0];
+    EXPECT_EQ(m.normalChannel, 1);
+    EXPECT_EQ(m.emissiveChannel, 0);
+    EXPECT_EQ(m.uv2, m.normalUv);
+    ASSERT_EQ(s.vertices.size(), 4u);
+    ASSERT_EQ(s.tangents.size(), 4u);
+    for (size_t i = 0; i < 4; ++i) {
+      expectNear(s.vertices[i].uv2, transformed[i], "normal texture's UVs");
+      // The tangents follow the normal texture's u (t + 0.5: down the image, -y),
+      // not channel 0's (+x).
+      EXPECT_NEAR(s.tangents[i].x, 0.0f, 1e-5f);
+      EXPECT_NEAR(s.tangents[i].y, -1.0f, 1e-5f);
+    }
+  }
+  {
+    // A material whose textures all share one mapping: channel 1 is channel 0.
+    const Scene s = loadGltf(dir + "/texcoord1.gltf");
+    EXPECT_FALSE(s.materials[0].hasUv2);
+    for (const Vertex& v : s.vertices) EXPECT_EQ(v.uv2, v.uv);
+  }
+}
+
+// A third distinct mapping: one warning, and that texture reads channel 0.
+TEST(GltfLoaderTextureTransform, ThirdMappingWarnsOnceAndReadsChannelZero) {
+  const Scene s = loadGltf(test::testDataDir() + "/texcoords/three_mappings.gltf");
   ASSERT_EQ(s.warnings.size(), 1u) << joined(s.warnings);
-  EXPECT_NE(s.warnings[0].find("materials[0]: baseColorTexture and emissiveTexture read "
-                               "different texture coordinates"),
+  EXPECT_NE(s.warnings[0].find("materials[0]: occlusionTexture reads a third set of texture "
+                               "coordinates"),
             std::string::npos)
       << s.warnings[0];
   const Material& m = s.materials[0];
+  EXPECT_EQ(m.baseColorChannel, 0);
+  EXPECT_EQ(m.emissiveChannel, 1);
+  EXPECT_EQ(m.occlusionChannel, 0);
   EXPECT_EQ(m.uv, TextureTransform{});
-  EXPECT_NE(m.emissiveUv, TextureTransform{});
-  const glm::vec2 right[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-  ASSERT_EQ(s.vertices.size(), 4u);
-  for (size_t i = 0; i < 4; ++i) expectNear(s.vertices[i].uv, right[i], "base colour's UVs");
+  EXPECT_EQ(m.uv2, m.emissiveUv);
 }
 
 // The Khronos samples load without a warning (texCoord, transform) and keep the
@@ -785,7 +848,7 @@ TEST(GltfLoaderAutoScale, ScalesWithTheScene) {
 void expectSameScene(const Scene& a, const Scene& b) {
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
   ASSERT_EQ(a.indices.size(), b.indices.size());
-  static_assert(sizeof(Vertex) == 8 * sizeof(float), "Vertex has padding; compare fields instead");
+  static_assert(sizeof(Vertex) == 10 * sizeof(float), "Vertex has padding; compare fields instead");
   EXPECT_EQ(std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)),
             0);
   EXPECT_EQ(a.indices, b.indices);

@@ -20,8 +20,17 @@ Files:
   transform_texcoord1.gltf  the same transform, TEXCOORD_0 wrong, TEXCOORD_1 right,
                         selected by the extension's texCoord override.
   mixed_transforms.gltf  transform.gltf plus a base-colour texture without the
-                        transform: the material's textures disagree (a warning; all
-                        read the base colour's coordinates).
+                        transform: the two textures read two channels, the base
+                        colour channel 0 (untransformed), the emissive texture
+                        channel 1 (transformed).
+  two_sets.gltf         texcoord1.gltf plus a base-colour texture on TEXCOORD_0 (the
+                        wrong coordinates): the emissive texture reads channel 1.
+  occlusion_texcoord1.gltf  the base colour on TEXCOORD_0 (right), the occlusion
+                        texture on TEXCOORD_1 (wrong).
+  normal_transform.gltf  the base colour untransformed, the normal texture through
+                        the transform.
+  three_mappings.gltf   mixed_transforms.gltf plus an occlusion texture on TEXCOORD_1:
+                        a third mapping (a warning; the occlusion reads channel 0).
   occlusion_strength_0.gltf, occlusion_strength_1.gltf  a white Lambert quad (no
                         emission, the default light) with a 2 x 1 occlusion texture:
                         0 in the left column (fully occluded), 255 in the right;
@@ -95,5 +104,22 @@ mixed = scene(RIGHT, None, {"extensions": {"KHR_texture_transform": TRANSFORM}},
               required=["KHR_texture_transform"])
 mixed["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
 write("mixed_transforms.gltf", mixed)
+two = scene(WRONG, RIGHT, {"texCoord": 1})
+two["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+write("two_sets.gltf", two)
+occ = scene(RIGHT, WRONG, {})
+occ["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+occ["materials"][0]["occlusionTexture"] = {"index": 0, "texCoord": 1}
+write("occlusion_texcoord1.gltf", occ)
+nrm = scene(RIGHT, None, {}, required=["KHR_texture_transform"])
+nrm["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+nrm["materials"][0]["normalTexture"] = {
+    "index": 0, "extensions": {"KHR_texture_transform": TRANSFORM}}
+write("normal_transform.gltf", nrm)
+three = scene(RIGHT, WRONG, {"extensions": {"KHR_texture_transform": TRANSFORM}},
+              required=["KHR_texture_transform"])
+three["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+three["materials"][0]["occlusionTexture"] = {"index": 0, "texCoord": 1}
+write("three_mappings.gltf", three)
 write("occlusion_strength_0.gltf", occlusion(0.0))
 write("occlusion_strength_1.gltf", occlusion(1.0))
