@@ -32,11 +32,18 @@ GpuPtTriangle loadTriangle(uint i) {
 #ifdef VOXGI_BVH_UVS
 // Texture coordinates at barycentrics bc of triangle tri, from the corner UVs in
 // `usamplerBuffer uvTexels` (two RGBA32UI texels a triangle, BVH order), which the
-// including shader declares when it defines VOXGI_BVH_UVS.
-vec2 triangleUv(uint tri, vec2 bc) {
-  vec4 a = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2));
-  vec2 c = uintBitsToFloat(texelFetch(uvTexels, int(tri) * 2 + 1).xy);
+// including shader declares when it defines VOXGI_BVH_UVS. Channel 0 first; in a
+// scene with a channel 1 (scene::Vertex::uv2) its corners follow, as many again.
+vec2 triangleUvAt(int b, vec2 bc) {
+  vec4 a = uintBitsToFloat(texelFetch(uvTexels, b));
+  vec2 c = uintBitsToFloat(texelFetch(uvTexels, b + 1).xy);
   return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+}
+vec2 triangleUv(uint tri, vec2 bc) { return triangleUvAt(int(tri) * 2, bc); }
+// Channel 1; read only for materials that set a kMaterial*Uv2 bit, which only
+// scenes with the second half have.
+vec2 triangleUv2(uint tri, vec2 bc) {
+  return triangleUvAt(textureSize(uvTexels) / 2 + int(tri) * 2, bc);
 }
 #endif
 

@@ -113,29 +113,41 @@ VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 
 
 #ifdef VOXGI_TEXTURE
 // --- materials ------------------------------------------------------------------------
-// Material m as seen at uv: its base colour, metallic, roughness and emission times
-// whichever of its textures it has (glTF: metallic in the blue channel, roughness in
-// green). Returns m unchanged when it has none.
-VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv) {
+// The texture coordinates of the slot whose channel-1 bit is `uv2Bit`
+// (kMaterial*Uv2): uv2 (channel 1) where m sets it, uv (channel 0) otherwise.
+VOXGI_FN vec2 slotUv(GpuMaterial m, uint uv2Bit, vec2 uv, vec2 uv2) {
+  return (m.flags & uv2Bit) != 0u ? uv2 : uv;
+}
+
+// Material m as seen at texture coordinates uv (channel 0) and uv2 (channel 1): its
+// base colour, metallic, roughness and emission times whichever of its textures it
+// has (glTF: metallic in the blue channel, roughness in green), each read at its
+// own channel. Returns m unchanged when it has none.
+VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv, vec2 uv2) {
   if ((m.flags & kMaterialHasTexture) != 0u)
     m.baseColor *= sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.texture), uv);
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.metallicRoughnessTexture), uv);
+    vec4 mr = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.metallicRoughnessTexture),
+                            slotUv(m, kMaterialMetallicRoughnessUv2, uv, uv2));
     m.params.x *= mr.b;
     m.params.y *= mr.g;
   }
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u) {
-    vec4 e = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.emissiveTexture), uv);
+    vec4 e = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.emissiveTexture),
+                           slotUv(m, kMaterialEmissiveUv2, uv, uv2));
     m.emission = vec4(vec3(m.emission) * vec3(e), m.emission.w);
   }
   return m;
 }
 
-// The shading normal of material m at uv: unit n perturbed by its normal map in the
-// frame of `tangent` (normal_map_shared.h); n itself without a normal map.
-VOXGI_FN vec3 mappedNormal(VOXGI_TABLES_PARAM GpuMaterial m, vec3 n, vec4 tangent, vec2 uv) {
+// The shading normal of material m at texture coordinates uv, uv2 (as above): unit
+// n perturbed by its normal map in the frame of `tangent` (normal_map_shared.h); n
+// itself without a normal map.
+VOXGI_FN vec3 mappedNormal(VOXGI_TABLES_PARAM GpuMaterial m, vec3 n, vec4 tangent, vec2 uv,
+                           vec2 uv2) {
   if ((m.flags & kMaterialHasNormalTexture) == 0u) return n;
-  vec4 texel = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(floatBitsToUint(m.emission.w)), uv);
+  vec4 texel = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(floatBitsToUint(m.emission.w)),
+                             slotUv(m, kMaterialNormalUv2, uv, uv2));
   return perturbNormal(n, tangent, vec3(texel), m.params.w);
 }
 #endif

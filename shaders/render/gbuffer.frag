@@ -15,7 +15,10 @@ layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessText
 
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
-layout(location = 2) in vec2 vUv;
+layout(location = 2) in vec2 vUv;  // texture-coordinate channel 0
+#ifndef VOXGI_NO_TEXTURES
+layout(location = 6) in vec2 vUv2;  // channel 1, for the slots whose kMaterial*Uv2 bit is set
+#endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor;
 #endif
@@ -57,11 +60,13 @@ void main() {
   // light with mips, 1.17x without). Base colour and emission, which the light
   // scales linearly, keep their mipmaps.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = textureLod(metallicRoughnessTexture, vUv, 0.0);
+    vec4 mr = textureLod(metallicRoughnessTexture,
+                         (m.flags & kMaterialMetallicRoughnessUv2) != 0u ? vUv2 : vUv, 0.0);
     metallic *= mr.b;
     roughness *= mr.g;
   }
-  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) emission *= texture(emissiveTexture, vUv).rgb;
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
+    emission *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? vUv2 : vUv).rgb;
 #endif
   vec3 n = normalize(vNormal);
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
@@ -75,7 +80,8 @@ void main() {
     packedSurfaceNormal = packSurfaceNormal(n);  // for rtgi's leak rule
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
-    n = perturbNormal(n, tangent, textureLod(normalTexture, vUv, 0.0).rgb, m.params.w);
+    vec2 normalUv = (m.flags & kMaterialNormalUv2) != 0u ? vUv2 : vUv;
+    n = perturbNormal(n, tangent, textureLod(normalTexture, normalUv, 0.0).rgb, m.params.w);
     n = bendShadingNormal(n, normalize(frame.cameraPosition.xyz - vPosition));
   }
 #endif

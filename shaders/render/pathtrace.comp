@@ -134,9 +134,15 @@ vec3 radiance(vec3 o, vec3 d) {
     GpuPtShading S = shading[tri];
     GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
 #ifndef VOXGI_NO_TEXTURES
+    vec2 uv = vec2(0.0), uv2 = vec2(0.0);  // texture-coordinate channels 0 and 1
+    if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
+                    kMaterialHasMetallicRoughnessTexture | kMaterialHasNormalTexture)) != 0u) {
+      uv = triangleUv(tri, bc);
+      uv2 = (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : uv;
+    }
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                     kMaterialHasMetallicRoughnessTexture)) != 0u)
-      m = texturedMaterial(m, triangleUv(tri, bc));
+      m = texturedMaterial(m, uv, uv2);
 #endif
 #ifndef VOXGI_NO_COLORS
     m.baseColor *= triangleColor(tri, bc);
@@ -166,7 +172,7 @@ vec3 radiance(vec3 o, vec3 d) {
       // below ng is rejected below as for any shading normal.
       vec4 tangent = triangleTangent(tri, bc);
       if (!front) tangent.w = -tangent.w;
-      ns = bendShadingNormal(mappedNormal(m, ns, tangent, triangleUv(tri, bc)), wo);
+      ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), wo);
     }
 #endif
     Bsdf b = makeBsdf(m.baseColor.rgb, m.params.x, m.params.y, dot(ns, wo));

@@ -24,7 +24,10 @@ layout(location = kAmbientLocation) uniform float ambient;
 
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
-layout(location = 2) in vec2 vUv;
+layout(location = 2) in vec2 vUv;  // texture-coordinate channel 0
+#ifndef VOXGI_NO_TEXTURES
+layout(location = 6) in vec2 vUv2;  // channel 1, for the slots whose kMaterial*Uv2 bit is set
+#endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor;
 #endif
@@ -53,11 +56,13 @@ void main() {
 #ifndef VOXGI_NO_TEXTURES
   // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = texture(metallicRoughnessTexture, vUv);
+    vec4 mr = texture(metallicRoughnessTexture,
+                      (m.flags & kMaterialMetallicRoughnessUv2) != 0u ? vUv2 : vUv);
     metallic *= mr.b;
     roughness *= mr.g;
   }
-  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) emission *= texture(emissiveTexture, vUv).rgb;
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
+    emission *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? vUv2 : vUv).rgb;
 #endif
 
   Surface s;
@@ -74,7 +79,8 @@ void main() {
   if (mapped) {
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
-    s.n = perturbNormal(s.n, tangent, texture(normalTexture, vUv).rgb, m.params.w);
+    vec2 normalUv = (m.flags & kMaterialNormalUv2) != 0u ? vUv2 : vUv;
+    s.n = perturbNormal(s.n, tangent, texture(normalTexture, normalUv).rgb, m.params.w);
     s.n = bendShadingNormal(s.n, s.v);  // the back-facing rule
   }
 #endif
@@ -93,7 +99,9 @@ void main() {
   float occlusion = 1.0;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasOcclusionTexture) != 0u)
-    occlusion = mix(1.0, texture(occlusionTexture, vUv).r, m.occlusion.x);
+    occlusion = mix(1.0,
+                    texture(occlusionTexture, (m.flags & kMaterialOcclusionUv2) != 0u ? vUv2 : vUv).r,
+                    m.occlusion.x);
 #endif
   radiance += ambient * occlusion * s.diffuse;
   int lightCount = int(frame.counts.x);

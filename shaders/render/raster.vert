@@ -9,6 +9,9 @@ layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
+#ifndef VOXGI_NO_TEXTURES
+layout(location = kUv2Attribute) in vec2 inUv2;  // texture-coordinate channel 1
+#endif
 #ifndef VOXGI_NO_COLORS
 layout(location = kColorAttribute) in vec4 inColor;
 #endif
@@ -20,6 +23,9 @@ layout(location = kTangentAttribute) in vec4 inTangent;  // xyz, w handedness
 layout(location = 0) out vec3 vPosition;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
+#ifndef VOXGI_NO_TEXTURES
+layout(location = 6) out vec2 vUv2;
+#endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) out vec4 vColor;
 #endif
@@ -33,6 +39,9 @@ void main() {
   vPosition = inPosition;  // already world space (baked at load)
   vNormal = inNormal;
   vUv = inUv;
+#ifndef VOXGI_NO_TEXTURES
+  vUv2 = inUv2;
+#endif
 #ifndef VOXGI_NO_COLORS
   // Passed on as the offset from white: where every corner is white (a scene without
   // colours reads the constant white) the interpolated zeros stay exact, and so

@@ -72,7 +72,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
 #ifdef RTGI_BVH_TEXTURES
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                     kMaterialHasMetallicRoughnessTexture)) != 0u)
-      m = texturedMaterial(m, triangleUv(tri, bc));
+      m = texturedMaterial(m, triangleUv(tri, bc),
+                           (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc)
+                                                             : triangleUv(tri, bc));
 #endif
 #ifdef RTGI_BVH_COLORS
     m.baseColor *= triangleColor(tri, bc);
@@ -96,7 +98,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
       // The normal map and the back-facing rule, as the path tracer does.
       vec4 tangent = triangleTangent(tri, bc);
       if (!front) tangent.w = -tangent.w;
-      ns = bendShadingNormal(mappedNormal(m, ns, tangent, triangleUv(tri, bc)), -dir);
+      vec2 uv = triangleUv(tri, bc);
+      vec2 uv2 = (m.flags & kMaterialNormalUv2) != 0u ? triangleUv2(tri, bc) : uv;
+      ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), -dir);
     }
 #endif
     float metallic = m.params.x;

@@ -18,6 +18,9 @@ layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 
 layout(location = 0) centroid in vec3 gNormal;
 layout(location = 1) centroid in vec2 gUv;
+#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+layout(location = 6) centroid in vec2 gUv2;  // channel 1 (kMaterialEmissiveUv2)
+#endif
 layout(location = 2) flat in int gAxis;
 layout(location = 3) flat in vec4 gPlane;
 layout(location = 4) flat in vec2 gDepth;
@@ -47,7 +50,8 @@ void main() {
 #else
   vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
 #ifndef VOXGI_NO_TEXTURES
-  if ((m.flags & kMaterialHasEmissiveTexture) != 0u) e *= texture(emissiveTexture, gUv).rgb;
+  if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
+    e *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? gUv2 : gUv).rgb;
 #endif
 #endif
   voxelAddFragment(ivec2(gl_FragCoord.xy), gAxis, gPlane, gDepth, base.rgb, n, e, weight);

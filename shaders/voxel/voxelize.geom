@@ -14,6 +14,10 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(location = 0) in vec3 vGrid[];
 layout(location = 1) in vec3 vNormal[];
 layout(location = 2) in vec2 vUv[];
+#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+layout(location = 4) in vec2 vUv2[];
+layout(location = 6) centroid out vec2 gUv2;
+#endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor[];
 layout(location = 5) centroid out vec4 gColor;
@@ -37,6 +41,9 @@ void main() {
   for (int i = 0; i < 3; ++i) {
     gNormal = vNormal[i];
     gUv = vUv[i];
+#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+    gUv2 = vUv2[i];
+#endif
 #ifndef VOXGI_NO_COLORS
     gColor = vColor[i];
 #endif

@@ -27,16 +27,26 @@ std::vector<gpu::GpuPtShading> shadingInOrder(const scene::Scene& s, const PtSce
   return shade;
 }
 
-// Corner UVs in BVH order: (uv0, uv1) and (uv2, 0, 0) a triangle.
+// Corner UVs in BVH order: (uv0, uv1) and (uv2, 0, 0) a triangle, texture
+// coordinate channel 0 (scene::Vertex::uv); then, where a drawn material reads
+// channel 1 (scene::Material::hasUv2), the same for channel 1 (bvh_trace.glsl).
 std::vector<glm::vec4> cornerUvs(const scene::Scene& s, const PtScene& pt,
                                  const std::vector<uint32_t>& order) {
-  std::vector<glm::vec4> uvs(2 * order.size());
-  for (size_t slot = 0; slot < order.size(); ++slot) {
-    const uint32_t i = pt.firstIndex[order[slot]];
-    const glm::vec2 a = s.vertices[s.indices[i]].uv, b = s.vertices[s.indices[i + 1]].uv,
-                    c = s.vertices[s.indices[i + 2]].uv;
-    uvs[2 * slot] = glm::vec4(a, b);
-    uvs[2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
+  bool second = false;
+  for (const scene::Draw& d : s.draws)
+    second = second || s.materials[static_cast<size_t>(d.material)].hasUv2;
+  const int channels = second ? 2 : 1;
+  std::vector<glm::vec4> uvs(2 * order.size() * static_cast<size_t>(channels));
+  for (int ch = 0; ch < channels; ++ch) {
+    const size_t first = 2 * order.size() * static_cast<size_t>(ch);
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t i = pt.firstIndex[order[slot]];
+      const glm::vec2 a = scene::channelUv(s.vertices[s.indices[i]], ch),
+                      b = scene::channelUv(s.vertices[s.indices[i + 1]], ch),
+                      c = scene::channelUv(s.vertices[s.indices[i + 2]], ch);
+      uvs[first + 2 * slot] = glm::vec4(a, b);
+      uvs[first + 2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
+    }
   }
   return uvs;
 }

@@ -102,6 +102,9 @@ void CpuPathtracer::buildTriangles(const scene::Scene& scene) {
     r.uv0 = a.uv;
     r.uv1 = b.uv;
     r.uv2 = c.uv;
+    r.uvB0 = a.uv2;
+    r.uvB1 = b.uv2;
+    r.uvB2 = c.uv2;
   }
   if (colored_) {
     cornerColors_.resize(3 * triangles_.size());
@@ -315,7 +318,8 @@ CpuPathtracer::Surface CpuPathtracer::surfaceAt(const gpu::PtTables& tables, con
   const vec2 bc = hit.bc;
   Surface s;
   s.m = textured_ ? texturedMaterial(tables, materials_[static_cast<size_t>(T.material)],
-                                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2)
+                                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2,
+                                     (1.0f - bc.x - bc.y) * T.uvB0 + bc.x * T.uvB1 + bc.y * T.uvB2)
                   : materials_[static_cast<size_t>(T.material)];
   s.baseColor = colored_ ? s.m.baseColor * vertexColor(hit.triangle, bc.x, bc.y) : s.m.baseColor;
   s.p = T.v0 + bc.x * T.e1 + bc.y * T.e2;
@@ -343,9 +347,11 @@ void CpuPathtracer::orientSurface(const gpu::PtTables& tables, const Hit& hit, S
     const vec4* c = cornerTangents_.data() + 3 * static_cast<size_t>(hit.triangle);
     vec4 tangent = (1.0f - bc.x - bc.y) * c[0] + bc.x * c[1] + bc.y * c[2];
     if (!s->front) tangent.w = -tangent.w;
-    ns = bendShadingNormal(mappedNormal(tables, s->m, ns, tangent,
-                                        (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2),
-                           wo);
+    ns = bendShadingNormal(
+        mappedNormal(tables, s->m, ns, tangent,
+                     (1.0f - bc.x - bc.y) * T.uv0 + bc.x * T.uv1 + bc.y * T.uv2,
+                     (1.0f - bc.x - bc.y) * T.uvB0 + bc.x * T.uvB1 + bc.y * T.uvB2),
+        wo);
   }
   s->ns = ns;
 }

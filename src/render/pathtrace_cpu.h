@@ -78,7 +78,8 @@ class CpuPathtracer final : public Pathtracer {
     glm::vec3 e2;  // v2 - v0
     glm::vec3 ng;  // normalize(cross(e1, e2)), as the kernel computes it per hit
     glm::vec3 n0, n1, n2;
-    glm::vec2 uv0, uv1, uv2;
+    glm::vec2 uv0, uv1, uv2;     // corner texture coordinates, channel 0 (scene::Vertex::uv)
+    glm::vec2 uvB0, uvB1, uvB2;  // channel 1 (scene::Vertex::uv2)
   };
   struct Hit {
     uint32_t triangle;

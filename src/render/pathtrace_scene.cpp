@@ -77,8 +77,11 @@ PtScene buildPtScene(const scene::Scene& s, bool textured) {
     if (textured && m.emissiveTexture >= 0 &&
         static_cast<size_t>(m.emissiveTexture) < s.textures.size()) {
       const uint32_t* idx = &s.indices[pt.firstIndex[t]];
-      const glm::vec2 a = s.vertices[idx[0]].uv, b = s.vertices[idx[1]].uv,
-                      c = s.vertices[idx[2]].uv;
+      // The emissive texture's channel.
+      const int ch = m.emissiveChannel;
+      const glm::vec2 a = scene::channelUv(s.vertices[idx[0]], ch),
+                      b = scene::channelUv(s.vertices[idx[1]], ch),
+                      c = scene::channelUv(s.vertices[idx[2]], ch);
       e.uv01 = glm::vec4(a, b);
       e.uv2 =
           glm::vec4(c, std::bit_cast<float>(static_cast<uint32_t>(m.emissiveTexture) + 1u), 0.0f);

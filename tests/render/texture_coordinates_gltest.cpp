@@ -1,6 +1,7 @@
 // Texture coordinates as glTF authors them, in every mode that shows a texture:
-// TEXCOORD_1 where a texture's texCoord asks for it, and KHR_texture_transform
-// (offset, rotation, scale, its texCoord override). The emissive quads of
+// TEXCOORD_1 where a texture's texCoord asks for it, KHR_texture_transform
+// (offset, rotation, scale, its texCoord override), and each texture slot of a
+// material reading its own mapping. The emissive quads of
 // tests/data/texcoords (make_texcoords.py) fill the image; the expected image is
 // computed here from the extension's formula and GL's NEAREST/REPEAT rules, without
 // any of the code under test. Reading the wrong set, or a transform in the wrong
@@ -51,8 +52,14 @@ struct Case {
   bool transformed;
 };
 
-const Case kCases[] = {
-    {"texcoord1.gltf", false}, {"transform.gltf", true}, {"transform_texcoord1.gltf", true}};
+// mixed_transforms.gltf and two_sets.gltf add a base-colour texture (black factor)
+// on the other mapping: the emissive texture reads channel 1, and shows the other
+// texels wherever it read the base colour's channel 0.
+const Case kCases[] = {{"texcoord1.gltf", false},
+                       {"transform.gltf", true},
+                       {"transform_texcoord1.gltf", true},
+                       {"mixed_transforms.gltf", true},
+                       {"two_sets.gltf", false}};
 
 class TextureCoordinatesTest : public GlTest {};
 
