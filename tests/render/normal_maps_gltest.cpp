@@ -5,7 +5,8 @@
 // the normal by 45 degrees: raster, rtgi and the path tracer on both devices show
 // cos 45 (and the devices agree); with normalTexture.scale 0.5 the closed form of
 // the halved tilt; with generated tangents the same as with the file's;
-// `--effects -normalmaps` shows the flat quad (1). The back-facing rule
+// `--effects -normalmaps` shows the flat quad (1); a map on TEXCOORD_1 reads its
+// own coordinates. The back-facing rule
 // (normal_map_shared.h): a steep map seen at a grazing angle gives no black pixel
 // and no NaN; light from below the surface does not leak through it.
 #include <gtest/gtest.h>
@@ -91,6 +92,34 @@ TEST_F(NormalMapsTest, EffectOffShowsTheFlatQuad) {
     const double mean = centreMean(renderImage(s, run, "-normalmaps"));
     std::printf("-normalmaps, %s: %.4f\n", run.name, mean);
     EXPECT_NEAR(mean, 1.0, 0.02) << run.name;
+  }
+}
+
+// Mean red over image columns [x0, x1), middle half of the rows.
+double columnsMean(const std::vector<float>& px, int x0, int x1) {
+  double sum = 0.0;
+  int n = 0;
+  for (int y = kSize / 4; y < 3 * kSize / 4; ++y)
+    for (int x = x0; x < x1; ++x, ++n)
+      sum += px[(static_cast<size_t>(y) * kSize + static_cast<size_t>(x)) * 4];
+  return sum / n;
+}
+
+// A normal map on TEXCOORD_1 while another texture reads TEXCOORD_0: it reads its
+// own channel, where the map's tilted half lies on the left of the image (through
+// TEXCOORD_0 it would lie on the right), with tangents generated from that channel.
+TEST_F(NormalMapsTest, ReadsItsOwnTextureCoordinates) {
+  const scene::Scene s = quad("channel1_quad.gltf");
+  ASSERT_TRUE(s.hasNormalMaps());
+  ASSERT_EQ(s.materials[0].normalChannel, 1);
+  for (const ModeRun& run : kEveryMode) {
+    const std::vector<float> px = renderImage(s, run);
+    // Columns well inside each half's two texels (the quad nearly fills the image).
+    const double left = columnsMean(px, 5, 11), right = columnsMean(px, 21, 27);
+    std::printf("channel1_quad.gltf, %s: left %.4f (closed form %.4f), right %.4f (flat 1)\n",
+                run.name, left, expectedCosine(1.0), right);
+    EXPECT_NEAR(left, expectedCosine(1.0), 0.02 * expectedCosine(1.0)) << run.name;
+    EXPECT_NEAR(right, 1.0, 0.02) << run.name;
   }
 }
 

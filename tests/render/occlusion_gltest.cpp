@@ -2,7 +2,8 @@
 // (RenderSettings::ambient) by the texture's red channel, mixed in by its strength;
 // direct light is left alone, and the GI modes, which compute their own occlusion,
 // ignore it. The white quads of tests/data/texcoords/occlusion_strength_{0,1}.gltf
-// (make_texcoords.py): occlusion 0 in the left half, 1 in the right.
+// (make_texcoords.py): occlusion 0 in the left half, 1 in the right; and
+// occlusion_texcoord1.gltf, an occlusion texture on TEXCOORD_1.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -72,6 +73,20 @@ TEST_F(OcclusionTest, DarkensTheRasterAmbientTerm) {
   // Without ambient light the occlusion texture changes nothing.
   EXPECT_LT(maxDifference(unlit, render("occlusion_strength_0.gltf", render::Mode::kRaster, 0.0f)),
             1e-6f);
+}
+
+// An occlusion texture on another set than the base colour's reads its own
+// (texture-coordinate channel 1): occlusion_texcoord1.gltf's occlusion map is the
+// base colour's texture flipped, so the right half, red 1 in the base colour, has
+// occlusion 40/255 (linear) where the base colour's coordinates would give 1. The
+// ambient term alone: the render with ambient light less the one without.
+TEST_F(OcclusionTest, ReadsItsOwnTextureCoordinates) {
+  const auto lit = render("occlusion_texcoord1.gltf", render::Mode::kRaster, kAmbient);
+  const auto unlit = render("occlusion_texcoord1.gltf", render::Mode::kRaster, 0.0f);
+  const float ambientRight = halfMean(lit, false) - halfMean(unlit, false);
+  std::printf("raster: ambient term in the right half %.4f (occlusion 40/255: %.4f)\n",
+              ambientRight, kAmbient * 40.0f / 255.0f);
+  EXPECT_NEAR(ambientRight, kAmbient * 40.0f / 255.0f, 2e-3f);
 }
 
 TEST_F(OcclusionTest, GiModesIgnoreIt) {

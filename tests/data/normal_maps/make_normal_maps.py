@@ -21,6 +21,11 @@ onto a quad seen from the front).
   leak_quad.gltf            tilt 80 deg, light from below the quad at 18 deg, where
                             the mapped normal faces it but the surface does not: no
                             light may reach the point (radiance 0)
+  channel1_quad.gltf        a 4 x 1 map, flat in its left half and tilted 45 deg in
+                            its right, read through TEXCOORD_1, which runs the other
+                            way (u = (1 - x) / 2), while a white base-colour
+                            texture reads TEXCOORD_0: the tilted half shows on the
+                            left (x < 0), no TANGENT
 
 Self-contained: buffers and the PNG are data: URIs. Run from anywhere."""
 import base64
@@ -56,13 +61,16 @@ def texel(tilt_deg):
 
 
 def quad(tilt, name, tangent=True, mirrored=False, scale=None, light_dir=(0, 0, -1),
-         camera=None, image=None):
+         camera=None, image=None, channel1=False):
     pos = [(-1.0, -1.0, 0.0), (1.0, -1.0, 0.0), (1.0, 1.0, 0.0), (-1.0, 1.0, 0.0)]
     uv = [((1 - x) / 2 if mirrored else (x + 1) / 2, (1 - y) / 2) for x, y, _ in pos]
     b = Buffer()
     attrs = {"POSITION": b.add(pos, "<3f", "VEC3", FLOAT, minmax=bounds(pos)),
              "NORMAL": b.add([(0.0, 0.0, 1.0)] * 4, "<3f", "VEC3", FLOAT),
              "TEXCOORD_0": b.add(uv, "<2f", "VEC2", FLOAT)}
+    if channel1:
+        attrs["TEXCOORD_1"] = b.add([((1 - x) / 2, (1 - y) / 2) for x, y, _ in pos], "<2f", "VEC2",
+                                    FLOAT)
     if tangent:
         attrs["TANGENT"] = b.add([(-1.0 if mirrored else 1.0, 0.0, 0.0, -1.0 if mirrored else 1.0)] * 4,
                                  "<4f", "VEC4", FLOAT)
@@ -71,6 +79,8 @@ def quad(tilt, name, tangent=True, mirrored=False, scale=None, light_dir=(0, 0, 
     normal = {"index": 0}
     if scale is not None:
         normal["scale"] = scale
+    if channel1:
+        normal["texCoord"] = 1
     d = light_dir
     # The light node's -z along d: a rotation taking -z to d (about the axis -z x d).
     a = (-0.0 * d[2] + 1.0 * d[1], -1.0 * d[0] - 0.0 * d[2], 0.0)
@@ -97,6 +107,11 @@ def quad(tilt, name, tangent=True, mirrored=False, scale=None, light_dir=(0, 0, 
         "textures": [{"source": 0}],
         "images": [{"uri": "data:image/png;base64," + base64.b64encode(image or png(4, 4, texel(tilt))).decode()}],
     }
+    if channel1:  # a white base-colour texture on TEXCOORD_0
+        gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 1}
+        gltf["textures"].append({"source": 1})
+        gltf["images"].append({"uri": "data:image/png;base64,"
+                               + base64.b64encode(png(1, 1, (255, 255, 255, 255))).decode()})
     if camera:
         gltf["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.05,
                                                                      "zfar": 100}}]
@@ -164,3 +179,5 @@ def bump(x, y, size=64, cells=4):
 e = math.radians(35)
 quad(0, "bumps_quad.gltf", light_dir=(-math.cos(e), -0.3, -math.sin(e)),
      camera=camera((0.0, -1.2, 3.6), (0.0, 0.0, 0.0)), image=png(64, 64, bump))
+quad(45, "channel1_quad.gltf", tangent=False, camera=top, channel1=True,
+     image=png(4, 1, lambda x, y: texel(45) if x >= 2 else texel(0)))

@@ -25,8 +25,9 @@ Files:
                         channel 1 (transformed).
   two_sets.gltf         texcoord1.gltf plus a base-colour texture on TEXCOORD_0 (the
                         wrong coordinates): the emissive texture reads channel 1.
-  occlusion_texcoord1.gltf  the base colour on TEXCOORD_0 (right), the occlusion
-                        texture on TEXCOORD_1 (wrong).
+  occlusion_texcoord1.gltf  the base colour (factor white) on TEXCOORD_0 (right),
+                        the occlusion texture on TEXCOORD_1 (wrong): its red, linear,
+                        is 40/255 in the right half of the image, 1 in the left.
   normal_transform.gltf  the base colour untransformed, the normal texture through
                         the transform.
   three_mappings.gltf   mixed_transforms.gltf plus an occlusion texture on TEXCOORD_1:
@@ -109,6 +110,7 @@ two["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
 write("two_sets.gltf", two)
 occ = scene(RIGHT, WRONG, {})
 occ["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+occ["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = [1, 1, 1, 1]
 occ["materials"][0]["occlusionTexture"] = {"index": 0, "texCoord": 1}
 write("occlusion_texcoord1.gltf", occ)
 nrm = scene(RIGHT, None, {}, required=["KHR_texture_transform"])
