@@ -31,6 +31,11 @@ VOXGI_CONST uint kTangentAttribute = 5u;
 // Texture-coordinate channel 1 (scene::Vertex::uv2), read by the slots whose
 // kMaterial*Uv2 bit is set.
 VOXGI_CONST uint kUv2Attribute = 6u;
+#if !defined(__cplusplus) && !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_UV2)
+// The raster stages pass channel 1 on: textures are read and a drawn material has a
+// second channel (VOXGI_NO_UV2, scene::ShaderFeatures::secondUv, compiles it out).
+#define VOXGI_UV2
+#endif
 
 // Material flags.
 VOXGI_CONST uint kMaterialHasTexture = 1u;

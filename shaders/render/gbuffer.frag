@@ -1,7 +1,7 @@
 #version 450 core
 // rtgi primary visibility: the G-buffer (see rtgi_shared.h for the layout).
 // Effect-plan variants: VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION,
-// VOXGI_NO_COLORS, VOXGI_NO_NORMALMAPS.
+// VOXGI_NO_COLORS, VOXGI_NO_NORMALMAPS; VOXGI_NO_UV2 (no texture-coordinate channel 1).
 #include "scene_shared.h"
 #include "normal_map_shared.h"  // outside #if: its #line markers must stay
 
@@ -16,8 +16,12 @@ layout(binding = kMetallicRoughnessUnit) uniform sampler2D metallicRoughnessText
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;  // texture-coordinate channel 0
-#ifndef VOXGI_NO_TEXTURES
+#ifdef VOXGI_UV2
 layout(location = 6) in vec2 vUv2;  // channel 1, for the slots whose kMaterial*Uv2 bit is set
+// The texture coordinates of m's slot whose channel-1 bit is `bit` (kMaterial*Uv2).
+#define SLOT_UV(m, bit) (((m).flags & (bit)) != 0u ? vUv2 : vUv)
+#else
+#define SLOT_UV(m, bit) vUv
 #endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor;
@@ -61,12 +65,12 @@ void main() {
   // scales linearly, keep their mipmaps.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
     vec4 mr = textureLod(metallicRoughnessTexture,
-                         (m.flags & kMaterialMetallicRoughnessUv2) != 0u ? vUv2 : vUv, 0.0);
+                         SLOT_UV(m, kMaterialMetallicRoughnessUv2), 0.0);
     metallic *= mr.b;
     roughness *= mr.g;
   }
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
-    emission *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? vUv2 : vUv).rgb;
+    emission *= texture(emissiveTexture, SLOT_UV(m, kMaterialEmissiveUv2)).rgb;
 #endif
   vec3 n = normalize(vNormal);
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);  // a degenerate normal: any unit vector
@@ -80,7 +84,7 @@ void main() {
     packedSurfaceNormal = packSurfaceNormal(n);  // for rtgi's leak rule
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
-    vec2 normalUv = (m.flags & kMaterialNormalUv2) != 0u ? vUv2 : vUv;
+    vec2 normalUv = SLOT_UV(m, kMaterialNormalUv2);
     n = perturbNormal(n, tangent, textureLod(normalTexture, normalUv, 0.0).rgb, m.params.w);
     n = bendShadingNormal(n, normalize(frame.cameraPosition.xyz - vPosition));
   }

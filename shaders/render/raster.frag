@@ -3,7 +3,8 @@
 // emissive surfaces, and an optional uniform ambient term that the material's
 // occlusion texture darkens (glTF occlusionTexture), in linear HDR radiance. Effect-plan variants (scene/effects.h):
 // VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
-// VOXGI_NO_NORMALMAPS compile that code out.
+// VOXGI_NO_NORMALMAPS compile that code out; VOXGI_NO_UV2 texture-coordinate channel 1
+// (every slot then reads channel 0, the only one the scene has).
 #include "scene_shared.h"
 #include "normal_map_shared.h"  // outside #if: its #line markers must stay
 #include "lighting.glsl"
@@ -25,8 +26,12 @@ layout(location = kAmbientLocation) uniform float ambient;
 layout(location = 0) in vec3 vPosition;
 layout(location = 1) in vec3 vNormal;
 layout(location = 2) in vec2 vUv;  // texture-coordinate channel 0
-#ifndef VOXGI_NO_TEXTURES
+#ifdef VOXGI_UV2
 layout(location = 6) in vec2 vUv2;  // channel 1, for the slots whose kMaterial*Uv2 bit is set
+// The texture coordinates of m's slot whose channel-1 bit is `bit` (kMaterial*Uv2).
+#define SLOT_UV(m, bit) (((m).flags & (bit)) != 0u ? vUv2 : vUv)
+#else
+#define SLOT_UV(m, bit) vUv
 #endif
 #ifndef VOXGI_NO_COLORS
 layout(location = 3) in vec4 vColor;
@@ -56,13 +61,12 @@ void main() {
 #ifndef VOXGI_NO_TEXTURES
   // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = texture(metallicRoughnessTexture,
-                      (m.flags & kMaterialMetallicRoughnessUv2) != 0u ? vUv2 : vUv);
+    vec4 mr = texture(metallicRoughnessTexture, SLOT_UV(m, kMaterialMetallicRoughnessUv2));
     metallic *= mr.b;
     roughness *= mr.g;
   }
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
-    emission *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? vUv2 : vUv).rgb;
+    emission *= texture(emissiveTexture, SLOT_UV(m, kMaterialEmissiveUv2)).rgb;
 #endif
 
   Surface s;
@@ -79,7 +83,7 @@ void main() {
   if (mapped) {
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
-    vec2 normalUv = (m.flags & kMaterialNormalUv2) != 0u ? vUv2 : vUv;
+    vec2 normalUv = SLOT_UV(m, kMaterialNormalUv2);
     s.n = perturbNormal(s.n, tangent, texture(normalTexture, normalUv).rgb, m.params.w);
     s.n = bendShadingNormal(s.n, s.v);  // the back-facing rule
   }
@@ -99,8 +103,7 @@ void main() {
   float occlusion = 1.0;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasOcclusionTexture) != 0u)
-    occlusion = mix(1.0,
-                    texture(occlusionTexture, (m.flags & kMaterialOcclusionUv2) != 0u ? vUv2 : vUv).r,
+    occlusion = mix(1.0, texture(occlusionTexture, SLOT_UV(m, kMaterialOcclusionUv2)).r,
                     m.occlusion.x);
 #endif
   radiance += ambient * occlusion * s.diffuse;

@@ -1,7 +1,8 @@
 #version 450 core
 // Raster baseline (and the rtgi G-buffer), vertex stage: world space -> clip space.
 // VOXGI_NO_COLORS and VOXGI_NO_NORMALMAPS compile the vertex colour and the tangent
-// out (scene/effects.h).
+// out (scene/effects.h), VOXGI_NO_UV2 (or VOXGI_NO_TEXTURES) texture-coordinate
+// channel 1.
 #include "scene_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
@@ -9,7 +10,7 @@ layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
-#ifndef VOXGI_NO_TEXTURES
+#ifdef VOXGI_UV2
 layout(location = kUv2Attribute) in vec2 inUv2;  // texture-coordinate channel 1
 #endif
 #ifndef VOXGI_NO_COLORS
@@ -23,7 +24,7 @@ layout(location = kTangentAttribute) in vec4 inTangent;  // xyz, w handedness
 layout(location = 0) out vec3 vPosition;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
-#ifndef VOXGI_NO_TEXTURES
+#ifdef VOXGI_UV2
 layout(location = 6) out vec2 vUv2;
 #endif
 #ifndef VOXGI_NO_COLORS
@@ -39,7 +40,7 @@ void main() {
   vPosition = inPosition;  // already world space (baked at load)
   vNormal = inNormal;
   vUv = inUv;
-#ifndef VOXGI_NO_TEXTURES
+#ifdef VOXGI_UV2
   vUv2 = inUv2;
 #endif
 #ifndef VOXGI_NO_COLORS

@@ -18,7 +18,7 @@ layout(binding = kEmissiveUnit) uniform sampler2D emissiveTexture;
 
 layout(location = 0) centroid in vec3 gNormal;
 layout(location = 1) centroid in vec2 gUv;
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
 layout(location = 6) centroid in vec2 gUv2;  // channel 1 (kMaterialEmissiveUv2)
 #endif
 layout(location = 2) flat in int gAxis;
@@ -51,7 +51,11 @@ void main() {
   vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
+#ifdef VOXGI_UV2
     e *= texture(emissiveTexture, (m.flags & kMaterialEmissiveUv2) != 0u ? gUv2 : gUv).rgb;
+#else
+    e *= texture(emissiveTexture, gUv).rgb;
+#endif
 #endif
 #endif
   voxelAddFragment(ivec2(gl_FragCoord.xy), gAxis, gPlane, gDepth, base.rgb, n, e, weight);

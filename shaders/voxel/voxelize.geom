@@ -2,6 +2,7 @@
 // Voxelization, geometry stage: each triangle is projected orthographically along
 // its dominant axis (voxel_triangle.glsl). With the compute path for small
 // triangles (voxelize_small.comp) the raster draws only the triangles it passed on.
+#include "scene_shared.h"
 #include "voxel_shared.h"
 
 layout(triangles) in;
@@ -14,7 +15,7 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(location = 0) in vec3 vGrid[];
 layout(location = 1) in vec3 vNormal[];
 layout(location = 2) in vec2 vUv[];
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
 layout(location = 4) in vec2 vUv2[];
 layout(location = 6) centroid out vec2 gUv2;
 #endif
@@ -41,7 +42,7 @@ void main() {
   for (int i = 0; i < 3; ++i) {
     gNormal = vNormal[i];
     gUv = vUv[i];
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
     gUv2 = vUv2[i];
 #endif
 #ifndef VOXGI_NO_COLORS

@@ -10,7 +10,7 @@ layout(std140, binding = kVoxelParamsBinding) uniform VoxelBlock { VoxelParams v
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
 // Texture-coordinate channel 1: the emissive texture's where its kMaterialEmissiveUv2
 // bit is set.
 layout(location = kUv2Attribute) in vec2 inUv2;
@@ -22,7 +22,7 @@ layout(location = kColorAttribute) in vec4 inColor;
 layout(location = 0) out vec3 vGrid;
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec2 vUv;
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
 layout(location = 4) out vec2 vUv2;
 #endif
 #ifndef VOXGI_NO_COLORS
@@ -33,7 +33,7 @@ void main() {
   vGrid = voxelGridPosition(inPosition);
   vNormal = inNormal;
   vUv = inUv;
-#if !defined(VOXGI_NO_TEXTURES) && !defined(VOXGI_NO_EMISSION)
+#if defined(VOXGI_UV2) && !defined(VOXGI_NO_EMISSION)
   vUv2 = inUv2;
 #endif
 #ifndef VOXGI_NO_COLORS

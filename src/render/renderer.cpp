@@ -119,7 +119,8 @@ bool Renderer::usesVoxels(Mode m) const {
 // neither shader compiles nor memory); passes of earlier modes are kept.
 void Renderer::createPasses() {
   const Mode mode = settings_.mode;
-  const scene::ShaderFeatures features = scene::shaderFeatures(plan_);
+  scene::ShaderFeatures features = scene::shaderFeatures(plan_);
+  features.secondUv = gpuScene_.scene().hasSecondUv();
   if (mode == Mode::kRaster && !raster_) {
     RasterPass::Settings rs;
     rs.features = features;

@@ -171,6 +171,7 @@ std::vector<std::string> ShaderFeatures::defines() const {
   if (!alpha) d.push_back("VOXGI_NO_ALPHA");
   if (!colors) d.push_back("VOXGI_NO_COLORS");
   if (!normalMaps) d.push_back("VOXGI_NO_NORMALMAPS");
+  if (!secondUv) d.push_back("VOXGI_NO_UV2");
   return d;
 }
 

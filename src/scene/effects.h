@@ -97,6 +97,9 @@ struct ShaderFeatures {
   bool alpha = true;
   bool colors = true;
   bool normalMaps = true;
+  // Texture-coordinate channel 1 (scene::Vertex::uv2) in the raster stages: from
+  // the scene, not the plan (Scene::hasSecondUv); false compiles it out.
+  bool secondUv = true;
   std::vector<std::string> defines() const;
 };
 ShaderFeatures shaderFeatures(const EffectPlan& plan);

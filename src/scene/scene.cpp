@@ -41,6 +41,12 @@ bool Scene::hasEmission() const {
   return false;
 }
 
+bool Scene::hasSecondUv() const {
+  for (const Draw& d : draws)
+    if (materials[static_cast<size_t>(d.material)].hasUv2) return true;
+  return false;
+}
+
 void Scene::finalize() {
   bounds = Bounds{};
   for (const Vertex& v : vertices) bounds.extend(v.position);

@@ -271,6 +271,8 @@ struct Scene {
   // refitted to the bounds. A no-op for a still scene.
   void pose(double seconds);
   bool hasEmission() const;
+  // A drawn material has a second texture-coordinate channel (Material::hasUv2).
+  bool hasSecondUv() const;
 
   // Recomputes bounds, auto-scale and (unless the file had one) the framing camera.
   void finalize();
