@@ -1,0 +1,137 @@
+"""What `voxgi view` shows while the camera moves: rtgi at the viewer's size under
+its frame budget, against the path tracer at the same pose.
+
+For each view of tools/bench_motion.py, the camera orbits into the view over --move
+frames played at 30 fps (a glTF camera path), then holds still. rtgi renders the
+sequence at --size with `--target-fps 30` (the viewer's default: the frame budget
+sets the share of pixels that trace each frame), with the denoiser off and on.
+Measured, FLIP on sRGB 8-bit against a path-traced reference at that pose:
+
+  - moving: the frame half way through the move;
+  - 1 s after: --after frames (default 30, one second) after the camera stopped;
+  - still: the end pose rendered still for 64 frames with every pixel traced and
+    denoised (render's defaults: the converged image the viewer approaches).
+
+Each row also gives the median frame time and traced share of the run. The frame
+times are this machine's: run it on a quiet machine. References come from
+out/reference/ (VIEW_POSE_SIZE_Nspp.exr); a missing one is rendered with --ref-spp.
+Writes out/bench-screen/table.md and prints it.
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import bench_convergence as conv  # noqa: E402  (voxgi, scene_path, measure)
+import bench_motion as motion  # noqa: E402  (views, camera path)
+
+SEED = 7
+
+
+def pose_of(view, move, orbit, frame):
+    """The eye and target of the camera path at frame `frame`."""
+    _, eye, target = motion.VIEWS[view]
+    u = min(frame, move - 1) / (move - 1)
+    return motion.orbit(eye, target, -orbit * (1.0 - u)), target
+
+
+def reference(view, pose, eye, target, size, spp):
+    """The highest-spp path-traced reference of `view` at this pose and size."""
+    refdir = os.path.join(ROOT, "out", "reference")
+    os.makedirs(refdir, exist_ok=True)
+    stem = f"{view}_{pose}_{size}"
+    found = [(int(m.group(1)), n) for n in os.listdir(refdir)
+             if (m := re.fullmatch(rf"{re.escape(stem)}_(\d+)spp\.exr", n))]
+    if found:
+        exr = os.path.join(refdir, max(found)[1])
+        return exr, exr[:-4] + ".png"
+    base = os.path.join(refdir, f"{stem}_{spp}spp")
+    print(f"bench-screen: rendering the reference of {view} {pose} ({spp} spp)", flush=True)
+    subprocess.run([conv.voxgi(), "render", conv.scene_path(motion.VIEWS[view][0]), "--mode",
+                    "pathtrace", "--size", size, "--spp", str(spp), "--seed",
+                    str(conv.REF_SEED), "--look-from", ",".join(f"{c:.6f}" for c in eye),
+                    "--look-at", ",".join(f"{c:.6f}" for c in target), "--out", base + ".exr",
+                    "--out", base + ".png", "--stats", base + ".json", "--no-progress", "-q"],
+                   check=True)
+    return base + ".exr", base + ".png"
+
+
+def render(scene, size, frames, flags, base):
+    os.makedirs(os.path.dirname(base), exist_ok=True)
+    subprocess.run([conv.voxgi(), "render", scene, "--mode", "rtgi", "--size", size, "--seed",
+                    str(SEED), "--fps", str(motion.FPS), "--frames", str(frames), "--out",
+                    base + ".exr", "--out", base + ".png", "--stats", base + ".json", "-q"]
+                   + flags, check=True)
+    with open(base + ".json") as f:
+        return json.load(f)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(__doc__.splitlines()[1:]))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench-screen"))
+    ap.add_argument("--size", default="640x360", help="the viewer's size (default 640x360)")
+    ap.add_argument("--move", type=int, default=30, help="frames of the move (default 30)")
+    ap.add_argument("--orbit", type=float, default=10.0,
+                    help="degrees the camera turns about the target (default 10)")
+    ap.add_argument("--after", type=int, default=30,
+                    help="frames after the camera stopped (default 30: 1 s at 30 fps)")
+    ap.add_argument("--ref-spp", type=int, default=512,
+                    help="spp of a reference rendered because none exists (default 512)")
+    ap.add_argument("--view", action="append", choices=list(motion.VIEWS),
+                    help="only this view (repeatable)")
+    a = ap.parse_args()
+    if not os.path.exists(conv.voxgi()):
+        raise SystemExit("bench-screen: error: build/voxgi missing (tools/build)")
+    if a.move < 3 or a.after < 1:
+        raise SystemExit("bench-screen: error: --move must be at least 3 and --after at least 1")
+    if not re.fullmatch(r"\d+x\d+", a.size):
+        raise SystemExit(f"bench-screen: error: --size {a.size}: not WxH")
+    mid = a.move // 2
+    lines = [f"rtgi at {a.size} under `--target-fps 30`, the camera orbiting {a.orbit:g} degrees "
+             f"over {a.move} frames at 30 fps; FLIP against the path tracer at each pose.", "",
+             "| view | denoiser | moving (frame %d) | %d frames after it stopped | still, 64 frames "
+             "| frame ms, median | traced share, median |" % (mid + 1, a.after),
+             "|---|---|---:|---:|---:|---:|---:|"]
+    print("\n".join(lines), flush=True)
+    for view in motion.VIEWS:
+        if a.view and view not in a.view:
+            continue
+        scene = motion.path_scene(view, a.move, a.after + 1, a.orbit, a.out)
+        eye_mid, target = pose_of(view, a.move, a.orbit, mid)
+        eye_end, _ = pose_of(view, a.move, a.orbit, a.move - 1)
+        ref_mid = reference(view, f"orbit{a.orbit:g}_{mid}of{a.move}", eye_mid, target, a.size,
+                            a.ref_spp)
+        ref_end = reference(view, "end", eye_end, target, a.size, a.ref_spp)
+        runs = os.path.join(a.out, "runs")
+        # The still image: the file's scene seen from the end pose, 64 frames with
+        # every pixel traced, denoised (render's defaults).
+        base = os.path.join(runs, f"{view}_still")
+        render(conv.scene_path(motion.VIEWS[view][0]), a.size, 64,
+               ["--look-from", ",".join(f"{c:.6f}" for c in eye_end),
+                "--look-at", ",".join(f"{c:.6f}" for c in target)], base)
+        still_flip = conv.measure(base, *ref_end)["flip"]
+        for denoise in ("off", "on"):
+            flags = ["--target-fps", "30", "--denoise", denoise]
+            tag = os.path.join(runs, f"{view}_{denoise}")
+            render(scene, a.size, mid + 1, flags, tag + "_moving")
+            moving = conv.measure(tag + "_moving", *ref_mid)["flip"]
+            stats = render(scene, a.size, a.move - 1 + a.after + 1, flags, tag + "_after")
+            after = conv.measure(tag + "_after", *ref_end)["flip"]
+            budget = stats.get("budget", {})
+            line = (f"| {view} | {denoise} | {moving:.4f} | {after:.4f} | {still_flip:.4f} | "
+                    f"{budget.get('frame_ms_median', stats['frame_ms']):.1f} | "
+                    f"{budget.get('traced_fraction_median', 1.0):.3f} |")
+            lines.append(line)
+            print(line, flush=True)
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
