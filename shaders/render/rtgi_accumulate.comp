@@ -116,8 +116,8 @@ vec3 borrowedLight(ivec2 px) {
 // history is then dropped rather than clamped: a restart costs noise, which
 // accumulation removes, where a clamp against a noisy neighbourhood would bias the
 // mean for good.
-const float kStaleSigmas = 3.0;  // how far beyond the noise, in standard deviations
-const float kStaleSlack = 0.1;   // and relative to the light: its spatial variation
+const float kStaleSigmas = 4.0;  // how far beyond the noise, in standard deviations
+const float kStaleSlack = 0.25;  // and relative to the light: its spatial variation
 
 float relitLuminance(ivec2 q) {
 #ifdef VOXGI_NO_EMISSION
