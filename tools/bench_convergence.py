@@ -47,19 +47,21 @@ def scene_path(scene):
     return os.path.join(ROOT, "scenes", scene, f"{scene}.gltf")
 
 
-def reference(view, scene, extra, spp):
+def reference(view, scene, extra, spp, size=SIZE):
+    """The highest-spp path-traced reference of `view` at `size` in out/reference/
+    (VIEW_SIZE_Nspp.exr); rendered at `spp` when there is none."""
     refdir = os.path.join(ROOT, "out", "reference")
     os.makedirs(refdir, exist_ok=True)
     best = None
     for name in os.listdir(refdir):
-        m = re.fullmatch(rf"{view}_{SIZE}_(\d+)spp\.exr", name)
+        m = re.fullmatch(rf"{re.escape(view)}_{size}_(\d+)spp\.exr", name)
         if m and (best is None or int(m.group(1)) > best[0]):
             best = (int(m.group(1)), name)
     if best is None:
-        base = os.path.join(refdir, f"{view}_{SIZE}_{spp}spp")
-        print(f"bench-convergence: rendering the {view} reference ({spp} spp)", flush=True)
+        base = os.path.join(refdir, f"{view}_{size}_{spp}spp")
+        print(f"rendering the {view} reference ({spp} spp)", flush=True)
         subprocess.run([voxgi(), "render", scene_path(scene), "--mode", "pathtrace", "--size",
-                        SIZE, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
+                        size, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
                         "--out", base + ".png", "--stats", base + ".json", "--no-progress",
                         "-q"] + extra, check=True)
         best = (spp, os.path.basename(base) + ".exr")

@@ -40,24 +40,11 @@ def pose_of(view, move, orbit, frame):
 
 
 def reference(view, pose, eye, target, size, spp):
-    """The highest-spp path-traced reference of `view` at this pose and size."""
-    refdir = os.path.join(ROOT, "out", "reference")
-    os.makedirs(refdir, exist_ok=True)
-    stem = f"{view}_{pose}_{size}"
-    found = [(int(m.group(1)), n) for n in os.listdir(refdir)
-             if (m := re.fullmatch(rf"{re.escape(stem)}_(\d+)spp\.exr", n))]
-    if found:
-        exr = os.path.join(refdir, max(found)[1])
-        return exr, exr[:-4] + ".png"
-    base = os.path.join(refdir, f"{stem}_{spp}spp")
-    print(f"bench-screen: rendering the reference of {view} {pose} ({spp} spp)", flush=True)
-    subprocess.run([conv.voxgi(), "render", conv.scene_path(motion.VIEWS[view][0]), "--mode",
-                    "pathtrace", "--size", size, "--spp", str(spp), "--seed",
-                    str(conv.REF_SEED), "--look-from", ",".join(f"{c:.6f}" for c in eye),
-                    "--look-at", ",".join(f"{c:.6f}" for c in target), "--out", base + ".exr",
-                    "--out", base + ".png", "--stats", base + ".json", "--no-progress", "-q"],
-                   check=True)
-    return base + ".exr", base + ".png"
+    """The path-traced reference of `view` at this pose and size (VIEW_POSE_SIZE)."""
+    extra = ["--look-from", ",".join(f"{c:.6f}" for c in eye),
+             "--look-at", ",".join(f"{c:.6f}" for c in target)]
+    exr, png, _ = conv.reference(f"{view}_{pose}", motion.VIEWS[view][0], extra, spp, size)
+    return exr, png
 
 
 def render(scene, size, frames, flags, base):
