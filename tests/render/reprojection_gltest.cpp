@@ -247,11 +247,15 @@ TEST_F(ReprojectionTest, AMovedShadowLeavesNoTrail) {
     s.camera.forward = glm::normalize(glm::vec3(0.0f, -2.5f, -1.0f));
     return s;
   };
+  auto boxSettings = [](bool reproject) {
+    render::RenderSettings rs = settings(kSize, reproject);
+    rs.jitter = false;
+    rs.revoxelize = true;  // the voxels' light follows the box too
+    return rs;
+  };
   auto run = [&](bool dropStale, std::vector<float>* before) {
     scene::Scene s = load();
-    render::RenderSettings rs = settings(kSize, true);
-    rs.jitter = false;
-    rs.revoxelize = true;
+    render::RenderSettings rs = boxSettings(true);
     rs.rtgi.dropStaleHistory = dropStale;
     render::Renderer r(*programs_, s, rs);
     for (int f = 0; f < 16; ++f) r.renderFrame();
@@ -267,10 +271,7 @@ TEST_F(ReprojectionTest, AMovedShadowLeavesNoTrail) {
   const std::vector<float> trail = run(false, nullptr);
   scene::Scene s = load();
   s.pose(0.5);
-  render::RenderSettings fs = settings(kSize, false);
-  fs.jitter = false;
-  fs.revoxelize = true;
-  render::Renderer fresh(*programs_, s, fs);
+  render::Renderer fresh(*programs_, s, boxSettings(false));
   for (int f = 0; f < 16; ++f) fresh.renderFrame();
   const std::vector<float> expected = fresh.readLinear();
   // Not the red box (lit: red well above green and bright); the floor in the box's
