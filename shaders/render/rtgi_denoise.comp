@@ -37,11 +37,6 @@ void main() {
     imageStore(filtered, px, last ? texelFetch(mean, px, 0) : c);
     return;
   }
-  if (c.a == 0.0) {
-    // No noise: the filter would keep it as it is.
-    imageStore(filtered, px, last ? vec4(c.rgb * demodulation(px), texelFetch(mean, px, 0).a) : c);
-    return;
-  }
   DenoiseKey p = unpackDenoiseKey(imageLoad(keys, px));
   float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
   int step = int(denoisePass.x);
@@ -54,7 +49,8 @@ void main() {
   }
   // The noise the luminance stop allows: on the first pass (taps 1 pixel apart) from
   // the variance blurred over these 3x3 pixels (SVGF eq. 5's g3x3), after it from
-  // the variance as filtered so far, which is smooth already.
+  // the variance as filtered so far, which is smooth already. The blur matters most
+  // where a pixel's few samples all missed a rare light and measured no variance.
   float v = c.a;
   if (step == 1) {
     float sum = 0.0, weight = 0.0;
@@ -65,6 +61,11 @@ void main() {
       weight += w;
     }
     v = sum / weight;
+  }
+  if (v == 0.0) {
+    // No noise: the filter would keep it as it is.
+    imageStore(filtered, px, last ? vec4(c.rgb * demodulation(px), texelFetch(mean, px, 0).a) : c);
+    return;
   }
   float noise = rtgi.denoise.x * sqrt(v) + 1e-6;
   float lp = luminance(c.rgb);
