@@ -165,6 +165,12 @@ VOXGI_CONST uint kGPreviousNormalUnit = 11u;
 // meshes; 0 elsewhere).
 VOXGI_CONST uint kGMotionUnit = 12u;
 VOXGI_CONST uint kHistoryMomentsUnit = 13u;  // the denoiser's moments before this frame
+// The denoiser's running mean of the direct term before this frame (reproject,
+// prepare), and what reproject made of it and of the moments, which accumulate reads
+// on a frame after a move (textures: accumulate's image units are all taken).
+VOXGI_CONST uint kHistoryDirectUnit = 14u;
+VOXGI_CONST uint kReprojectedMomentsUnit = 14u;
+VOXGI_CONST uint kReprojectedDirectUnit = 15u;
 
 // ---------------------------------------------------------------------------
 // Image units.
@@ -185,17 +191,26 @@ VOXGI_CONST uint kMaskKeyImage = 7u;  // rgba32ui: what the edges compare, per p
 // read (accumulate reads units 0 to 6 beside it); each binds it before its dispatch,
 // after the mask has run.
 VOXGI_CONST uint kReprojectedImage = 7u;
-// Denoiser: the running moments of each pixel's luminance (rg32f) and their
-// reprojection. They use the mask's image units, which accumulate and reproject
-// do not otherwise read.
+// Denoiser (rtgi_denoise.glsl), which filters two terms apart: the light straight
+// from the lights (the direct stage's) and the light by way of other surfaces
+// (indirect and specular). The running moments of each term's luminance (rgba32f:
+// direct's mean and mean square, then the other's) and the running mean of the
+// direct term (rgba32f) beside the accumulation target's mean of all; they use the
+// mask's image units, which accumulate does not otherwise read. Reproject writes
+// its moments and direct mean on the units of the mean's (accumulate reads them as
+// textures, kReprojectedMomentsUnit and kReprojectedDirectUnit).
 VOXGI_CONST uint kMomentsImage = 4u;
-VOXGI_CONST uint kReprojectedMomentsImage = 5u;
-// The denoise stage's own images (rgba32f): light divided by base colour with the
-// variance of its luminance in alpha, ping-ponged between the filter's passes, and
-// the denoised image the last pass writes.
+VOXGI_CONST uint kDirectMeanImage = 5u;
+VOXGI_CONST uint kReprojectedMomentsImage = 4u;
+VOXGI_CONST uint kReprojectedDirectImage = 5u;
+// The denoise stage's own images (rgba32f), one pair per term: light divided by base
+// colour with the variance of its luminance in alpha, ping-ponged between the
+// filter's passes; the last pass writes the denoised image on the first term's out.
 VOXGI_CONST uint kDenoiseInImage = 0u;
 VOXGI_CONST uint kDenoiseOutImage = 1u;
 VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
+VOXGI_CONST uint kDenoiseInImage2 = 3u;  // the second term's
+VOXGI_CONST uint kDenoiseOutImage2 = 4u;
 
 // The path tracer: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;

@@ -8,7 +8,8 @@
 // (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
 // adds the light lent to pixels that have not traced yet; RTGI_REPROJECTED, on a
 // frame after a camera move, starts from the reproject stage's mean; RTGI_MOMENTS
-// (the denoiser) keeps the moments of each pixel's samples beside its mean;
+// (the denoiser) keeps the mean of the direct term and the moments of each term's
+// samples beside the mean;
 // RTGI_RELIGHT, on a frame after meshes moved, drops the history of a pixel whose
 // light has changed (historyStale).
 #include "scene_shared.h"
@@ -29,19 +30,36 @@ layout(binding = kAccumImage, rgba32f) uniform image2D accum;
 layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojected;
 #endif
 #ifdef RTGI_MOMENTS
-// The running mean of (luminance, luminance^2) of the pixel's samples, divided by
-// its base colour, over the same samples as its mean (rtgi_denoise.glsl).
-layout(binding = kMomentsImage, rg32f) uniform image2D moments;
+// The denoiser filters two terms apart (rtgi_denoise.glsl): the light straight from
+// the lights (the direct stage's) and the rest (indirect and specular). Beside the
+// mean of all, the running mean of the direct term, and the running means of each
+// term's (luminance, luminance^2) divided by the base colour, over the same samples.
+layout(binding = kMomentsImage, rgba32f) uniform image2D moments;
+layout(binding = kDirectMeanImage, rgba32f) uniform image2D directMean;
 #ifdef RTGI_REPROJECTED
-layout(binding = kReprojectedMomentsImage, rg32f) uniform readonly image2D reprojectedMoments;
+layout(binding = kReprojectedMomentsUnit) uniform sampler2D reprojectedMoments;
+layout(binding = kReprojectedDirectUnit) uniform sampler2D reprojectedDirect;
 #endif
 
-vec2 previousMoments(ivec2 px) {
+vec4 previousMoments(ivec2 px) {
 #ifdef RTGI_REPROJECTED
-  return imageLoad(reprojectedMoments, px).xy;
+  return texelFetch(reprojectedMoments, px, 0);
 #else
-  return rtgi.frame.x > 0u ? imageLoad(moments, px).xy : vec2(0.0);
+  return rtgi.frame.x > 0u ? imageLoad(moments, px) : vec4(0.0);
 #endif
+}
+
+vec3 previousDirect(ivec2 px) {
+#ifdef RTGI_REPROJECTED
+  return texelFetch(reprojectedDirect, px, 0).rgb;
+#else
+  return rtgi.frame.x > 0u ? imageLoad(directMean, px).rgb : vec3(0.0);
+#endif
+}
+
+void storeTerms(ivec2 px, vec3 direct, vec4 m) {
+  imageStore(directMean, px, vec4(direct, 0.0));
+  imageStore(moments, px, m);
 }
 #endif
 
@@ -57,14 +75,20 @@ vec4 previousMean(ivec2 px) {
 
 vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isinf(c)))); }
 
-// This frame's traced light (direct + indirect + specular) at pixel q.
-vec3 tracedLight(ivec2 q) {
+// This frame's traced light (direct + indirect + specular) at pixel q, and its
+// direct term alone.
+vec3 tracedLight(ivec2 q, out vec3 direct) {
   vec3 c = vec3(0.0);
   uint flags = rtgi.counts.z;
-  if ((flags & kRtgiHasDirect) != 0u) c += finite(imageLoad(directIn, q).rgb);
+  direct = (flags & kRtgiHasDirect) != 0u ? finite(imageLoad(directIn, q).rgb) : vec3(0.0);
   if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, q).rgb);
   if ((flags & kRtgiHasSpecular) != 0u) c += finite(imageLoad(specularIn, q).rgb);
-  return c;
+  return direct + c;
+}
+
+vec3 tracedLight(ivec2 q) {
+  vec3 direct;
+  return tracedLight(q, direct);
 }
 
 #ifdef RTGI_SPARSE_START
@@ -73,8 +97,8 @@ vec3 tracedLight(ivec2 q) {
 // puts one such pixel in every 4x4 block (the cell of turnRank()); the four of them
 // around px are blended with bilinear weights, counting only those on px's surface
 // (covered alike, normals within 25 degrees, depth within 5%), or, when none is,
-// every covered one.
-vec3 borrowedLight(ivec2 px) {
+// every covered one. `direct`: the direct term of what it returns.
+vec3 borrowedLight(ivec2 px, out vec3 direct) {
   ivec2 size = ivec2(rtgi.frame.zw);
   uint cell = interleaveCell(turnRank());
   ivec2 c = ivec2(cell & 3u, cell >> 2u);
@@ -83,7 +107,7 @@ vec3 borrowedLight(ivec2 px) {
   vec4 p0 = texelFetch(gPosition, px, 0);
   vec3 n0 = texelFetch(gNormal, px, 0).xyz;
   float d0 = length(p0.xyz - rtgi.camera.xyz);
-  vec3 same = vec3(0.0), near = vec3(0.0);
+  vec3 same = vec3(0.0), near = vec3(0.0), sameDirect = vec3(0.0), nearDirect = vec3(0.0);
   float wSame = 0.0, wNear = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 b = block0 + ivec2(k & 1, k >> 1);
@@ -92,17 +116,25 @@ vec3 borrowedLight(ivec2 px) {
     float w = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y) + 1e-4;
     vec4 p1 = texelFetch(gPosition, q, 0);
     if (p1.w < 0.5) continue;  // nothing drawn there: no light traced
-    vec3 light = tracedLight(q);
+    vec3 lightDirect;
+    vec3 light = tracedLight(q, lightDirect);
     vec3 n1 = texelFetch(gNormal, q, 0).xyz;
     float d1 = length(p1.xyz - rtgi.camera.xyz);
     near += w * light;
+    nearDirect += w * lightDirect;
     wNear += w;
     if (sameSurface(p0.w > 0.5, n0, d0, true, n1, d1)) {
       same += w * light;
+      sameDirect += w * lightDirect;
       wSame += w;
     }
   }
-  return wSame > 0.0 ? same / wSame : (wNear > 0.0 ? near / wNear : vec3(0.0));
+  if (wSame > 0.0) {
+    direct = sameDirect / wSame;
+    return same / wSame;
+  }
+  direct = wNear > 0.0 ? nearDirect / wNear : vec3(0.0);
+  return wNear > 0.0 ? near / wNear : vec3(0.0);
 }
 #endif
 
@@ -175,7 +207,7 @@ void main() {
 #ifdef RTGI_REPROJECTED
     imageStore(accum, px, previous);
 #ifdef RTGI_MOMENTS
-    imageStore(moments, px, vec4(previousMoments(px), 0.0, 0.0));
+    storeTerms(px, previousDirect(px), previousMoments(px));
 #endif
 #endif
     return;
@@ -188,9 +220,10 @@ void main() {
 #ifdef RTGI_SPARSE_START
   if (!traced) {
     bool covered = texelFetch(gPosition, px, 0).w > 0.5;
-    imageStore(accum, px, vec4(c + (covered ? borrowedLight(px) : vec3(0.0)), 0.0));
+    vec3 direct = vec3(0.0);
+    imageStore(accum, px, vec4(c + (covered ? borrowedLight(px, direct) : vec3(0.0)), 0.0));
 #ifdef RTGI_MOMENTS
-    imageStore(moments, px, vec4(0.0));
+    storeTerms(px, direct, vec4(0.0));
 #endif
     return;
   }
@@ -200,14 +233,17 @@ void main() {
   stale = previous.a > 0.0 && historyStale(px, previous);
   if (stale) previous = vec4(0.0);
 #endif
-  vec3 light = tracedLight(px);
+  vec3 direct;
+  vec3 light = tracedLight(px, direct);
   c += light;
   float n = previous.a + 1.0;
   vec3 mean = previous.rgb + (c - previous.rgb) / n;
   imageStore(accum, px, vec4(mean, n));
 #ifdef RTGI_MOMENTS
-  float l = luminance(light / demodulation(px));
-  vec2 m = stale ? vec2(0.0) : previousMoments(px);
-  imageStore(moments, px, vec4(m + (vec2(l, l * l) - m) / n, 0.0, 0.0));
+  vec3 albedo = demodulation(px);
+  float ld = luminance(direct / albedo), lr = luminance((light - direct) / albedo);
+  vec4 m = stale ? vec4(0.0) : previousMoments(px);
+  vec3 d = stale ? vec3(0.0) : previousDirect(px);
+  storeTerms(px, d + (direct - d) / n, m + (vec4(ld, ld * ld, lr, lr * lr) - m) / n);
 #endif
 }

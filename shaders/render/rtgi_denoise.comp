@@ -4,12 +4,15 @@
 // denoisePass.x pixels apart, each weighted by the edge stops (rtgi_denoise.glsl)
 // and by how far its luminance lies from the pixel's, against the pixel's noise (the
 // square root of its variance). The variance is filtered along with the light, by the
-// squared weights. The last pass (denoisePass.y = 1) multiplies the light by the base
-// colour again and writes the image shown; pixels the filter keeps (alpha < 0) show
-// their mean. SVGF's 5x5 kernel over 5 passes reads 125 taps a pixel, and blurs the
-// variance over 3x3 on each pass: here a 3x3 kernel over 5 passes spans as far (62
-// pixels) with 45 taps, and the variance is blurred once, by the first pass
-// (rtgi_denoise_prepare.comp): on a software rasterizer the filter's cost is its loads.
+// squared weights. Each pass filters both terms (the direct light, and the rest:
+// rtgi_denoise_prepare.comp), with the same edge stops but each against its own
+// noise, so the sharp shadows of the direct light keep their edges where the noisier
+// indirect light is smoothed. The last pass (denoisePass.y = 1) adds the two terms,
+// multiplies them by the base colour again and writes the image shown; pixels the
+// filter keeps (alpha < 0) show their mean. SVGF's 5x5 kernel over 5 passes reads
+// 125 taps a pixel, and blurs the variance over 3x3 on each pass: here a 3x3 kernel
+// over 5 passes spans as far (62 pixels) with 45 taps, and the variance is blurred
+// once, by the first pass: on a software rasterizer the filter's cost is its loads.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -22,31 +25,20 @@ layout(location = kDenoisePassLocation) uniform vec2 denoisePass;  // spacing, l
 
 layout(binding = kDenoiseInImage, rgba32f) uniform readonly image2D source;
 layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D filtered;
+layout(binding = kDenoiseInImage2, rgba32f) uniform readonly image2D source2;
+layout(binding = kDenoiseOutImage2, rgba32f) uniform writeonly image2D filtered2;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform readonly uimage2D keys;
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
 
 const float kKernel[2] = float[2](1.0 / 2.0, 1.0 / 4.0);
 
-void main() {
-  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
-  if (px.x >= size.x || px.y >= size.y) return;
-  bool last = denoisePass.y > 0.5;
-  vec4 c = imageLoad(source, px);
-  if (c.a < 0.0) {
-    imageStore(filtered, px, last ? texelFetch(mean, px, 0) : c);
-    return;
-  }
-  DenoiseKey p = unpackDenoiseKey(imageLoad(keys, px));
-  float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
-  int step = int(denoisePass.x);
-  vec4 taps[9];
-  for (int k = 0; k < 9; ++k) {
-    ivec2 q = px + (ivec2(k % 3, k / 3) - 1) * step;
-    taps[k] = k == 4 ? c
-              : any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) ? vec4(-1.0)
-                                                                              : imageLoad(source, q);
-  }
+float kernel(int k) { return kKernel[abs(k % 3 - 1)] * kKernel[abs(k / 3 - 1)]; }
+
+// One term at one pixel: its 3x3 taps (alpha < 0 where outside or kept), the log of
+// each tap's edge stops and the pass's spacing. Returns the filtered light and its
+// variance.
+vec4 filterTerm(vec4 taps[9], float edge[9], int step) {
+  vec4 c = taps[4];
   // The noise the luminance stop allows: on the first pass (taps 1 pixel apart) from
   // the variance blurred over these 3x3 pixels (SVGF eq. 5's g3x3), after it from
   // the variance as filtered so far, which is smooth already. The blur matters most
@@ -56,35 +48,68 @@ void main() {
     float sum = 0.0, weight = 0.0;
     for (int k = 0; k < 9; ++k) {
       if (taps[k].a < 0.0) continue;
-      float w = kKernel[abs(k % 3 - 1)] * kKernel[abs(k / 3 - 1)];
-      sum += w * taps[k].a;
-      weight += w;
+      sum += kernel(k) * taps[k].a;
+      weight += kernel(k);
     }
     v = sum / weight;
   }
-  if (v == 0.0) {
-    // No noise: the filter would keep it as it is.
-    imageStore(filtered, px, last ? vec4(c.rgb * demodulation(px), texelFetch(mean, px, 0).a) : c);
-    return;
-  }
+  if (v == 0.0) return c;  // no noise: the filter would keep it as it is
   float noise = rtgi.denoise.x * sqrt(v) + 1e-6;
   float lp = luminance(c.rgb);
   // The centre's own weight: its edge stops are 1.
-  float w0 = kKernel[0] * kKernel[0];
+  float w0 = kernel(4);
   vec3 sum = w0 * c.rgb;
   float variance = w0 * w0 * c.a, weight = w0;
   for (int k = 0; k < 9; ++k) {
     vec4 cq = taps[k];
     if (k == 4 || cq.a < 0.0) continue;
-    ivec2 q = px + (ivec2(k % 3, k / 3) - 1) * step;
-    float w = kKernel[abs(k % 3 - 1)] * kKernel[abs(k / 3 - 1)] *
-              exp(logEdgeWeight(p, unpackDenoiseKey(imageLoad(keys, q)), scale) -
-                  abs(luminance(cq.rgb) - lp) / noise);
+    float w = kernel(k) * exp(edge[k] - abs(luminance(cq.rgb) - lp) / noise);
     sum += w * cq.rgb;
     variance += w * w * cq.a;
     weight += w;
   }
-  vec4 out_ = vec4(sum / weight, variance / (weight * weight));
-  if (last) out_ = vec4(out_.rgb * demodulation(px), texelFetch(mean, px, 0).a);
-  imageStore(filtered, px, out_);
+  return vec4(sum / weight, variance / (weight * weight));
+}
+
+void main() {
+  ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(rtgi.frame.zw);
+  if (px.x >= size.x || px.y >= size.y) return;
+  bool last = denoisePass.y > 0.5;
+  vec4 c = imageLoad(source, px), c2 = imageLoad(source2, px);
+  if (c.a < 0.0) {
+    if (last) {
+      imageStore(filtered, px, texelFetch(mean, px, 0));
+    } else {
+      imageStore(filtered, px, c);
+      imageStore(filtered2, px, c2);
+    }
+    return;
+  }
+  int step = int(denoisePass.x);
+  vec4 taps[9], taps2[9];
+  float edge[9];
+  DenoiseKey p = unpackDenoiseKey(imageLoad(keys, px));
+  float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+  for (int k = 0; k < 9; ++k) {
+    ivec2 q = px + (ivec2(k % 3, k / 3) - 1) * step;
+    edge[k] = 0.0;
+    if (k == 4) {
+      taps[k] = c;
+      taps2[k] = c2;
+    } else if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+      taps[k] = taps2[k] = vec4(-1.0);
+    } else {
+      taps[k] = imageLoad(source, q);
+      taps2[k] = imageLoad(source2, q);
+      if (taps[k].a >= 0.0) edge[k] = logEdgeWeight(p, unpackDenoiseKey(imageLoad(keys, q)), scale);
+    }
+  }
+  vec4 out1 = filterTerm(taps, edge, step), out2 = filterTerm(taps2, edge, step);
+  if (last) {
+    imageStore(filtered, px, vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
+  } else {
+    imageStore(filtered, px, out1);
+    imageStore(filtered2, px, out2);
+  }
 }

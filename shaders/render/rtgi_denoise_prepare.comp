@@ -1,6 +1,7 @@
 #version 450 core
-// rtgi stage "denoise", first pass: each pixel's running mean divided by its base
-// colour, with the variance of that mean's luminance in alpha, for the a-trous passes
+// rtgi stage "denoise", first pass: each pixel's running mean of each term (the
+// direct one, and the rest: the mean of all less it) divided by its base colour,
+// with the variance of that mean's luminance in alpha, for the a-trous passes
 // (rtgi_denoise.comp), and the key their edge stops compare. The variance of a mean
 // of n samples is the samples' variance over n. A pixel with kDenoiseTemporalSamples
 // samples or more takes its samples' variance from its own moments
@@ -18,7 +19,9 @@ layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
 
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
 layout(binding = kHistoryMomentsUnit) uniform sampler2D moments;
+layout(binding = kHistoryDirectUnit) uniform sampler2D directMean;
 layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D prepared;
+layout(binding = kDenoiseOutImage2, rgba32f) uniform writeonly image2D prepared2;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform writeonly uimage2D keys;
 
 DenoiseKey keyAt(ivec2 px) {
@@ -37,19 +40,21 @@ void main() {
   vec4 c = texelFetch(mean, px, 0);
   if (denoiseKeeps(px)) {
     imageStore(prepared, px, vec4(c.rgb, -1.0));
+    imageStore(prepared2, px, vec4(0.0, 0.0, 0.0, -1.0));
     return;
   }
   vec4 position = texelFetch(gPosition, px, 0);
   imageStore(keys, px, packDenoiseKey(position, normalize(texelFetch(gNormal, px, 0).xyz)));
-  vec3 light = c.rgb / demodulation(px);
+  vec3 albedo = demodulation(px);
+  vec3 direct = texelFetch(directMean, px, 0).rgb;
   float n = c.a;
-  vec2 m = texelFetch(moments, px, 0).xy;
+  vec4 m = texelFetch(moments, px, 0);
   if (n < kDenoiseTemporalSamples) {
     // Too few samples of its own: the moments of the pixels around it on its surface
     // that have samples.
     DenoiseKey p = keyAt(px);
     float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
-    vec2 sum = n > 0.0 ? m : vec2(0.0);
+    vec4 sum = n > 0.0 ? m : vec4(0.0);
     float weight = n > 0.0 ? 1.0 : 0.0;
     for (int dy = -3; dy <= 3; ++dy)
       for (int dx = -3; dx <= 3; ++dx) {
@@ -58,11 +63,12 @@ void main() {
           continue;
         if (!(texelFetch(mean, q, 0).a > 0.0) || texelFetch(gPosition, q, 0).w < 0.5) continue;
         float w = exp(logEdgeWeight(p, keyAt(q), scale));
-        sum += w * texelFetch(moments, q, 0).xy;
+        sum += w * texelFetch(moments, q, 0);
         weight += w;
       }
     if (weight > 0.0) m = sum / weight;
   }
-  float variance = max(m.y - m.x * m.x, 0.0) / max(n, 1.0);
-  imageStore(prepared, px, vec4(light, variance));
+  vec2 variance = max(m.yw - m.xz * m.xz, vec2(0.0)) / max(n, 1.0);
+  imageStore(prepared, px, vec4(direct / albedo, variance.x));
+  imageStore(prepared2, px, vec4((c.rgb - direct) / albedo, variance.y));
 }

@@ -30,15 +30,19 @@ layout(binding = kGPreviousNormalUnit) uniform sampler2D previousNormal;
 layout(binding = kGMotionUnit) uniform sampler2D gMotion;
 layout(binding = kReprojectedImage, rgba32f) uniform writeonly image2D reprojected;
 #ifdef RTGI_MOMENTS
-// The denoiser's moments (rtgi_accumulate.comp) follow the mean.
+// The denoiser's moments and mean of the direct term (rtgi_accumulate.comp) follow
+// the mean.
 layout(binding = kHistoryMomentsUnit) uniform sampler2D historyMoments;
-layout(binding = kReprojectedMomentsImage, rg32f) uniform writeonly image2D reprojectedMoments;
+layout(binding = kHistoryDirectUnit) uniform sampler2D historyDirect;
+layout(binding = kReprojectedMomentsImage, rgba32f) uniform writeonly image2D reprojectedMoments;
+layout(binding = kReprojectedDirectImage, rgba32f) uniform writeonly image2D reprojectedDirect;
 #endif
 
-void store(ivec2 px, vec4 mean, vec2 m) {
+void store(ivec2 px, vec4 mean, vec4 m, vec3 direct) {
   imageStore(reprojected, px, mean);
 #ifdef RTGI_MOMENTS
-  imageStore(reprojectedMoments, px, vec4(m, 0.0, 0.0));
+  imageStore(reprojectedMoments, px, m);
+  imageStore(reprojectedDirect, px, vec4(direct, 0.0));
 #endif
 }
 
@@ -64,7 +68,7 @@ void main() {
   if (px.x >= size.x || px.y >= size.y) return;
   vec4 p = texelFetch(gPosition, px, 0);
   if (p.w < 0.5) {
-    store(px, vec4(0.0), vec2(0.0));  // nothing drawn: nothing to keep
+    store(px, vec4(0.0), vec4(0.0), vec3(0.0));  // nothing drawn: nothing to keep
     return;
   }
   vec4 nr = texelFetch(gNormal, px, 0);
@@ -74,8 +78,8 @@ void main() {
   // Where the point was: moving meshes moved it since (motion: 0 elsewhere).
   vec3 was = p.xyz + texelFetch(gMotion, px, 0).xyz;
   vec4 clip = previous * vec4(was, 1.0);
-  vec3 sum = vec3(0.0);
-  vec2 moments = vec2(0.0);
+  vec3 sum = vec3(0.0), direct = vec3(0.0);
+  vec4 moments = vec4(0.0);
   float count = 0.0, weight = 0.0;
   bool edge = false, lampEdge = false;
   if (clip.w > 0.0) {
@@ -100,7 +104,8 @@ void main() {
       float w = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
       sum += w * h.rgb;
 #ifdef RTGI_MOMENTS
-      moments += w * texelFetch(historyMoments, q, 0).xy;
+      moments += w * texelFetch(historyMoments, q, 0);
+      direct += w * texelFetch(historyDirect, q, 0).rgb;
 #endif
       count += w * h.a;
       weight += w;
@@ -109,7 +114,7 @@ void main() {
   // A sliver of one tap's weight would carry its light alone: below 1% of the
   // bilinear footprint the pixel starts again.
   if (!(weight > 0.01)) {
-    store(px, vec4(0.0), vec2(0.0));
+    store(px, vec4(0.0), vec4(0.0), vec3(0.0));
     return;
   }
   vec4 am = texelFetch(gAlbedo, px, 0);
@@ -121,7 +126,7 @@ void main() {
   if (edge) cap = lampEdge || emits(p.w) ? 0.0 : min(cap, rtgi.history.w);
   float n1 = min(count / weight, cap);
   if (n1 > 0.0)
-    store(px, vec4(sum / weight, n1), moments / weight);
+    store(px, vec4(sum / weight, n1), moments / weight, direct / weight);
   else
-    store(px, vec4(0.0), vec2(0.0));
+    store(px, vec4(0.0), vec4(0.0), vec3(0.0));
 }

@@ -133,8 +133,10 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
-  make(moments_, GL_RG32F);
-  make(historyMoments_, GL_RG32F);
+  make(moments_, GL_RGBA32F);
+  make(historyMoments_, GL_RGBA32F);
+  make(directMean_, GL_RGBA32F);
+  make(historyDirect_, GL_RGBA32F);
   for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32F);
   make(denoisedImage_, GL_RGBA32F);
   make(denoiseKeys_, GL_RGBA32UI);
@@ -169,7 +171,7 @@ void RtgiPass::resize(int width, int height) {
   }
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9 + 2 * 8 + 4 * 16);
+                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9 + 4 * 16 + 6 * 16);
 }
 
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
@@ -362,11 +364,15 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
 
 void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
   if (settings_.denoise) {
-    // The moments use the mask's image units (bindings_shared.h): bound here, after it
-    // ran; so does the reprojected mean (below).
-    glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
-    glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
-                       GL_READ_ONLY, GL_RG32F);
+    // The moments and the direct term's mean use the mask's image units
+    // (bindings_shared.h): bound here, after it ran; so does the reprojected mean
+    // (below).
+    glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_RGBA32F);
+    glBindImageTexture(gpu::kDirectMeanImage, directMean_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_RGBA32F);
+    glBindTextureUnit(gpu::kReprojectedMomentsUnit, historyMoments_.id());
+    glBindTextureUnit(gpu::kReprojectedDirectUnit, historyDirect_.id());
   }
   if (plan.lends || plan.reprojecting || settings_.denoise) {
     std::vector<std::string> defines = settings_.features.defines();
@@ -384,6 +390,9 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
   } else {
     runStage(ctx, Stage::kAccumulate, accumulate_, plan);
   }
+  if (settings_.denoise)
+    for (GLuint u : {gpu::kReprojectedMomentsUnit, gpu::kReprojectedDirectUnit})
+      glBindTextureUnit(u, 0);
 }
 
 void RtgiPass::finishFrame(const FramePlan& plan) {
@@ -413,14 +422,18 @@ void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint acc
   if (settings_.denoise) {
     defines.emplace_back("RTGI_MOMENTS");
     glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
+    glBindTextureUnit(gpu::kHistoryDirectUnit, directMean_.id());
     glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RG32F);
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gpu::kReprojectedDirectImage, historyDirect_.id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
   }
   glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, defines}).id());
   glDispatchCompute(gx, gy, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  // Accumulate reads the reprojected moments and direct mean as textures.
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit,
-                   gpu::kGMotionUnit, gpu::kHistoryMomentsUnit})
+                   gpu::kGMotionUnit, gpu::kHistoryMomentsUnit, gpu::kHistoryDirectUnit})
     glBindTextureUnit(u, 0);
 }
 
@@ -428,29 +441,41 @@ void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum
   gl::StageScope stage(ctx.timer, Stage::kDenoise);
   glBindTextureUnit(gpu::kHistoryUnit, accum);
   glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
-  // The pass's spacing and whether it is the last go in a uniform: updating the
-  // parameter block between dispatches stalls a software rasterizer.
-  auto pass = [&](const char* shader, GLuint in, GLuint out, float step, bool last) {
-    if (in != 0)
-      glBindImageTexture(gpu::kDenoiseInImage, in, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(gpu::kDenoiseOutImage, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glUseProgram(programs_.get({{shader}, {}}).id());
-    if (in != 0) glUniform2f(gpu::kDenoisePassLocation, step, last ? 1.0f : 0.0f);
+  glBindTextureUnit(gpu::kHistoryDirectUnit, directMean_.id());
+  // Accumulate wrote the mean, moments and direct mean as images.
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  auto bind = [](GLuint unit, GLuint texture, GLenum access) {
+    glBindImageTexture(unit, texture, 0, GL_FALSE, 0, access, GL_RGBA32F);
+  };
+  auto dispatch = [&] {
     glDispatchCompute(gx, gy, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
+  // The two terms' images: scratch [0, 1] ping-pong the direct term, [2, 3] the rest.
   glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32UI);
-  pass("render/rtgi_denoise_prepare.comp", 0, denoiseScratch_[0].id(), 0.0f, false);
+  bind(gpu::kDenoiseOutImage, denoiseScratch_[0].id(), GL_WRITE_ONLY);
+  bind(gpu::kDenoiseOutImage2, denoiseScratch_[2].id(), GL_WRITE_ONLY);
+  glUseProgram(programs_.get({{"render/rtgi_denoise_prepare.comp"}, {}}).id());
+  dispatch();
   glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA32UI);
+  glUseProgram(programs_.get({{"render/rtgi_denoise.comp"}, {}}).id());
+  // The pass's spacing and whether it is the last go in a uniform: updating the
+  // parameter block between dispatches stalls a software rasterizer.
   for (int i = 0; i < gpu::kDenoisePasses; ++i) {
     const bool last = i + 1 == gpu::kDenoisePasses;
-    pass("render/rtgi_denoise.comp", denoiseScratch_[i & 1].id(),
-         last ? denoisedImage_.id() : denoiseScratch_[(i + 1) & 1].id(), static_cast<float>(1 << i),
-         last);
+    const int in = i & 1, out = in ^ 1;
+    bind(gpu::kDenoiseInImage, denoiseScratch_[in].id(), GL_READ_ONLY);
+    bind(gpu::kDenoiseInImage2, denoiseScratch_[2 + in].id(), GL_READ_ONLY);
+    bind(gpu::kDenoiseOutImage, last ? denoisedImage_.id() : denoiseScratch_[out].id(),
+         GL_WRITE_ONLY);
+    bind(gpu::kDenoiseOutImage2, denoiseScratch_[2 + out].id(), GL_WRITE_ONLY);
+    glUniform2f(gpu::kDenoisePassLocation, static_cast<float>(1 << i), last ? 1.0f : 0.0f);
+    dispatch();
   }
-  for (GLuint u : {gpu::kHistoryUnit, gpu::kHistoryMomentsUnit}) glBindTextureUnit(u, 0);
+  for (GLuint u : {gpu::kHistoryUnit, gpu::kHistoryMomentsUnit, gpu::kHistoryDirectUnit})
+    glBindTextureUnit(u, 0);
   denoised_ = true;
 }
 

@@ -22,7 +22,8 @@
 //   accumulate  emission + the three terms, into each pixel's running mean.
 //   denoise     with Settings::denoise: the image shown is the running mean filtered
 //               by a variance-guided, edge-avoiding wavelet (Schied et al. 2017,
-//               rtgi_denoise.glsl); the mean itself stays as it was.
+//               rtgi_denoise.glsl), the direct light and the rest each against its
+//               own noise; the mean itself stays as it was.
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
 #ifndef VOXGI_RENDER_RTGI_PASS_H
@@ -229,9 +230,11 @@ class RtgiPass {
   int current_ = 0;
   gl::Texture history_;  // the reprojected mean, on a frame after a camera move
   gl::Texture directImage_, indirectImage_, specularImage_;
-  // Denoiser: the moments beside the mean and their reprojection (rg32f), the
-  // filter's two scratch images and its output (rgba32f), and its edge stops' keys.
-  gl::Texture moments_, historyMoments_, denoiseScratch_[2], denoisedImage_, denoiseKeys_;
+  // Denoiser: the moments of both terms and the mean of the direct term beside the
+  // mean, and their reprojection (rgba32f), the filter's scratch images (two per
+  // term) and its output (rgba32f), and its edge stops' keys.
+  gl::Texture moments_, historyMoments_, directMean_, historyDirect_;
+  gl::Texture denoiseScratch_[4], denoisedImage_, denoiseKeys_;
   bool denoised_ = false;
   bool shown_ = true;
   int width_ = 0, height_ = 0;

@@ -75,6 +75,41 @@ scene::Scene checkerRoom() {
   return s;
 }
 
+// The box of checkerRoom on a plain white floor before a white back wall, lit by a
+// point light 1.5 above the floor to its right: the box's shadow is hard, with its
+// far edge on the floor at x = -1.3 (the box's top edge, x = -0.3 at height 0.6,
+// projected from the light at x = 1.2), and the light the walls and box bounce into
+// it is noisy after a few frames. The direct light of a point is the same every
+// frame (the pixel centres are sampled): only the bounce is noise.
+scene::Scene pointLitBox() {
+  scene::Scene s;
+  s.path = "point_lit_box";
+  scene::Material white;
+  white.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+  white.metallic = 0.0f;
+  s.materials = {white};
+  addQuad(&s, 0, {{-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}});
+  addQuad(&s, 0, {{-2, 0, -1.6f}, {2, 0, -1.6f}, {2, 2.2f, -1.6f}, {-2, 2.2f, -1.6f}});
+  const float h = 0.3f, top = 0.6f;
+  addQuad(&s, 0, {{-h, 0, h}, {h, 0, h}, {h, top, h}, {-h, top, h}});        // front
+  addQuad(&s, 0, {{h, 0, h}, {h, 0, -h}, {h, top, -h}, {h, top, h}});        // right
+  addQuad(&s, 0, {{-h, 0, -h}, {-h, 0, h}, {-h, top, h}, {-h, top, -h}});    // left
+  addQuad(&s, 0, {{h, 0, -h}, {-h, 0, -h}, {-h, top, -h}, {h, top, -h}});    // back
+  addQuad(&s, 0, {{-h, top, h}, {h, top, h}, {h, top, -h}, {-h, top, -h}});  // top
+  scene::Light light;
+  light.type = scene::LightType::kPoint;
+  light.position = glm::vec3(1.2f, 1.5f, 0.0f);
+  light.intensity = 6.0f;
+  s.lights.push_back(light);
+  s.camera.position = glm::vec3(0.0f, 1.5f, 2.8f);
+  s.camera.forward = glm::normalize(glm::vec3(-0.3f, 0.2f, -0.2f) - s.camera.position);
+  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  s.camera.yfov = 0.9f;
+  s.camera.fromFile = true;
+  s.finalize();
+  return s;
+}
+
 // The pixel (column, row from the top) where world point p lands.
 glm::ivec2 project(const scene::Scene& s, glm::vec3 p) {
   const glm::vec4 c = s.camera.projection(1.0f) * s.camera.view() * glm::vec4(p, 1.0f);
@@ -180,6 +215,36 @@ TEST_F(DenoiseTest, TakesOutTheNoiseOfTwoFramesAndKeepsWhatTheImageShows) {
         const auto i = static_cast<size_t>((y * kSize + x) * 3 + c);
         ASSERT_EQ(denoised.pixels[i], raw.pixels[i]) << "mirror pixel " << x << "," << y;
       }
+}
+
+// The filter takes the direct light and the rest apart, each against its own noise:
+// a point light's hard shadow, exact in every frame, keeps its edge while the noisy
+// light bounced into the shadow is smoothed. Filtered as one, the bounce's noise
+// would let the luminance stop blur the edge.
+TEST_F(DenoiseTest, KeepsAHardShadowsEdgeWhileSmoothingTheBounce) {
+  const scene::Scene s = pointLitBox();
+  const image::Image converged = render(s, render::Mode::kRtgi, 64, false, 1);
+  const image::Image raw = render(s, render::Mode::kRtgi, 2, false, 2);
+  const image::Image denoised = render(s, render::Mode::kRtgi, 2, true, 2);
+  // Pixels just inside and just outside the shadow's far edge (x = -1.3), and the
+  // bounce deep in the shadow.
+  const glm::ivec2 inside = project(s, {-1.2f, 0.0f, 0.2f});
+  const glm::ivec2 outside = project(s, {-1.4f, 0.0f, 0.2f});
+  const glm::ivec2 shade = project(s, {-0.8f, 0.0f, 0.1f});
+  const auto edge = [&](const image::Image& im) {
+    return windowMean(im, inside, 1) / windowMean(im, outside, 1);
+  };
+  const double rawNoise = windowGradient(raw, shade, 4);
+  const double denoisedNoise = windowGradient(denoised, shade, 4);
+  std::printf(
+      "shadow edge (inside / outside pixel): converged %.4f, 2 frames %.4f, denoised %.4f; "
+      "gradient in the shade: converged %.5f, 2 frames %.5f, denoised %.5f\n",
+      edge(converged), edge(raw), edge(denoised), windowGradient(converged, shade, 4), rawNoise,
+      denoisedNoise);
+  // The bounce in the shadow is smoothed...
+  EXPECT_LT(denoisedNoise, 0.5 * rawNoise);
+  // ...and the shadow's edge stays as sharp as converged.
+  EXPECT_NEAR(edge(denoised), edge(converged), 0.05);
 }
 
 // As a still image converges, the noise the filter measures falls as 1/n and so does
