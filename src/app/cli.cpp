@@ -631,6 +631,7 @@ bool parseRenderOnlyOption(const std::string& a, const std::function<std::string
     o.stats = value();
   } else if (a == "--out-mask") {
     o.maskOutput = value();
+    o.render.rtgi.keepMask = true;
   } else if (a == "--frames") {
     o.frames = parseInt("--frames", value(), 1, 100000);
   } else if (a == "--backend") {

@@ -152,6 +152,7 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kRtgi && !rtgi_) {
     RtgiPass::Settings rs = settings_.rtgi;
+    rs.keepMask = rs.keepMask || showMask_;
     rs.indirect = plan_.has(scene::Effect::kIndirect);
     rs.specular = plan_.has(scene::Effect::kSpecular);
     rs.features = features;
@@ -491,6 +492,11 @@ void flipRows(std::vector<T>& px, int width, int height, int channels) {
 void Renderer::setFrameShown(bool shown) {
   frameShown_ = shown;
   if (rtgi_) rtgi_->setShown(shown);
+}
+
+void Renderer::setShowMask(bool show) {
+  showMask_ = show;
+  if (rtgi_) rtgi_->settings().keepMask = show || settings_.rtgi.keepMask;
 }
 
 void Renderer::setDenoise(bool on) {

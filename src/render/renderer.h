@@ -194,7 +194,8 @@ class Renderer {
   // The frame budget's current traced fraction (1 without a budget).
   double traceFraction() const { return budget_ ? budget_->fraction() : 1.0; }
   // Display the work mask instead of the image (rtgi with a frame budget).
-  void setShowMask(bool show) { showMask_ = show; }
+  // It keeps the mask made while it is shown (RtgiPass::Settings::keepMask).
+  void setShowMask(bool show);
   // rtgi: turns the denoiser on or off (RtgiPass::Settings::denoise); accumulation
   // restarts, since the denoiser's moments are kept only while it is on.
   void setDenoise(bool on);

@@ -311,11 +311,17 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   const double extraShare = std::max(0.0, traceFraction_ - patternShare);
   float level = 0.0f;
   uint32_t kind = gpu::kSelectUniform;
-  if (settings_.select == Settings::Select::kMask) {
+  if (settings_.select == Settings::Select::kMask && extraShare <= 0.0 && !settings_.keepMask) {
+    // The budget allows the pattern only (a moving camera on a slow GL): no pixel is
+    // chosen by the mask, so it is not made; it is made again, up to date, on the
+    // next frame that chooses by it. What is selected: none beyond the pattern.
+    maskStale_ = maskStale_ || frameIndex % kMaskPeriod == 1;
+    level = 0.0f;
+  } else if (settings_.select == Settings::Select::kMask) {
     kind = gpu::kSelectMask;
     // The mask changes slowly as the image converges: it is recomputed every
     // kMaskPeriod frames; the threshold follows the budget every frame.
-    if (!maskValid_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
+    if (!maskValid_ || maskStale_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
       runMask(ctx, plan.gx, plan.gy);
     level = traceFraction_ >= 1.0 ? -1.0f  // every pixel
                                   : maskThreshold(static_cast<uint64_t>(
@@ -499,6 +505,7 @@ void RtgiPass::runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_SHADER_STORAGE_BARRIER_BIT);
   maskValid_ = true;
+  maskStale_ = false;
   histogramBins_.resize(gpu::kMaskBins);
   glGetNamedBufferSubData(histogram_.id(), 0, 4 * gpu::kMaskBins, histogramBins_.data());
 }

@@ -58,6 +58,11 @@ class RtgiPass {
     // Beyond the interleave pattern, which further pixels trace (frame budget):
     // none, those the work mask marks as noisy, or a uniform random share.
     enum class Select { kPattern, kMask, kUniform } select = Select::kPattern;
+    // With kMask, the mask is made only on frames that choose pixels by it: not
+    // while the budget allows the pattern alone (a moving camera on a slow GL).
+    // keepMask makes it on its period all the same, for whoever shows or writes it
+    // (the viewer's mask view, `render --out-mask`).
+    bool keepMask = false;
     // With interleaving: the first frame of an accumulation traces the pattern only,
     // like the others, instead of every pixel, and a pixel that has not traced yet
     // shows the light its traced neighbours on the same surface found. Every frame
@@ -219,6 +224,7 @@ class RtgiPass {
   bool meshesMoved_ = false;
   double lastTraced_ = 1.0;
   bool maskValid_ = false;
+  bool maskStale_ = false;  // a period passed while the mask was not needed
   gl::Texture maskKeyImage_, edgeImage_, maskImage_, tracedImage_;
   gl::Buffer pixelList_, histogram_;
   std::vector<uint32_t> histogramBins_;

@@ -385,7 +385,8 @@ TEST_F(RtgiTest, SparseStartTracesItsShareAndLendsTheRest) {
 
 // The frame budget moves the traced share between its floor (1/16, an unreachable
 // target) and every pixel (a target any frame meets); the mask it selects by
-// exists and lies in [0, 1); the uniform choice traces the same shares.
+// exists and lies in [0, 1) (kept for display: at the floor it chooses nothing, and
+// is otherwise not made); the uniform choice traces the same shares.
 TEST_F(RtgiTest, FrameBudgetSetsTheTracedShare) {
   const scene::Scene room = scene::loadGltf(cornellRoom());
   for (auto select :
@@ -394,6 +395,7 @@ TEST_F(RtgiTest, FrameBudgetSetsTheTracedShare) {
       render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
       rs.targetFps = fps;
       rs.rtgi.select = select;
+      rs.rtgi.keepMask = true;
       render::Renderer r(*programs_, room, rs);
       for (int f = 0; f < 40; ++f) r.renderFrame();
       const double share = r.rtgi()->lastTracedFraction();
@@ -413,6 +415,26 @@ TEST_F(RtgiTest, FrameBudgetSetsTheTracedShare) {
       }
     }
   }
+}
+
+// At the budget's floor (the pattern alone traces) no pixel is chosen by the work
+// mask, and unless it is kept for display it is not made: no mask stage runs, and
+// the image is the same as with the mask made.
+TEST_F(RtgiTest, AtTheBudgetsFloorTheMaskIsNotMade) {
+  const scene::Scene room = scene::loadGltf(cornellRoom());
+  std::vector<std::vector<float>> images;
+  for (bool keep : {false, true}) {
+    render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
+    rs.targetFps = 1000.0;
+    rs.rtgi.select = render::RtgiPass::Settings::Select::kMask;
+    rs.rtgi.keepMask = keep;
+    render::Renderer r(*programs_, room, rs);
+    for (int f = 0; f < 12; ++f) r.renderFrame();
+    EXPECT_NEAR(r.rtgi()->lastTracedFraction(), 1.0 / 16.0, 0.02);
+    EXPECT_EQ(r.rtgi()->readMask().empty(), !keep);
+    images.push_back(r.readLinear());
+  }
+  EXPECT_EQ(images[0], images[1]);
 }
 
 // 10,000 frames of accumulation (8x8 pixels): every pixel holds exactly 10,000
