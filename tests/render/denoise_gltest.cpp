@@ -19,6 +19,18 @@ namespace {
 
 constexpr int kSize = 96;
 
+// The 0.6-unit box on the floor of both scenes: x and z in [-kBoxHalf, kBoxHalf],
+// y in [0, 2 kBoxHalf], five faces (no bottom).
+constexpr float kBoxHalf = 0.3f;
+void addBox(scene::Scene* s, int material) {
+  const float h = kBoxHalf, top = 2.0f * kBoxHalf;
+  addQuad(s, material, {{-h, 0, h}, {h, 0, h}, {h, top, h}, {-h, top, h}});        // front
+  addQuad(s, material, {{h, 0, h}, {h, 0, -h}, {h, top, -h}, {h, top, h}});        // right
+  addQuad(s, material, {{-h, 0, -h}, {-h, 0, h}, {-h, top, h}, {-h, top, -h}});    // left
+  addQuad(s, material, {{h, 0, -h}, {-h, 0, -h}, {-h, top, -h}, {h, top, -h}});    // back
+  addQuad(s, material, {{-h, top, h}, {h, top, h}, {h, top, -h}, {-h, top, -h}});  // top
+}
+
 // A 4 x 4 floor (y = 0) whose base colour is a 16 x 16 checker texture (white 0.8,
 // grey 0.2, nearest: 0.25-unit squares), a white back wall at z = -1.6 with a mirror
 // panel (metallic, roughness 0) in front of its left half, a 0.6-unit white box on
@@ -57,13 +69,9 @@ scene::Scene checkerRoom() {
   addQuad(
       &s, 2,
       {{-1.8f, 0.2f, -1.55f}, {-0.4f, 0.2f, -1.55f}, {-0.4f, 1.6f, -1.55f}, {-1.8f, 1.6f, -1.55f}});
-  const float h = 0.3f, top = 0.6f;
-  addQuad(&s, 1, {{-h, 0, h}, {h, 0, h}, {h, top, h}, {-h, top, h}});        // front
-  addQuad(&s, 1, {{h, 0, h}, {h, 0, -h}, {h, top, -h}, {h, top, h}});        // right
-  addQuad(&s, 1, {{-h, 0, -h}, {-h, 0, h}, {-h, top, h}, {-h, top, -h}});    // left
-  addQuad(&s, 1, {{h, 0, -h}, {-h, 0, -h}, {-h, top, -h}, {h, top, -h}});    // back
-  addQuad(&s, 1, {{-h, top, h}, {h, top, h}, {h, top, -h}, {-h, top, -h}});  // top
+  addBox(&s, 1);
   // The lamp, facing down, to the box's right: the box's shadow falls to its left.
+  const float h = kBoxHalf;
   addQuad(&s, 3,
           {{1.0f - h, 1.4f, -h}, {1.0f + h, 1.4f, -h}, {1.0f + h, 1.4f, h}, {1.0f - h, 1.4f, h}});
   s.camera.position = glm::vec3(0.0f, 1.5f, 2.8f);
@@ -90,12 +98,7 @@ scene::Scene pointLitBox() {
   s.materials = {white};
   addQuad(&s, 0, {{-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}});
   addQuad(&s, 0, {{-2, 0, -1.6f}, {2, 0, -1.6f}, {2, 2.2f, -1.6f}, {-2, 2.2f, -1.6f}});
-  const float h = 0.3f, top = 0.6f;
-  addQuad(&s, 0, {{-h, 0, h}, {h, 0, h}, {h, top, h}, {-h, top, h}});        // front
-  addQuad(&s, 0, {{h, 0, h}, {h, 0, -h}, {h, top, -h}, {h, top, h}});        // right
-  addQuad(&s, 0, {{-h, 0, -h}, {-h, 0, h}, {-h, top, h}, {-h, top, -h}});    // left
-  addQuad(&s, 0, {{h, 0, -h}, {-h, 0, -h}, {-h, top, -h}, {h, top, -h}});    // back
-  addQuad(&s, 0, {{-h, top, h}, {h, top, h}, {h, top, -h}, {-h, top, -h}});  // top
+  addBox(&s, 0);
   scene::Light light;
   light.type = scene::LightType::kPoint;
   light.position = glm::vec3(1.2f, 1.5f, 0.0f);
