@@ -299,7 +299,8 @@ void Renderer::setTonemapSettings(const TonemapPass::Settings& s) {
 
 size_t Renderer::targetBytes() const {
   return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
-         (16 + 4 + 4);
+             (16 + 4 + 4) +
+         (rtgi_ ? rtgi_->targetBytes() : 0);
 }
 
 Renderer::TextureMemory Renderer::textureMemory() const {
