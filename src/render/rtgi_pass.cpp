@@ -112,15 +112,22 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   return programs_.get({{"render/rtgi_specular.comp"}, defines});
 }
 
+namespace {
+
+// A width x height image of one level, read texel by texel.
+void makeImage(gl::Texture& t, GLenum format, int width, int height) {
+  t = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.id(), 1, format, width, height);
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+}
+
+}  // namespace
+
 void RtgiPass::resize(int width, int height) {
   width_ = width;
   height_ = height;
-  auto make = [&](gl::Texture& t, GLenum format) {
-    t = gl::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, format, width, height);
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  };
+  auto make = [&](gl::Texture& t, GLenum format) { makeImage(t, format, width, height); };
   for (int i = 0; i < 2; ++i) {
     make(position_[i], GL_RGBA32F);
     make(normal_[i], GL_RGBA16F);
@@ -133,13 +140,12 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
-  make(moments_, GL_RGBA32F);
-  make(historyMoments_, GL_RGBA32F);
-  make(directMean_, GL_RGBA32F);
-  make(historyDirect_, GL_RGBA32F);
-  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32F);
-  make(denoisedImage_, GL_RGBA32F);
-  make(denoiseKeys_, GL_RGBA32UI);
+  // The denoiser's images are made on the first frame that denoises
+  // (makeDenoiserImages).
+  for (gl::Texture* t :
+       {&moments_, &historyMoments_, &directMean_, &historyDirect_, &denoisedImage_, &denoiseKeys_})
+    t->reset();
+  for (gl::Texture& t : denoiseScratch_) t.reset();
   denoised_ = false;
   make(maskKeyImage_, GL_RGBA32UI);
   make(edgeImage_, GL_R16F);
@@ -171,13 +177,27 @@ void RtgiPass::resize(int width, int height) {
   }
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9 + 4 * 16 + 6 * 16);
+                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
+}
+
+void RtgiPass::makeDenoiserImages() {
+  if (moments_) return;
+  auto make = [&](gl::Texture& t, GLenum format) { makeImage(t, format, width_, height_); };
+  make(moments_, GL_RGBA32F);
+  make(historyMoments_, GL_RGBA32F);
+  make(directMean_, GL_RGBA32F);
+  make(historyDirect_, GL_RGBA32F);
+  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32F);
+  make(denoisedImage_, GL_RGBA32F);
+  make(denoiseKeys_, GL_RGBA32UI);
+  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) * (4 * 16 + 6 * 16);
 }
 
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                        const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
+  if (settings_.denoise) makeDenoiserImages();
   // The G-buffer drawn last frame becomes the previous one.
   current_ ^= 1;
   buildOptionalStages();

@@ -188,6 +188,9 @@ class RtgiPass {
   // The traced share of a listed frame, and the units the frame bound, unbound.
   void finishFrame(const FramePlan& plan);
   void resize(int width, int height);
+  // The denoiser's images, at the current size, unless made already: only a pass
+  // that denoises pays their 160 bytes a pixel.
+  void makeDenoiserImages();
   // The mask stage (edges, blur, histogram), and the threshold that selects at most
   // `extra` pixels of it.
   void runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy);

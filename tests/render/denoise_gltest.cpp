@@ -266,6 +266,35 @@ TEST_F(DenoiseTest, FadesOutAsTheImageConverges) {
   EXPECT_GT(change, 0.0);  // it does filter
 }
 
+// The viewer's `n` key: turned on in a running renderer, the denoiser makes its
+// images then (a pass that never denoises has none) and filters from the restart it
+// causes, as a renderer made with it on does; turned off, the image is the mean.
+TEST_F(DenoiseTest, TurnsOnAndOffInARunningRenderer) {
+  const scene::Scene s = checkerRoom();
+  render::RenderSettings rs;
+  rs.mode = render::Mode::kRtgi;
+  rs.width = rs.height = kSize;
+  rs.voxels = 64;
+  rs.jitter = false;
+  const image::Image fresh = render(s, render::Mode::kRtgi, 2, true, rs.rtgi.seed);
+  const image::Image raw = render(s, render::Mode::kRtgi, 2, false, rs.rtgi.seed);
+  render::Renderer r(*programs_, s, rs);
+  for (int f = 0; f < 3; ++f) r.renderFrame();
+  const size_t bytesOff = r.targetBytes();
+  r.setDenoise(true);
+  for (int f = 0; f < 2; ++f) r.renderFrame();
+  const image::Image on = toImage(r.readLinear());
+  EXPECT_GT(r.targetBytes(), bytesOff);
+  const double toFresh = image::errorMetrics(on, fresh).rmse;
+  const double rawToFresh = image::errorMetrics(raw, fresh).rmse;
+  std::printf("turned on: rmse against a renderer made with it on %.5f (the raw mean's %.5f)\n",
+              toFresh, rawToFresh);
+  EXPECT_LT(toFresh, 0.5 * rawToFresh);
+  r.setDenoise(false);
+  for (int f = 0; f < 2; ++f) r.renderFrame();
+  EXPECT_LT(image::errorMetrics(toImage(r.readLinear()), raw).rmse, 0.5 * rawToFresh);
+}
+
 // Camera moves (reprojected history, disocclusions), an interleave with a sparse
 // start (pixels with no sample yet): every pixel shown stays finite.
 TEST_F(DenoiseTest, StaysFiniteThroughMovesAndSparseStarts) {
