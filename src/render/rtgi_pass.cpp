@@ -334,7 +334,8 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   if (settings_.select == Settings::Select::kMask && extraShare <= 0.0 && !settings_.keepMask) {
     // The budget allows the pattern only (a moving camera on a slow GL): no pixel is
     // chosen by the mask, so it is not made; it is made again, up to date, on the
-    // next frame that chooses by it. What is selected: none beyond the pattern.
+    // next frame that chooses by it (once a period at most, as when it is made on
+    // every period). What is selected: none beyond the pattern.
     maskStale_ = maskStale_ || frameIndex % kMaskPeriod == 1;
     level = 0.0f;
   } else if (settings_.select == Settings::Select::kMask) {
