@@ -155,12 +155,18 @@ double windowGradient(const image::Image& im, glm::ivec2 at, int r) {
 
 class DenoiseTest : public GlProgramsTest {
  protected:
-  image::Image render(const scene::Scene& s, render::Mode mode, int frames, bool denoise,
-                      uint32_t seed) {
+  // kSize x kSize, 64³ voxels, in `mode`.
+  static render::RenderSettings baseSettings(render::Mode mode) {
     render::RenderSettings rs;
     rs.mode = mode;
     rs.width = rs.height = kSize;
     rs.voxels = 64;
+    return rs;
+  }
+
+  image::Image render(const scene::Scene& s, render::Mode mode, int frames, bool denoise,
+                      uint32_t seed) {
+    render::RenderSettings rs = baseSettings(mode);
     rs.rtgi.seed = seed;
     rs.rtgi.denoise = denoise;
     // Every frame samples the pixel centres: what two frames lack against 64 is then
@@ -271,10 +277,7 @@ TEST_F(DenoiseTest, FadesOutAsTheImageConverges) {
 // causes, as a renderer made with it on does; turned off, the image is the mean.
 TEST_F(DenoiseTest, TurnsOnAndOffInARunningRenderer) {
   const scene::Scene s = checkerRoom();
-  render::RenderSettings rs;
-  rs.mode = render::Mode::kRtgi;
-  rs.width = rs.height = kSize;
-  rs.voxels = 64;
+  render::RenderSettings rs = baseSettings(render::Mode::kRtgi);
   rs.jitter = false;
   const image::Image fresh = render(s, render::Mode::kRtgi, 2, true, rs.rtgi.seed);
   const image::Image raw = render(s, render::Mode::kRtgi, 2, false, rs.rtgi.seed);
@@ -299,10 +302,7 @@ TEST_F(DenoiseTest, TurnsOnAndOffInARunningRenderer) {
 // start (pixels with no sample yet): every pixel shown stays finite.
 TEST_F(DenoiseTest, StaysFiniteThroughMovesAndSparseStarts) {
   const scene::Scene s = checkerRoom();
-  render::RenderSettings rs;
-  rs.mode = render::Mode::kRtgi;
-  rs.width = rs.height = kSize;
-  rs.voxels = 64;
+  render::RenderSettings rs = baseSettings(render::Mode::kRtgi);
   rs.rtgi.denoise = true;
   rs.rtgi.interleave = 4;
   rs.rtgi.sparseStart = true;
