@@ -47,9 +47,11 @@ VOXGI_FN vec3 metallicF0(vec3 baseColor, float metallic) {
 }
 
 // Schlick's Fresnel at the cosine c between the view (or light) and the normal
-// that reflects it (0 <= c <= 1).
+// that reflects it. A cosine a rounding above 1 (the half vector of a light seen
+// straight along the view: dot(v, normalize(v + v)) can be 1 + 1 ulp) reads as 1:
+// GLSL's pow of a negative base is undefined, and llvmpipe returns NaN.
 VOXGI_FN vec3 schlickFresnel(vec3 f0, float c) {
-  return f0 + (1.0f - f0) * pow(1.0f - c, 5.0f);
+  return f0 + (1.0f - f0) * pow(max(1.0f - c, 0.0f), 5.0f);
 }
 
 VOXGI_FN float ggxD(float nh, float alpha) {
