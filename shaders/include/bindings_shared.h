@@ -43,6 +43,10 @@ VOXGI_CONST uint kMaterialBinding = 0u;
 VOXGI_CONST uint kLightBinding = 1u;
 VOXGI_CONST uint kEmitterBinding = 2u;
 VOXGI_CONST uint kLightTreeBinding = 23u;  // GpuLightNode[] (light_tree_shared.h): rtgi's shadows
+// Every pass that replaces a non-finite value rather than let it poison what it
+// writes (nonfinite.glsl): one uint, the count of values replaced. Tests require it
+// to stay 0; `--stats` reports it as nonfinite_terms.
+VOXGI_CONST uint kNonfiniteCountBinding = 24u;
 
 // Voxelization (voxel_shared.h). The sparse sums: a brick map holds, per brick,
 // the epoch and the brick's slot in a pool; the pool holds, per voxel, the epoch

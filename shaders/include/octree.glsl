@@ -5,6 +5,7 @@
 #define VOXGI_OCTREE_GLSL
 
 #include "octree_shared.h"
+#include "nonfinite.glsl"
 
 layout(std140, binding = kOctreeParamsBinding) uniform OctreeBlock { OctreeParams octree; };
 #ifdef OCTREE_NODES_WRITABLE
@@ -67,9 +68,11 @@ vec3 octreeToWorld(vec3 g) { return octree.origin.xyz + g * octree.origin.w; }
 
 // Shared-exponent RGB (9-bit mantissas, 5-bit exponent), the layout of
 // GL_RGB9_E5 (EXT_texture_shared_exponent): 4 bytes, relative precision 2^-9 of the
-// largest channel, range [0, 65408]. Negative and NaN channels become 0.
+// largest channel, range [0, 65408]. Negative and NaN channels become 0, Inf the
+// largest value; a NaN or Inf is counted (nonfinite.glsl).
 const float kRgb9e5Max = 65408.0;
 uint packRgb9e5(vec3 c) {
+  if (any(notFinite(c))) atomicAdd(nonfiniteCount, 1u);
   c = clamp(mix(c, vec3(0.0), isnan(c)), vec3(0.0), vec3(kRgb9e5Max));
   float m = max(c.r, max(c.g, c.b));
   int e = max(-16, int(floor(log2(max(m, 1e-30))))) + 16;

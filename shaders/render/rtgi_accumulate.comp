@@ -4,7 +4,8 @@
 // mean in float: the n-th sample of a pixel adds (c - mean) / n; alpha holds n).
 // Pixels that traced nothing this frame (interleaving) keep their mean; with a sparse
 // start, those that have not traced yet borrow their neighbours' light. A
-// non-finite term is dropped rather than poisoning the mean. VOXGI_NO_EMISSION
+// non-finite term is dropped rather than poisoning the mean, and counted
+// (nonfinite.glsl). VOXGI_NO_EMISSION
 // (effect plan) leaves emission out; RTGI_SPARSE_START (RtgiPass::Settings::sparseStart)
 // adds the light lent to pixels that have not traced yet; RTGI_REPROJECTED, on a
 // frame after a camera move, starts from the reproject stage's mean; RTGI_MOMENTS
@@ -73,16 +74,14 @@ vec4 previousMean(ivec2 px) {
 #endif
 }
 
-vec3 finite(vec3 c) { return mix(c, vec3(0.0), bvec3(uvec3(isnan(c)) | uvec3(isinf(c)))); }
-
 // This frame's traced light (direct + indirect + specular) at pixel q, and its
 // direct term alone.
 vec3 tracedLight(ivec2 q, out vec3 direct) {
   vec3 c = vec3(0.0);
   uint flags = rtgi.counts.z;
-  direct = (flags & kRtgiHasDirect) != 0u ? finite(imageLoad(directIn, q).rgb) : vec3(0.0);
-  if ((flags & kRtgiHasIndirect) != 0u) c += finite(imageLoad(indirectIn, q).rgb);
-  if ((flags & kRtgiHasSpecular) != 0u) c += finite(imageLoad(specularIn, q).rgb);
+  direct = (flags & kRtgiHasDirect) != 0u ? finiteOrZero(imageLoad(directIn, q).rgb) : vec3(0.0);
+  if ((flags & kRtgiHasIndirect) != 0u) c += finiteOrZero(imageLoad(indirectIn, q).rgb);
+  if ((flags & kRtgiHasSpecular) != 0u) c += finiteOrZero(imageLoad(specularIn, q).rgb);
   return direct + c;
 }
 
@@ -155,7 +154,7 @@ float relitLuminance(ivec2 q) {
 #ifdef VOXGI_NO_EMISSION
   vec3 c = vec3(0.0);
 #else
-  vec3 c = finite(texelFetch(gEmission, q, 0).rgb);
+  vec3 c = finiteOrZero(texelFetch(gEmission, q, 0).rgb);
 #endif
   return luminance((c + tracedLight(q)) / demodulation(q));
 }
@@ -215,7 +214,7 @@ void main() {
 #ifdef VOXGI_NO_EMISSION
   vec3 c = vec3(0.0);
 #else
-  vec3 c = finite(texelFetch(gEmission, px, 0).rgb);
+  vec3 c = finiteOrZero(texelFetch(gEmission, px, 0).rgb);
 #endif
 #ifdef RTGI_SPARSE_START
   if (!traced) {

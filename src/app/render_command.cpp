@@ -296,6 +296,7 @@ nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& co
   // Stages run once per scene (in the untimed warm-up frame): that run's time.
   for (const gl::StageTime& st : renderer.sceneStages())
     if (!stages.contains(stageName(st.stage))) stats["stages"][stageName(st.stage)] = st.gpuMs;
+  stats["nonfinite_terms"] = renderer.nonfiniteTerms();
   stats["gl_errors"] = record.glErrors;
   return stats;
 }

@@ -297,6 +297,10 @@ void Renderer::setTonemapSettings(const TonemapPass::Settings& s) {
   accumulated_ = 0;
 }
 
+uint32_t Renderer::nonfiniteTerms() const {
+  return (rtgi_ ? rtgi_->nonfiniteTerms() : 0u) + (octree_ ? octree_->nonfiniteTerms() : 0u);
+}
+
 size_t Renderer::targetBytes() const {
   return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
              (16 + 4 + 4) +

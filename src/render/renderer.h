@@ -191,6 +191,9 @@ class Renderer {
   // Null unless the mode uses the octree.
   const voxel::Octree* octree() const { return octree_.get(); }
   const RtgiPass* rtgi() const { return rtgi_.get(); }
+  // NaN or Inf values rtgi's accumulation and the octree's passes met and replaced
+  // (nonfinite.glsl); 0 when shading is sound. Reads back from the GPU.
+  uint32_t nonfiniteTerms() const;
   // The frame budget's current traced fraction (1 without a budget).
   double traceFraction() const { return budget_ ? budget_->fraction() : 1.0; }
   // Display the work mask instead of the image (rtgi with a frame budget).

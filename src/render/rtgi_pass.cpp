@@ -21,7 +21,15 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const uint32_t zero = 0;
+  nonfinite_ = gl::createBuffer(sizeof(zero), &zero);
   buildOptionalStages();
+}
+
+uint32_t RtgiPass::nonfiniteTerms() const {
+  uint32_t n = 0;
+  glGetNamedBufferSubData(nonfinite_.id(), 0, sizeof(n), &n);
+  return n;
 }
 
 void RtgiPass::buildOptionalStages() {
@@ -390,6 +398,7 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
 }
 
 void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kNonfiniteCountBinding, nonfinite_.id());
   if (settings_.denoise) {
     // The moments and the direct term's mean use the mask's image units
     // (bindings_shared.h): bound here, after it ran; so does the reprojected mean

@@ -131,6 +131,9 @@ class RtgiPass {
   void setMeshesMoved(bool moved) { meshesMoved_ = moved; }
   // Pixels that traced in the last frame, as a share of all.
   double lastTracedFraction() const { return lastTraced_; }
+  // Non-finite terms accumulate met and dropped since the pass was made
+  // (nonfinite.glsl); reads back from the GPU.
+  uint32_t nonfiniteTerms() const;
   // The last work mask, [0, 1) per pixel, top-left origin (empty before one ran).
   std::vector<float> readMask() const;
   GLuint maskTexture() const { return maskValid_ ? maskImage_.id() : 0; }
@@ -232,6 +235,7 @@ class RtgiPass {
   gl::Buffer pixelList_, histogram_;
   std::vector<uint32_t> histogramBins_;
   gl::Buffer params_;
+  gl::Buffer nonfinite_;  // uint: terms dropped by accumulate (kNonfiniteCountBinding)
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.
   gl::Texture position_[2], normal_[2], albedo_, emission_, motion_, depth_;

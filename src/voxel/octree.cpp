@@ -60,6 +60,8 @@ Octree::Octree(gl::ProgramCache& programs, const Settings& settings)
     throw Error(strf("--refine-rays %d: must be at least 0", settings.refineRays));
   params_ = gl::createBuffer(sizeof(gpu::OctreeParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   counters_ = gl::createBuffer(sizeof(gpu::OctreeCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const uint32_t zero = 0;
+  nonfinite_ = gl::createBuffer(sizeof(zero), &zero);
 }
 
 void Octree::setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce) {
@@ -71,6 +73,7 @@ void Octree::setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bo
 void Octree::dispatch(const gl::Program& p, uint32_t count) {
   if (count == 0) return;
   glUseProgram(p.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kNonfiniteCountBinding, nonfinite_.id());
   const uint32_t groups = (count + gpu::kOctreeGroupSize - 1) / gpu::kOctreeGroupSize;
   const uint32_t x = std::min<uint32_t>(groups, 65535u);
   const uint32_t y = (groups + x - 1) / x;
@@ -85,6 +88,12 @@ void Octree::bind() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMaterialBinding, material_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeEmissionBinding, emission_.id());
   glBindTextureUnit(gpu::kOctreeNodeTexUnit, nodeTexture_.id());
+}
+
+uint32_t Octree::nonfiniteTerms() const {
+  uint32_t n = 0;
+  glGetNamedBufferSubData(nonfinite_.id(), 0, sizeof(n), &n);
+  return n;
 }
 
 void Octree::allocate(uint32_t capacity) {

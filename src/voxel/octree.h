@@ -110,6 +110,9 @@ class Octree {
   GLuint emission() const { return emission_.id(); }
   // Binds params and the node/data buffers at their octree_shared.h bindings.
   void bind() const;
+  // NaN or Inf radiance the octree's passes met and replaced since it was made
+  // (nonfinite.glsl); reads back from the GPU.
+  uint32_t nonfiniteTerms() const;
 
   // The first occupied voxel along each ray (xyz; w = 1 on a hit, 0 on a miss),
   // traced by the GLSL traversal (tests, benchmarks).
@@ -148,6 +151,7 @@ class Octree {
   const gl::Program& average_;
   const gl::Program& filterRadiance_;
   gl::Buffer params_, counters_, nodes_, radiance_, material_, emission_;
+  gl::Buffer nonfinite_;  // uint: values replaced (kNonfiniteCountBinding)
   // Refinement: this estimate, its direct light, the previous bounce, the mean.
   gl::Buffer estimate_, direct_, previous_, mean_;
   gl::Buffer sliceList_;              // the voxel codes slice by slice

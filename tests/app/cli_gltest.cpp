@@ -250,6 +250,7 @@ TEST(Cli, RendersPngExrAndStats) {
   EXPECT_EQ(stats["backend"], "egl");
   EXPECT_EQ(stats["size"]["width"], 64);
   EXPECT_EQ(stats["gl_errors"], 0);
+  EXPECT_EQ(stats["nonfinite_terms"], 0);
   for (const char* stage : {"voxelize", "octree", "inject", "gbuffer", "shadows", "indirect",
                             "specular", "accumulate", "tonemap"})
     EXPECT_TRUE(stats["stages"].contains(stage)) << stage;

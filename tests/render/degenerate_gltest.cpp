@@ -86,6 +86,8 @@ std::vector<float> render(const scene::Scene& s, render::Mode mode) {
   rs.spp = 4;
   render::Renderer r(programs, s, rs);
   r.renderFrame();
+  // Nor a NaN or Inf that accumulation or the octree replaced on the way.
+  EXPECT_EQ(r.nonfiniteTerms(), 0u);
   return r.readLinear();
 }
 

@@ -50,13 +50,16 @@ class RtgiTest : public GlProgramsTest {
     return s;
   }
 
-  // `frames` frames of accumulation from `camera`; linear RGBA.
+  // `frames` frames of accumulation from `camera`; linear RGBA. The NaN or Inf
+  // values the renderer replaced on the way go to lastNonfinite_.
   std::vector<float> render(const scene::Scene& s, const render::RenderSettings& rs, int frames,
                             const scene::Camera& camera) {
     render::Renderer r(*programs_, s, rs);
     for (int f = 0; f < frames; ++f) r.renderFrame(camera);
+    lastNonfinite_ = r.nonfiniteTerms();
     return r.readLinear();
   }
+  uint32_t lastNonfinite_ = 0;
 
   // A sealed room, walls `thickness` thick, a dim light inside and a light 1000 times
   // brighter just outside; the camera inside. Returns the mean radiance with the
@@ -117,13 +120,28 @@ TEST_F(RtgiTest, NoNanOrInfAnywhere) {
   c.forward = glm::vec3(0.0f, -1.0f, 0.0f);
   c.up = glm::vec3(0.0f, 0.0f, -1.0f);
   cameras.push_back(c);
+  // And with a head lamp: a point light at the eye, where the half vector of the
+  // light equals the view.
+  scene::Scene lamp = room;
+  scene::Light head;
+  head.position = room.camera.position;
+  head.intensity = 2.0f;
+  lamp.lights.push_back(head);
+  {
+    const auto px = render(lamp, rs, 3, room.camera);
+    EXPECT_EQ(nonFinite(px), 0u) << "head lamp";
+    EXPECT_EQ(lastNonfinite_, 0u) << "head lamp";
+  }
   for (size_t i = 0; i < cameras.size(); ++i) {
     const auto px = render(room, rs, 3, cameras[i]);
     EXPECT_EQ(nonFinite(px), 0u) << "camera " << i;
+    // Nor a NaN or Inf that accumulation or the octree replaced on the way.
+    EXPECT_EQ(lastNonfinite_, 0u) << "camera " << i;
   }
   const scene::Scene plane = scene::loadGltf(darkPlane());
   const auto px = render(plane, rs, 3, plane.camera);
   EXPECT_EQ(nonFinite(px), 0u);
+  EXPECT_EQ(lastNonfinite_, 0u);
   EXPECT_GT(meanOf(px), 0.0);
   // dvr sees the same volume without NaN either.
   EXPECT_EQ(nonFinite(render(room, settings(48, 64, render::Mode::kDvr), 1, cameras[1])), 0u);
@@ -456,6 +474,7 @@ TEST_F(RtgiTest, TenThousandFramesStayFiniteAndConverge) {
     return std::sqrt(sum / static_cast<double>(a.size() / 4 * 3));
   };
   EXPECT_EQ(nonFinite(at[2]), 0u);
+  EXPECT_EQ(r.nonfiniteTerms(), 0u);
   for (size_t i = 3; i < at[2].size(); i += 4) ASSERT_EQ(at[2][i], 10000.0f);
   const double early = rmsChange(at[0], at[1]), late = rmsChange(at[1], at[2]);
   std::printf("rtgi 8x8: RMS change 100->1000 frames %.5f, 1000->10000 %.5f (mean %.4f)\n", early,
