@@ -56,6 +56,42 @@ function onlyRoles(roles, pointer, allowed) {
   return r.size > 0 && [...r].every((x) => allowed.includes(x));
 }
 
+// The texture slots voxgi reads of material m, as [name, textureInfo] pairs: every
+// slot, the emissive one only where the material emits (as the loader reads it).
+function textureSlots(m) {
+  const slots = [];
+  const pbr = m.pbrMetallicRoughness || {};
+  const add = (name, info) => { if (info && typeof info === 'object') slots.push([name, info]); };
+  add('baseColorTexture', pbr.baseColorTexture);
+  add('metallicRoughnessTexture', pbr.metallicRoughnessTexture);
+  if ((m.emissiveFactor || []).some((v) => v !== 0)) add('emissiveTexture', m.emissiveTexture);
+  add('normalTexture', m.normalTexture);
+  add('occlusionTexture', m.occlusionTexture);
+  return slots;
+}
+
+// The TEXCOORD_n sets a primitive with material index `mi` reads: those its
+// material's texture slots name (KHR_texture_transform's texCoord overrides the
+// slot's), or set 0 without any.
+function texCoordSets(doc, mi) {
+  const m = Number.isInteger(mi) ? (doc.materials || [])[mi] : undefined;
+  const sets = new Set();
+  for (const [, info] of m ? textureSlots(m) : []) {
+    const ext = (info.extensions || {}).KHR_texture_transform || {};
+    const set = Number.isInteger(ext.texCoord) ? ext.texCoord : info.texCoord;
+    sets.add(Number.isInteger(set) ? set : 0);
+  }
+  if (sets.size === 0) sets.add(0);
+  return sets;
+}
+
+// The vertex attributes voxgi reads of a primitive.
+function readAttributes(doc, p) {
+  const names = ['POSITION', 'NORMAL', 'COLOR_0', 'TANGENT'];
+  for (const set of texCoordSets(doc, p.material)) names.push(`TEXCOORD_${set}`);
+  return names;
+}
+
 // What voxgi reads of a document: the accessors (with the roles they are read as),
 // textures, images and samplers reachable from what it draws.
 function readRoles(doc) {
@@ -67,7 +103,7 @@ function readRoles(doc) {
   };
   for (const m of doc.meshes || [])
     for (const p of m.primitives || []) {
-      for (const a of ['POSITION', 'NORMAL', 'TEXCOORD_0'])
+      for (const a of readAttributes(doc, p))
         if (p.attributes && a in p.attributes) add(p.attributes[a], a);
       if ('indices' in p) add(p.indices, 'indices');
     }
@@ -79,10 +115,9 @@ function readRoles(doc) {
       add(s.output, 'animation output');
     }
   const textures = new Set();
-  for (const m of doc.materials || []) {
-    const t = m.pbrMetallicRoughness && m.pbrMetallicRoughness.baseColorTexture;
-    if (t && Number.isInteger(t.index)) textures.add(t.index);
-  }
+  for (const m of doc.materials || [])
+    for (const [, info] of textureSlots(m))
+      if (Number.isInteger(info.index)) textures.add(info.index);
   const images = new Set(), samplers = new Set();
   for (const t of textures) {
     const tex = (doc.textures || [])[t] || {};
@@ -94,8 +129,10 @@ function readRoles(doc) {
 
 const NODE_FIELDS = ['children', 'mesh', 'camera', 'matrix', 'translation', 'rotation', 'scale'];
 const PRIMITIVE_FIELDS = ['indices', 'material', 'mode'];
-const MATERIAL_FIELDS = ['emissiveFactor', 'alphaMode', 'alphaCutoff', 'doubleSided'];
-const PBR_FIELDS = ['baseColorFactor', 'metallicFactor', 'roughnessFactor', 'baseColorTexture'];
+const MATERIAL_FIELDS = ['emissiveFactor', 'alphaMode', 'alphaCutoff', 'doubleSided',
+  'emissiveTexture', 'normalTexture', 'occlusionTexture'];
+const PBR_FIELDS = ['baseColorFactor', 'metallicFactor', 'roughnessFactor', 'baseColorTexture',
+  'metallicRoughnessTexture'];
 
 // Whether the error at `pointer` (a JSON pointer, or none for the container) lies in
 // a part voxgi reads; with the reason when it does not.
@@ -117,7 +154,8 @@ function readPart(doc, roles, m) {
       if (k.length < 5 || PRIMITIVE_FIELDS.includes(k[4])) return { read: true };
       if (k[4] === 'attributes') {
         // Every attribute's accessor index is checked; only these are read.
-        if (k.length < 6 || ['POSITION', 'NORMAL', 'TEXCOORD_0'].includes(k[5]) ||
+        const prim = (((doc.meshes || [])[index] || {}).primitives || [])[Number(k[3])] || {};
+        if (k.length < 6 || readAttributes(doc, prim).includes(k[5]) ||
             m.code === 'UNRESOLVED_REFERENCE')
           return { read: true };
         return { read: false, why: 'attribute voxgi does not read' };
