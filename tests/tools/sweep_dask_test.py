@@ -3,7 +3,8 @@
 compared with a reference) and one row that fails (an option voxgi refuses). The
 finished rows must reach sweep.csv with their metrics, the failed row must be
 reported with its parameters and retried exactly once, and the sweep must exit 1.
-Usage: sweep_dask_test.py VOXGI. Exit 77 (skipped) where .venv lacks dask."""
+Usage: sweep_dask_test.py VOXGI. Exit 77 (skipped) where .venv lacks dask, or 1 with
+VOXGI_REQUIRE_TOOLS=1 (tools/test), where the skip would hide a missing set-up."""
 import csv
 import json
 import os
@@ -27,8 +28,10 @@ def main():
     if not os.path.exists(PY) or subprocess.run(
             [PY, "-c", "import dask.distributed, flip_evaluator, matplotlib"],
             capture_output=True).returncode != 0:
-        print("SKIP: .venv with dask[distributed], flip-evaluator and matplotlib missing "
-              "(run tools/setup)")
+        why = ".venv with dask[distributed], flip-evaluator and matplotlib missing (run tools/setup)"
+        if os.environ.get("VOXGI_REQUIRE_TOOLS") == "1":
+            fail(why + "; VOXGI_REQUIRE_TOOLS=1 forbids the skip")
+        print("SKIP: " + why)
         sys.exit(77)
     start = time.time()
     with tempfile.TemporaryDirectory(prefix="voxgi-sweep-dask-") as tmp:
