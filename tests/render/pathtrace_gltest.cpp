@@ -162,7 +162,8 @@ TEST_P(PathtraceTest, WhiteFurnaceConvergesToClosedForm) {
   const double got = meanRgb(px);
   std::printf("furnace a=%.2f: mean %.5f, expected %.5f (%.3f%% off)\n", a, got, expected,
               100.0 * (got / expected - 1.0));
-  EXPECT_NEAR(got, expected, 0.01 * expected);
+  // Five seeds: -0.085% to +0.056% off, standard deviation 0.058%; the bound is 4 of it.
+  EXPECT_NEAR(got, expected, 0.0025 * expected);
 }
 
 TEST_P(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
@@ -177,7 +178,9 @@ TEST_P(PathtraceTest, EachBounceAddsExactlyWhatItCarries) {
     const double got = meanRgb(renderLinear(s, t));
     const double expected = le * (1.0 - std::pow(a, depth)) / (1.0 - a);
     std::printf("furnace max depth %d: %.5f, expected %.5f\n", depth, got, expected);
-    EXPECT_NEAR(got, expected, 0.01 * expected) << "max depth " << depth;
+    // Five seeds at depth 6, the noisiest: -0.14% to +0.07%, standard deviation
+    // 0.08%; the bound is 4 of it.
+    EXPECT_NEAR(got, expected, 0.0035 * expected) << "max depth " << depth;
     const double step = got - previous;
     EXPECT_GT(step, 0.0) << "max depth " << depth;
     EXPECT_LT(step, previousStep) << "bounce " << depth << " carried more than the one before";
@@ -207,8 +210,11 @@ TEST_P(PathtraceTest, MirrorFurnaceMatchesClosedForm) {
 // emitters' area pdf) is right. A furnace of glTF metallic-roughness material.
 TEST_P(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
   scene::Scene s = furnace(0.8f, 1.0f);
-  for (auto [metallic, roughness] :
-       {std::pair{0.0f, 0.3f}, std::pair{0.5f, 0.5f}, std::pair{1.0f, 0.2f}}) {
+  // Per material, the bound is 4 standard deviations of the two estimators'
+  // relative difference over five seeds (0.19%, 0.085% and 0.03%).
+  for (auto [metallic, roughness, bound] :
+       {std::tuple{0.0f, 0.3f, 0.0075}, std::tuple{0.5f, 0.5f, 0.0035},
+        std::tuple{1.0f, 0.2f, 0.0012}}) {
     s.materials[0].metallic = metallic;
     s.materials[0].roughness = roughness;
     Settings t;
@@ -221,7 +227,7 @@ TEST_P(PathtraceTest, LightSamplingAndBsdfSamplingAgreeOnGgx) {
     const double bsdfOnly = meanRgb(renderLinear(s, t));
     std::printf("metallic %.1f roughness %.1f: NEE + MIS %.5f, BSDF sampling %.5f\n", metallic,
                 roughness, withNee, bsdfOnly);
-    EXPECT_NEAR(withNee, bsdfOnly, 0.01 * bsdfOnly) << metallic << " " << roughness;
+    EXPECT_NEAR(withNee, bsdfOnly, bound * bsdfOnly) << metallic << " " << roughness;
     EXPECT_GT(withNee, 1.0);  // emission plus something reflected
   }
 }
@@ -287,8 +293,9 @@ TEST_P(PathtraceTest, PlaneUnderPointLightMatchesClosedForm) {
   }
   std::printf("plane under a point light: worst pixel %.3f%%, mean %.4f%% off the closed form\n",
               100 * worst, 100 * (sumGot / sumExpected - 1.0));
-  EXPECT_LT(worst, 0.01);
-  EXPECT_NEAR(sumGot / sumExpected, 1.0, 0.002);
+  // Five seeds: worst pixel 0.50% to 0.62%, mean -0.005% to +0.006% off.
+  EXPECT_LT(worst, 0.008);
+  EXPECT_NEAR(sumGot / sumExpected, 1.0, 0.0003);
 }
 
 // The same plane under a small one-sided sphere lamp of radiance le, radius rl,

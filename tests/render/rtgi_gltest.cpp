@@ -160,7 +160,8 @@ TEST_F(RtgiTest, ClosedWallsDoNotLeakLight) {
   const double thinLeak = (thinOn - thinOff) / thinOff / 1000.0;
   std::printf("sealed room: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
               (on - off) / off / 1000.0, thinLeak);
-  EXPECT_LT(thinLeak, 0.5);
+  // Seeds 1-5: 0.387 to 0.416 (mean 0.403, standard deviation 0.011).
+  EXPECT_LT(thinLeak, 0.45);
 }
 
 // The same rooms with cone-traced indirect light (--indirect cones): walls 4 voxels
@@ -178,7 +179,8 @@ TEST_F(RtgiTest, ConesDoNotLeakThroughClosedWalls) {
   std::printf(
       "sealed room, cones: walls 4 voxels thick leak %.2e, walls 1/3 voxel thick leak %.3f\n",
       thickLeak, thinLeak);
-  EXPECT_LT(thinLeak, 0.5);
+  // Seeds 1-5: 0.200 to 0.222 (mean 0.208, standard deviation 0.008).
+  EXPECT_LT(thinLeak, 0.24);
 }
 
 // Cones give the Cornell room finite indirect light of about the strength the rays
@@ -483,13 +485,17 @@ TEST_F(RtgiTest, TenThousandFramesStayFiniteAndConverge) {
 }
 
 // rtgi converges towards the path tracer: its error falls with frames and ends
-// within a few per cent of the reference's mean on both reference scenes.
+// within a few per cent of the reference's mean on both reference scenes. Bounds
+// from seeds 1-5 (rtgi's, the octree's and the path tracer's seeds all changed):
+// cornell_room relative MSE 0.0103-0.0110 (standard deviation 0.0003), mean ratio
+// 1.003-1.008; dark_plane 0.0115-0.0415 (fireflies: one seed's 0.0415 against
+// 0.012-0.019 for the others; mean 0.021, deviation 0.012), mean ratio 0.997-1.003.
 TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
   struct Case {
     std::string path;
     double maxRelMse;
   };
-  for (const Case& c : {Case{cornellRoom(), 0.05}, Case{darkPlane(), 0.5}}) {
+  for (const Case& c : {Case{cornellRoom(), 0.012}, Case{darkPlane(), 0.06}}) {
     const scene::Scene s = scene::loadGltf(c.path);
     const int size = 64;
     const auto reference =
@@ -506,7 +512,7 @@ TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
         c.path.c_str(), mFew.relMse, mMany.relMse, mMany.meanLuminanceRatio);
     EXPECT_LT(mMany.relMse, mFew.relMse);
     EXPECT_LT(mMany.relMse, c.maxRelMse);
-    EXPECT_NEAR(mMany.meanLuminanceRatio, 1.0, 0.15);
+    EXPECT_NEAR(mMany.meanLuminanceRatio, 1.0, 0.015);
   }
 }
 
