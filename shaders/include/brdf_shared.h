@@ -18,9 +18,7 @@ namespace voxgi::gpu {
 #endif
 
 // Rec. 709 luminance of linear RGB.
-VOXGI_FN float luminance(vec3 c) {
-  return dot(c, vec3(0.2126f, 0.7152f, 0.0722f));
-}
+VOXGI_FN float luminance(vec3 c) { return dot(c, vec3(0.2126f, 0.7152f, 0.0722f)); }
 
 // The reference scenes' convention (scenes/reference_scenes.md), which the path
 // tracer follows: metallic 0 with roughness 1 is pure Lambert (albedo = base colour,

@@ -51,7 +51,9 @@ vec2 triangleUv2(uint tri, vec2 bc) {
 // The vertex colour (COLOR_0) at barycentrics bc of triangle tri, from its corners'
 // colours (three a triangle, BVH order; scene side: render/gpu_bvh.h), an SSBO at the
 // binding VOXGI_BVH_COLOR_BINDING, which the including shader defines.
-layout(std430, binding = VOXGI_BVH_COLOR_BINDING) readonly buffer BvhColors { vec4 bvhCornerColors[]; };
+layout(std430, binding = VOXGI_BVH_COLOR_BINDING) readonly buffer BvhColors {
+  vec4 bvhCornerColors[];
+};
 vec4 triangleColor(uint tri, vec2 bc) {
   uint b = tri * 3u;
   return (1.0 - bc.x - bc.y) * bvhCornerColors[b] + bc.x * bvhCornerColors[b + 1u] +
@@ -63,7 +65,9 @@ vec4 triangleColor(uint tri, vec2 bc) {
 // The tangent (xyz, w handedness) at barycentrics bc of triangle tri, from its
 // corners' tangents (three a triangle, BVH order; scene side: render/gpu_bvh.h), an
 // SSBO at the binding VOXGI_BVH_TANGENT_BINDING, which the including shader defines.
-layout(std430, binding = VOXGI_BVH_TANGENT_BINDING) readonly buffer BvhTangents { vec4 bvhCornerTangents[]; };
+layout(std430, binding = VOXGI_BVH_TANGENT_BINDING) readonly buffer BvhTangents {
+  vec4 bvhCornerTangents[];
+};
 vec4 triangleTangent(uint tri, vec2 bc) {
   uint b = tri * 3u;
   return (1.0 - bc.x - bc.y) * bvhCornerTangents[b] + bc.x * bvhCornerTangents[b + 1u] +

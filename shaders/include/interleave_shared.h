@@ -38,9 +38,7 @@ VOXGI_FN uint interleaveCell(uint rank) {
 
 // The rank of frame `frame`'s turn: the pixels of rank r with (r + frame) % n == 0
 // trace.
-VOXGI_FN uint interleaveTurn(uint n, uint frame) {
-  return (n - (frame & (n - 1u))) & (n - 1u);
-}
+VOXGI_FN uint interleaveTurn(uint n, uint frame) { return (n - (frame & (n - 1u))) & (n - 1u); }
 
 // Whether pixel px has its turn on frame `frame` (interleave n > 1).
 VOXGI_FN bool interleaveTraces(ivec2 px, uint n, uint frame) {

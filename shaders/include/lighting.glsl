@@ -78,7 +78,7 @@ float emitterArea(GpuEmitter e) {
 struct Surface {
   vec3 p;
   vec3 n;
-  vec3 v;  // towards the viewer
+  vec3 v;        // towards the viewer
   vec3 diffuse;  // albedo (1 - metallic) x base colour
   vec3 f0;
   float alpha;     // GGX alpha = roughness^2

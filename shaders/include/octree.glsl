@@ -65,7 +65,6 @@ float octreeVoxelSize() { return octree.origin.w; }
 vec3 octreeToGrid(vec3 p) { return (p - octree.origin.xyz) / octree.origin.w; }
 vec3 octreeToWorld(vec3 g) { return octree.origin.xyz + g * octree.origin.w; }
 
-
 // Shared-exponent RGB (9-bit mantissas, 5-bit exponent), the layout of
 // GL_RGB9_E5 (EXT_texture_shared_exponent): 4 bytes, relative precision 2^-9 of the
 // largest channel, range [0, 65408]. Negative and NaN channels become 0, Inf the

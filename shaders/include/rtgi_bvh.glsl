@@ -13,7 +13,9 @@
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
 layout(binding = kRtgiBvhNodeUnit) uniform usamplerBuffer nodeTexels;
 layout(binding = kRtgiBvhTriangleUnit) uniform usamplerBuffer triangleTexels;
-layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
+layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading {
+  GpuPtShading shading[];
+};
 uint loopBudget;  // see kPtLoopBudget
 const float kInf = 1.0 / 0.0;
 

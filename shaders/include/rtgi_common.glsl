@@ -62,8 +62,8 @@ bool belowSurface(ivec2 px, vec3 d) {
 // image.
 void seedPixel(ivec2 px, uint stage) {
   uint pixelIndex = uint(px.y) * rtgi.frame.z + uint(px.x);
-  rngState = pcgHash(pcgHash(pcgHash(rtgi.frame.y + stage * 0x9e3779b9u) + pixelIndex) +
-                     rtgi.frame.x);
+  rngState =
+      pcgHash(pcgHash(pcgHash(rtgi.frame.y + stage * 0x9e3779b9u) + pixelIndex) + rtgi.frame.x);
 }
 
 // Where rays leave the surface: off it along the normal, past the voxels the surface

@@ -86,8 +86,7 @@ vec3 coneRadiance(vec3 o, vec3 dir, float halfTan) {
   for (int k = 0; k < kConeMaxSteps && alpha < kConeOpaque; ++k) {
     float diameter = max(1.0, 2.0 * halfTan * t);
     vec3 g = g0 + dir * t;
-    if (any(lessThan(g, vec3(-diameter))) || any(greaterThan(g, vec3(rootSize + diameter))))
-      break;
+    if (any(lessThan(g, vec3(-diameter))) || any(greaterThan(g, vec3(rootSize + diameter)))) break;
     float lod = clamp(log2(diameter), 0.0, float(depth - 1));
     int level = depth - int(floor(lod));
     vec4 fine, coarse;

@@ -35,7 +35,9 @@ bool denoiseKeeps(ivec2 px) {
 // each) with the low 10 bits of the material index.
 uvec4 packDenoiseKey(vec4 position, vec3 n) {
   n /= max(abs(n.x) + abs(n.y) + abs(n.z), 1e-20);
-  vec2 e = n.z >= 0.0 ? n.xy : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
+  vec2 e = n.z >= 0.0
+               ? n.xy
+               : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
   uvec2 q = uvec2(clamp(round((e * 0.5 + 0.5) * 2047.0), 0.0, 2047.0));
   uint material = uint(position.w) & 1023u;
   return uvec4(floatBitsToUint(position.xyz), (q.x << 21u) | (q.y << 10u) | material);
@@ -52,7 +54,8 @@ DenoiseKey unpackDenoiseKey(uvec4 k) {
   d.position = uintBitsToFloat(k.xyz);
   vec2 e = vec2(float(k.w >> 21u), float((k.w >> 10u) & 2047u)) / 2047.0 * 2.0 - 1.0;
   vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
+  if (n.z < 0.0)
+    n.xy = (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
   d.normal = normalize(n);
   d.material = k.w & 1023u;
   return d;

@@ -100,7 +100,8 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
         vec3 d = q - o;
         float dist = length(d);
         if (dot(d, ng) >= 0.0)
-          result += c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
+          result +=
+              c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
       }
     }
   }

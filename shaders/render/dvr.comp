@@ -22,8 +22,8 @@ void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
   vec2 ndc = (vec2(px) + 0.5) / vec2(rtgi.frame.zw) * 2.0 - 1.0;
-  vec3 dir = normalize(rtgi.cameraForward.xyz + ndc.x * rtgi.cameraRight.xyz +
-                       ndc.y * rtgi.cameraUp.xyz);
+  vec3 dir =
+      normalize(rtgi.cameraForward.xyz + ndc.x * rtgi.cameraRight.xyz + ndc.y * rtgi.cameraUp.xyz);
   MarchRay r = octreeWorldRay(rtgi.camera.xyz, dir, 3.0e38);
   MarchState s;
   vec3 color = vec3(0.0);

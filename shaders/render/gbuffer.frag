@@ -64,8 +64,7 @@ void main() {
   // light with mips, 1.17x without). Base colour and emission, which the light
   // scales linearly, keep their mipmaps.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
-    vec4 mr = textureLod(metallicRoughnessTexture,
-                         SLOT_UV(m, kMaterialMetallicRoughnessUv2), 0.0);
+    vec4 mr = textureLod(metallicRoughnessTexture, SLOT_UV(m, kMaterialMetallicRoughnessUv2), 0.0);
     metallic *= mr.b;
     roughness *= mr.g;
   }

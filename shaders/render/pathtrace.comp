@@ -121,7 +121,7 @@ vec3 radiance(vec3 o, vec3 d) {
   int maxDepth = int(params.depth.x);
   int rrDepth = int(params.depth.y);
   bool lightsByNee = params.tile.w > 0u;
-  float lastPdf = 0.0;  // solid-angle pdf of the BSDF sample that led here
+  float lastPdf = 0.0;    // solid-angle pdf of the BSDF sample that led here
   bool lastDelta = true;  // camera rays and mirror bounces: emission counts in full
   for (int depth = 1; depth <= maxDepth; ++depth) {
     if (loopBudget == 0u) break;
@@ -176,7 +176,8 @@ vec3 radiance(vec3 o, vec3 d) {
     }
 #endif
     Bsdf b = makeBsdf(m.baseColor.rgb, m.params.x, m.params.y, dot(ns, wo));
-    if (b.kind != kBsdfGgx && b.base == vec3(0.0)) break;  // black: reflects nothing (the lights of the reference scenes)
+    if (b.kind != kBsdfGgx && b.base == vec3(0.0))
+      break;  // black: reflects nothing (the lights of the reference scenes)
 
     if (b.kind == kBsdfMirror) {
       d = reflect(d, ns);

@@ -1,8 +1,8 @@
 #version 450 core
 // Raster baseline: emission plus unshadowed direct light from punctual lights and
 // emissive surfaces, and an optional uniform ambient term that the material's
-// occlusion texture darkens (glTF occlusionTexture), in linear HDR radiance. Effect-plan variants (scene/effects.h):
-// VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
+// occlusion texture darkens (glTF occlusionTexture), in linear HDR radiance. Effect-plan variants
+// (scene/effects.h): VOXGI_NO_TEXTURES, VOXGI_NO_ALPHA, VOXGI_NO_EMISSION, VOXGI_NO_COLORS,
 // VOXGI_NO_NORMALMAPS compile that code out; VOXGI_NO_UV2 texture-coordinate channel 1
 // (every slot then reads channel 0, the only one the scene has).
 #include "scene_shared.h"
@@ -103,8 +103,8 @@ void main() {
   float occlusion = 1.0;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasOcclusionTexture) != 0u)
-    occlusion = mix(1.0, texture(occlusionTexture, SLOT_UV(m, kMaterialOcclusionUv2)).r,
-                    m.occlusion.x);
+    occlusion =
+        mix(1.0, texture(occlusionTexture, SLOT_UV(m, kMaterialOcclusionUv2)).r, m.occlusion.x);
 #endif
   radiance += ambient * occlusion * s.diffuse;
   int lightCount = int(frame.counts.x);

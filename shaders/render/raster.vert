@@ -16,7 +16,8 @@ layout(location = kUv2Attribute) in vec2 inUv2;  // texture-coordinate channel 1
 #ifndef VOXGI_NO_COLORS
 layout(location = kColorAttribute) in vec4 inColor;
 #endif
-layout(location = kPreviousPositionAttribute) in vec3 inPreviousPosition;  // the last frame's (animated meshes)
+layout(location = kPreviousPositionAttribute) in vec3
+    inPreviousPosition;  // the last frame's (animated meshes)
 #ifndef VOXGI_NO_NORMALMAPS
 layout(location = kTangentAttribute) in vec4 inTangent;  // xyz, w handedness
 #endif

@@ -170,9 +170,8 @@ bool historyStale(ivec2 px, vec4 previous) {
       ivec2 q = px + ivec2(dx, dy);
       if (any(lessThan(q, ivec2(0))) || outside(q)) continue;
       vec4 p1 = texelFetch(gPosition, q, 0);
-      if (p1.w != p0.w ||
-          !sameSurface(true, n0, d0, true, texelFetch(gNormal, q, 0).xyz,
-                       length(p1.xyz - rtgi.camera.xyz)))
+      if (p1.w != p0.w || !sameSurface(true, n0, d0, true, texelFetch(gNormal, q, 0).xyz,
+                                       length(p1.xyz - rtgi.camera.xyz)))
         continue;
       float l = relitLuminance(q);
       s1 += l;
@@ -184,8 +183,8 @@ bool historyStale(ivec2 px, vec4 previous) {
   float variance = max(s2 / n - mean * mean, 0.0) * n / (n - 1.0);
   float h = luminance(previous.rgb / demodulation(px));
   // The noise of the block's mean and of the history's, n and previous.a samples.
-  float tolerance = kStaleSigmas * sqrt(variance / n + variance / previous.a) +
-                    kStaleSlack * max(mean, h);
+  float tolerance =
+      kStaleSigmas * sqrt(variance / n + variance / previous.a) + kStaleSlack * max(mean, h);
   return abs(h - mean) > tolerance;
 }
 #endif

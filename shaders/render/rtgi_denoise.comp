@@ -107,7 +107,8 @@ void main() {
   }
   vec4 out1 = filterTerm(taps, edge, step), out2 = filterTerm(taps2, edge, step);
   if (last) {
-    imageStore(filtered, px, vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
+    imageStore(filtered, px,
+               vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
   } else {
     imageStore(filtered, px, out1);
     imageStore(filtered2, px, out2);

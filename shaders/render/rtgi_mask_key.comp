@@ -22,5 +22,6 @@ void main() {
   float logLuminance = log(luminance(c) + 1e-3);
   float distance = p.w > 0.5 ? max(length(p.xyz - rtgi.camera.xyz), 1e-30) : 0.0;
   imageStore(keyOut, px,
-             uvec4(floatBitsToUint(logLuminance), floatBitsToUint(distance), packSnorm4x8(vec4(n, 0.0)), 0u));
+             uvec4(floatBitsToUint(logLuminance), floatBitsToUint(distance),
+                   packSnorm4x8(vec4(n, 0.0)), 0u));
 }

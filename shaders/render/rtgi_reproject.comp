@@ -73,8 +73,8 @@ void main() {
   }
   vec4 nr = texelFetch(gNormal, px, 0);
   vec3 n = normalize(nr.xyz);
-  mat4 previous = mat4(rtgi.previousViewProj[0], rtgi.previousViewProj[1],
-                       rtgi.previousViewProj[2], rtgi.previousViewProj[3]);
+  mat4 previous = mat4(rtgi.previousViewProj[0], rtgi.previousViewProj[1], rtgi.previousViewProj[2],
+                       rtgi.previousViewProj[3]);
   // Where the point was: moving meshes moved it since (motion: 0 elsewhere).
   vec3 was = p.xyz + texelFetch(gMotion, px, 0).xyz;
   vec4 clip = previous * vec4(was, 1.0);

@@ -2,8 +2,8 @@
 // rtgi stage "specular": light along the reflection. Mirrors (roughness below
 // kMirrorRoughness) trace the reflected ray and see the light the voxel it hits
 // reflects, or an emitter's exact geometry where the ray meets one first (a light
-// the size of its voxels would look too big); glossy surfaces trace one ray per frame towards a GGX micro-normal
-// drawn from the visible normals (Heitz 2018) and see reflected light only (their
+// the size of its voxels would look too big); glossy surfaces trace one ray per frame towards a GGX
+// micro-normal drawn from the visible normals (Heitz 2018) and see reflected light only (their
 // highlight from the lights comes from the shadows stage). Weighted by Schlick's
 // Fresnel. Dielectrics rougher than kGlossyRoughness are skipped.
 //
@@ -72,9 +72,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
 #ifdef RTGI_BVH_TEXTURES
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                     kMaterialHasMetallicRoughnessTexture)) != 0u)
-      m = texturedMaterial(m, triangleUv(tri, bc),
-                           (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc)
-                                                             : triangleUv(tri, bc));
+      m = texturedMaterial(
+          m, triangleUv(tri, bc),
+          (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : triangleUv(tri, bc));
 #endif
 #ifdef RTGI_BVH_COLORS
     m.baseColor *= triangleColor(tri, bc);
@@ -131,8 +131,7 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
 #ifdef RTGI_BVH_RAYS
       // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
-      if (dot(d, below) >= 0.0)
-        result += throughput * s.diffuse * voxelLightAlong(p + ng * eps, d);
+      if (dot(d, below) >= 0.0) result += throughput * s.diffuse * voxelLightAlong(p + ng * eps, d);
 #else
       MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(s), d, 3.0e38), 0.0, kRaySteps);
       if (h.hit && !seenFromBehind(material[h.node].y, d))

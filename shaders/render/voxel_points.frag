@@ -16,7 +16,7 @@ layout(location = 0) out vec4 outRadiance;
 void main() {
   vec3 toEye = normalize(frame.cameraPosition.xyz - vPosition);
   const vec3 key = normalize(vec3(0.35, 0.8, 0.5));
-  float light = 0.15 + 0.425 * max(dot(vFaceNormal, toEye), 0.0) +
-                0.425 * max(dot(vFaceNormal, key), 0.0);
+  float light =
+      0.15 + 0.425 * max(dot(vFaceNormal, toEye), 0.0) + 0.425 * max(dot(vFaceNormal, key), 0.0);
   outRadiance = vec4(vEmission + vAlbedo * light, 1.0);
 }

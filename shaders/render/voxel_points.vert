@@ -16,13 +16,12 @@ layout(location = 2) flat out vec3 vFaceNormal;
 layout(location = 3) out vec3 vPosition;
 
 // Each face: the axis it faces and its two triangles as corner bits (x=1, y=2, z=4).
-const int kCorners[36] = int[36](
-    1, 3, 7, 1, 7, 5,   // +x
-    0, 4, 6, 0, 6, 2,   // -x
-    2, 6, 7, 2, 7, 3,   // +y
-    0, 1, 5, 0, 5, 4,   // -y
-    4, 5, 7, 4, 7, 6,   // +z
-    0, 2, 3, 0, 3, 1);  // -z
+const int kCorners[36] = int[36](1, 3, 7, 1, 7, 5,   // +x
+                                 0, 4, 6, 0, 6, 2,   // -x
+                                 2, 6, 7, 2, 7, 3,   // +y
+                                 0, 1, 5, 0, 5, 4,   // -y
+                                 4, 5, 7, 4, 7, 6,   // +z
+                                 0, 2, 3, 0, 3, 1);  // -z
 const vec3 kNormals[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0),
                                  vec3(0, 0, 1), vec3(0, 0, -1));
 

@@ -53,7 +53,8 @@ void main() {
       dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
     }
     MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
-    if (h.hit && !seenFromBehind(material[h.node].y, dir)) gathered += unpackRgb9e5(previous[h.node]);
+    if (h.hit && !seenFromBehind(material[h.node].y, dir))
+      gathered += unpackRgb9e5(previous[h.node]);
   }
   vec3 direct = unpackRgb9e5(directIn[node]);
   radiance[node] = packRgb9e5(direct + albedo.rgb * gathered / float(max(rays, 1)));

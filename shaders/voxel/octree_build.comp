@@ -10,7 +10,9 @@
 #include "octree.glsl"
 
 layout(local_size_x = kOctreeGroupSize) in;
-layout(std430, binding = kOctreeCounterBinding) coherent buffer Counters { OctreeCounters counters; };
+layout(std430, binding = kOctreeCounterBinding) coherent buffer Counters {
+  OctreeCounters counters;
+};
 layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
 
 const uint kPending = 0xFFFFFFFFu;

@@ -37,8 +37,8 @@ void main() {
   float inv = opacity > 0.0 ? 1.0 / opacity : 0.0;
   radiance[node] = packRgb9e5(rad * inv);
 #ifndef OCTREE_FILTER_RADIANCE
-  material[node] = uvec2(packUnorm4x8(vec4(alb * inv, opacity / 8.0)),
-                         packSnorm4x8(vec4(nrm * inv, 0.0)));
+  material[node] =
+      uvec2(packUnorm4x8(vec4(alb * inv, opacity / 8.0)), packSnorm4x8(vec4(nrm * inv, 0.0)));
   emission[node] = packRgb9e5(em * inv);
 #endif
 }

@@ -20,8 +20,9 @@ void main() {
   ivec2 px = ivec2(-1);
   bool ok = interleavePixel(a.x, a.y, a.z, n, frame, every, px);
   ivec2 q = ivec2(int(a.x % 61u), int(a.x / 61u));
-  outputs[c] = uvec4((ok ? 1u : 0u) | (every ? 2u : 0u) | (interleaveTraces(q, n, frame) ? 4u : 0u) |
-                         (interleaveTurn(n, frame) << 3u) | (interleaveRank(q) << 8u) |
-                         (interleaveCell(a.x & 15u) << 12u),
-                     uint(px.x), uint(px.y), interleaveTraceCount(a.y, a.z, n, every));
+  outputs[c] =
+      uvec4((ok ? 1u : 0u) | (every ? 2u : 0u) | (interleaveTraces(q, n, frame) ? 4u : 0u) |
+                (interleaveTurn(n, frame) << 3u) | (interleaveRank(q) << 8u) |
+                (interleaveCell(a.x & 15u) << 12u),
+            uint(px.x), uint(px.y), interleaveTraceCount(a.y, a.z, n, every));
 }
