@@ -19,6 +19,29 @@ void check(bool ok) {
   if (!ok) std::abort();
 }
 
+bool finite(float v) {
+  return std::isfinite(v);
+}
+bool finite(glm::vec2 v) {
+  return finite(v.x) && finite(v.y);
+}
+bool finite(glm::vec3 v) {
+  return finite(v.x) && finite(v.y) && finite(v.z);
+}
+bool finite(glm::vec4 v) {
+  return finite(glm::vec3(v)) && finite(v.w);
+}
+
+// A texture slot: none, or a texture of the scene read through channel 0 or 1, with
+// a finite transform.
+void checkSlot(const voxgi::scene::Scene& s, int texture, int channel,
+               const voxgi::scene::TextureTransform& t) {
+  check(texture >= -1 && (texture < 0 || static_cast<size_t>(texture) < s.textures.size()));
+  check(channel == 0 || channel == 1);
+  check(t.texCoord >= 0);
+  for (const glm::vec2& c : t.columns) check(finite(c));
+}
+
 // What every loaded scene promises its users (the renderer indexes with these).
 void checkInvariants(const voxgi::scene::Scene& s) {
   size_t covered = 0;
@@ -30,13 +53,35 @@ void checkInvariants(const voxgi::scene::Scene& s) {
   check(covered == s.indices.size());
   for (uint32_t i : s.indices) check(i < s.vertices.size());
   for (const voxgi::scene::Vertex& v : s.vertices) {
-    check(std::isfinite(v.position.x) && std::isfinite(v.position.y) &&
-          std::isfinite(v.position.z));
+    check(finite(v.position));
     const float n = v.normal.x * v.normal.x + v.normal.y * v.normal.y + v.normal.z * v.normal.z;
     check(std::fabs(n - 1.0f) < 1e-3f);
+    // Both texture-coordinate channels are baked through finite transforms.
+    check(finite(v.uv) && finite(v.uv2));
   }
-  for (const voxgi::scene::Material& m : s.materials)
-    check(m.baseColorTexture < 0 || static_cast<size_t>(m.baseColorTexture) < s.textures.size());
+  // Colours and tangents: none, or one per vertex; colours finite and within [0, 1],
+  // tangents unit length with a handedness of +1 or -1.
+  check(s.colors.empty() || s.colors.size() == s.vertices.size());
+  for (const glm::vec4& c : s.colors)
+    for (int k = 0; k < 4; ++k) check(c[k] >= 0.0f && c[k] <= 1.0f);
+  check(s.tangents.empty() || s.tangents.size() == s.vertices.size());
+  for (const glm::vec4& t : s.tangents) {
+    check(finite(t));
+    check(std::fabs(glm::dot(glm::vec3(t), glm::vec3(t)) - 1.0f) < 1e-3f);
+    check(t.w == 1.0f || t.w == -1.0f);
+  }
+  for (const voxgi::scene::Material& m : s.materials) {
+    check(finite(m.baseColor) && finite(m.emission) && finite(m.metallic) && finite(m.roughness) &&
+          finite(m.normalScale) && finite(m.occlusionStrength));
+    checkSlot(s, m.baseColorTexture, m.baseColorChannel, m.baseColorUv);
+    checkSlot(s, m.emissiveTexture, m.emissiveChannel, m.emissiveUv);
+    checkSlot(s, m.metallicRoughnessTexture, m.metallicRoughnessChannel, m.metallicRoughnessUv);
+    checkSlot(s, m.normalTexture, m.normalChannel, m.normalUv);
+    checkSlot(s, m.occlusionTexture, m.occlusionChannel, m.occlusionUv);
+  }
+  for (const voxgi::scene::Texture& t : s.textures)
+    check(t.width > 0 && t.height > 0 &&
+          t.rgba8.size() == 4 * static_cast<size_t>(t.width) * static_cast<size_t>(t.height));
 }
 
 }  // namespace
