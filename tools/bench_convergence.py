@@ -11,7 +11,8 @@ accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
 
 Writes out/bench-convergence/table.md and convergence.png (FLIP against time per
 view, rtgi and the path tracer), and prints the table. References come from
-out/reference/ (the highest spp there); a missing one is rendered at --ref-spp.
+tests/data/reference/ (committed, 4096 spp) or out/reference/, the highest spp there;
+a missing one is rendered at --ref-spp.
 """
 import argparse
 import json
@@ -48,15 +49,17 @@ def scene_path(scene):
 
 
 def reference(view, scene, extra, spp, size=SIZE):
-    """The highest-spp path-traced reference of `view` at `size` in out/reference/
-    (VIEW_SIZE_Nspp.exr); rendered at `spp` when there is none."""
+    """The highest-spp path-traced reference of `view` at `size`, committed in
+    tests/data/reference/ or made before in out/reference/ (VIEW_SIZE_Nspp.exr and
+    .png); rendered at `spp` into out/reference/ when there is none."""
     refdir = os.path.join(ROOT, "out", "reference")
     os.makedirs(refdir, exist_ok=True)
     best = None
-    for name in os.listdir(refdir):
-        m = re.fullmatch(rf"{re.escape(view)}_{size}_(\d+)spp\.exr", name)
-        if m and (best is None or int(m.group(1)) > best[0]):
-            best = (int(m.group(1)), name)
+    for d in (os.path.join(ROOT, "tests", "data", "reference"), refdir):
+        for name in os.listdir(d) if os.path.isdir(d) else []:
+            m = re.fullmatch(rf"{re.escape(view)}_{size}_(\d+)spp\.exr", name)
+            if m and (best is None or int(m.group(1)) > best[0]):
+                best = (int(m.group(1)), os.path.join(d, name))
     if best is None:
         base = os.path.join(refdir, f"{view}_{size}_{spp}spp")
         print(f"rendering the {view} reference ({spp} spp)", flush=True)
@@ -64,8 +67,8 @@ def reference(view, scene, extra, spp, size=SIZE):
                         size, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
                         "--out", base + ".png", "--stats", base + ".json", "--no-progress",
                         "-q"] + extra, check=True)
-        best = (spp, os.path.basename(base) + ".exr")
-    exr = os.path.join(refdir, best[1])
+        best = (spp, base + ".exr")
+    exr = best[1]
     return exr, exr[:-4] + ".png", best[0]
 
 
@@ -112,8 +115,9 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench-convergence"))
-    ap.add_argument("--ref-spp", type=int, default=1024,
-                    help="spp of a reference rendered because none exists (default 1024)")
+    ap.add_argument("--ref-spp", type=int, default=4096,
+                    help="spp of a reference rendered because none exists (default 4096; the "
+                    "committed references in tests/data/reference are 4096 spp)")
     ap.add_argument("--view", action="append", choices=[v[0] for v in VIEWS],
                     help="only this view (repeatable)")
     a = ap.parse_args()
