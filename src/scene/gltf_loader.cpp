@@ -452,11 +452,19 @@ class Loader {
         scene_.animations.push_back(std::move(c));
       }
     }
-    // A node moves if it or an ancestor is animated (the graph is a forest here).
+    // A node moves if it or an ancestor is animated (the graph is a forest here):
+    // marked from the roots down, each node once, its parent before it.
     moving_.assign(n, 0);
+    std::vector<size_t> pending;
     for (size_t i = 0; i < n; ++i)
-      for (int a = static_cast<int>(i); a >= 0; a = scene_.nodes[static_cast<size_t>(a)].parent)
-        if (animated[static_cast<size_t>(a)]) moving_[i] = 1;
+      if (scene_.nodes[i].parent < 0) pending.push_back(i);
+    while (!pending.empty()) {
+      const size_t i = pending.back();
+      pending.pop_back();
+      const int p = scene_.nodes[i].parent;
+      moving_[i] = animated[i] || (p >= 0 && moving_[static_cast<size_t>(p)]);
+      for (int c : model_.nodes[i].children) pending.push_back(static_cast<size_t>(c));
+    }
   }
 
   // Parents and local transforms: a matrix, or translation, rotation and scale.
@@ -789,13 +797,23 @@ class Loader {
         parent[static_cast<size_t>(c)] = static_cast<int>(i);
       }
     }
-    // With one parent each, a cycle is a loop of parent links.
+    // With one parent each, a cycle is a loop of parent links. Node i's walk up
+    // stops at a root or at a node an earlier walk showed to reach one, and meets
+    // itself again only on a loop: each node is walked once, however deep the
+    // hierarchy.
+    std::vector<char> rooted(n, 0);
+    std::vector<size_t> walkedFrom(n, n);  // the node whose walk passed here; n: none
+    std::vector<size_t> walk;
     for (size_t i = 0; i < n; ++i) {
-      size_t steps = 0;
-      for (int p = parent[i]; p >= 0; p = parent[static_cast<size_t>(p)]) {
-        if (static_cast<size_t>(p) == i || ++steps > n)
-          fail(strf("node %zu: cycle in the node graph", i));
+      walk.clear();
+      for (size_t u = i; !rooted[u];) {
+        if (walkedFrom[u] == i) fail(strf("node %zu: cycle in the node graph", i));
+        walkedFrom[u] = i;
+        walk.push_back(u);
+        if (parent[u] < 0) break;
+        u = static_cast<size_t>(parent[u]);
       }
+      for (size_t u : walk) rooted[u] = 1;
     }
     checkScenes(parent);
   }

@@ -21,12 +21,14 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "core/log.h"
+#include "support/scene_builder.h"
 #include "support/test_paths.h"
 
 namespace voxgi::scene {
@@ -1010,21 +1012,30 @@ TEST(GltfLoaderCorpus, NoScenesDrawsEveryRootNode) {
   EXPECT_TRUE(loadGltf(malformedDir() + "/valid/quad.gltf").notes.empty());
 }
 
-// Loads `path` in a forked child (stderr to /dev/null, killed after 30 s) and
-// returns how it ended: "" when it returned or threw voxgi::Error, else what
-// went wrong ("killed by signal 11"). A plain fork, not a gtest death test:
-// "threadsafe" death tests re-execute the whole binary for every file.
-std::string crashInChild(const std::string& path) {
+// Loads `path` in a forked child (stderr to /dev/null, its stack held to the
+// default 8 MB whatever the shell allows, killed after `seconds`) and returns how
+// it ended: "" when it returned or threw voxgi::Error (with `mustLoad`, only when it
+// returned), else what went wrong ("killed by signal 11"). A plain fork, not a
+// gtest death test: "threadsafe" death tests re-execute the whole binary for every
+// file.
+std::string crashInChild(const std::string& path, bool mustLoad = false, unsigned seconds = 30) {
   std::fflush(nullptr);
   const pid_t pid = fork();
   if (pid < 0) return "";  // no child to be had: skip the guard
   if (pid == 0) {
-    alarm(30);
+    alarm(seconds);
+    constexpr rlim_t kDefaultStack = 8u << 20;
+    rlimit stack{};
+    if (getrlimit(RLIMIT_STACK, &stack) == 0 && stack.rlim_cur > kDefaultStack) {
+      stack.rlim_cur = kDefaultStack;  // RLIM_INFINITY is the largest value
+      setrlimit(RLIMIT_STACK, &stack);
+    }
     const int devNull = open("/dev/null", O_WRONLY);
     if (devNull >= 0) dup2(devNull, 2);
     try {
       loadGltf(path);
     } catch (const Error&) {
+      if (mustLoad) std::_Exit(4);
     } catch (...) {
       std::_Exit(3);
     }
@@ -1038,6 +1049,7 @@ std::string crashInChild(const std::string& path) {
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 3)
     return "threw something other than voxgi::Error";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 4) return "refused it (voxgi::Error)";
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     return "exited with status " + std::to_string(status);
   return "";
@@ -1072,6 +1084,17 @@ INSTANTIATE_TEST_SUITE_P(Corpus, MalformedTest, ::testing::ValuesIn(corpusFiles(
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return n;
                          });
+
+// --- deep hierarchies ---------------------------------------------------------------
+
+// Walking each node up to its root (to find cycles, or what an animation moves)
+// would make the load quadratic in the depth: some 10^10 steps for 200,000 levels,
+// minutes. Each node visited once, it takes a few seconds (a sanitizer build some
+// more); the child's 60 s alarm is the bound.
+TEST(GltfLoaderDeep, ChainOf200000LevelsLoadsInLinearTime) {
+  const std::string path = test::writeDeepChainGltf("deeper_chain.gltf", 200000, glm::dvec3(0.0));
+  EXPECT_EQ(crashInChild(path, true, 60), "") << path;
+}
 
 // --- loading from memory (the fuzzer's entry point) -------------------------------
 

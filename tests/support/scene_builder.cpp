@@ -35,6 +35,17 @@ std::string base64(const std::string& data) {
   return out;
 }
 
+std::string writeJson(const std::string& name, const nlohmann::json& g) {
+  const std::string path = scratchDir() + "/" + name;
+  std::ofstream(path) << g.dump();
+  return path;
+}
+
+void appendBytes(std::string* bin, const void* data, size_t bytes) {
+  bin->append(static_cast<const char*>(data), bytes);
+  bin->append(-bin->size() & 3u, '\0');  // the next view starts 4-byte aligned
+}
+
 }  // namespace
 
 int SceneBuilder::addMaterial(glm::vec3 albedo, glm::vec3 emission, bool doubleSided) {
@@ -205,6 +216,67 @@ std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>&
   const std::string path = scratchDir() + "/" + name;
   std::ofstream(path) << g.dump();
   return path;
+}
+
+std::string writeDeepChainGltf(const std::string& name, int depth, glm::dvec3 step, bool animated) {
+  using nlohmann::json;
+  const glm::vec3 corners[3] = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  const uint16_t triangle[3] = {0, 1, 2};
+  std::string bin;
+  appendBytes(&bin, corners, sizeof corners);
+  const size_t indicesAt = bin.size();
+  appendBytes(&bin, triangle, sizeof triangle);
+  json views = {{{"buffer", 0}, {"byteLength", sizeof corners}},
+                {{"buffer", 0}, {"byteOffset", indicesAt}, {"byteLength", sizeof triangle}}};
+  json accessors = {{{"bufferView", 0},
+                     {"componentType", 5126},
+                     {"count", 3},
+                     {"type", "VEC3"},
+                     {"min", {0.0, 0.0, 0.0}},
+                     {"max", {1.0, 1.0, 0.0}}},
+                    {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}};
+  json g = {{"asset", {{"version", "2.0"}}},
+            {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+            {"scenes", {{{"nodes", {0}}}}},
+            {"scene", 0}};
+  if (animated) {
+    // The root's translation: `step` at t = 0, step + (1, 0, 0) at t = 1.
+    const float times[2] = {0.0f, 1.0f};
+    const glm::vec3 moves[2] = {glm::vec3(step), glm::vec3(step + glm::dvec3(1.0, 0.0, 0.0))};
+    const size_t timesAt = bin.size();
+    appendBytes(&bin, times, sizeof times);
+    const size_t movesAt = bin.size();
+    appendBytes(&bin, moves, sizeof moves);
+    views.push_back({{"buffer", 0}, {"byteOffset", timesAt}, {"byteLength", sizeof times}});
+    views.push_back({{"buffer", 0}, {"byteOffset", movesAt}, {"byteLength", sizeof moves}});
+    accessors.push_back({{"bufferView", 2},
+                         {"componentType", 5126},
+                         {"count", 2},
+                         {"type", "SCALAR"},
+                         {"min", {0.0}},
+                         {"max", {1.0}}});
+    accessors.push_back(
+        {{"bufferView", 3}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}});
+    g["animations"] = {
+        {{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
+         {"samplers", {{{"input", 2}, {"output", 3}}}}}};
+  }
+  g["buffers"] = {
+      {{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
+  g["bufferViews"] = views;
+  g["accessors"] = accessors;
+  json nodes = json::array();
+  for (int i = 0; i < depth; ++i) {
+    json node = json::object();
+    if (step != glm::dvec3(0.0)) node["translation"] = {step.x, step.y, step.z};
+    if (i + 1 < depth)
+      node["children"] = {i + 1};
+    else
+      node["mesh"] = 0;
+    nodes.push_back(std::move(node));
+  }
+  g["nodes"] = std::move(nodes);
+  return writeJson(name, g);
 }
 
 }  // namespace voxgi::test

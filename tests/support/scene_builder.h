@@ -54,6 +54,15 @@ std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>&
                           const std::vector<uint32_t>& indices,
                           const std::vector<glm::vec3>& normals = {}, double lightIntensity = 10.0);
 
+// Writes a .gltf (buffer embedded) whose node hierarchy is one chain `depth` levels
+// deep: node i is node i + 1's only parent, each node translated by `step` (nothing
+// when it is zero), and the deepest one draws the triangle (0, 0, 0), (1, 0, 0),
+// (0, 1, 0). The triangle's world corners are its own plus depth x step. With
+// `animated`, a LINEAR channel moves the root from `step` at t = 0 to step + (1, 0, 0)
+// at t = 1. Returns its path in the scratch directory.
+std::string writeDeepChainGltf(const std::string& name, int depth, glm::dvec3 step,
+                               bool animated = false);
+
 }  // namespace voxgi::test
 
 #endif  // VOXGI_TESTS_SCENE_BUILDER_H
