@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -1389,9 +1388,20 @@ class Loader {
       note_(strf("no scenes: rendering all %s (the nodes that are no node's child)",
                  countOf(roots.size(), "root node", "root nodes").c_str()));
     }
-    std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
+    // Depth first, each node's children in order, on a stack of its own: a valid
+    // hierarchy may be tens of thousands of levels deep.
+    struct Pending {
+      int node;
+      glm::dmat4 parent;
+    };
+    std::vector<Pending> pending;
+    for (auto r = roots.rbegin(); r != roots.rend(); ++r) pending.push_back({*r, glm::dmat4(1.0)});
+    while (!pending.empty()) {
+      const Pending next = pending.back();
+      pending.pop_back();
+      const int index = next.node;
       const auto& node = model_.nodes[static_cast<size_t>(index)];
-      const glm::dmat4 world = parent * localMatrix(node, index);
+      const glm::dmat4 world = next.parent * localMatrix(node, index);
       if (node.mesh != -1) {
         if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= model_.meshes.size())
           fail(strf("node %d: mesh %d does not exist", index, node.mesh));
@@ -1402,9 +1412,9 @@ class Loader {
       auto le = node.extensions.find("KHR_lights_punctual");
       if (le != node.extensions.end() && le->second.Has("light"))
         addLight(le->second.Get("light").GetNumberAsInt(), index, world);
-      for (int c : node.children) visit(c, world);
-    };
-    for (int r : roots) visit(r, glm::dmat4(1.0));
+      for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+        pending.push_back({*c, world});
+    }
     applyOrigin();
     dropDegenerateInFloat();
   }

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <functional>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/log.h"
@@ -187,19 +185,27 @@ void Scene::pose(double seconds) {
     if (c.path == AnimationPath::kRotation)
       n.rotation = glm::normalize(glm::dquat(v.w, v.x, v.y, v.z));
   }
+  // World matrices on demand, each node's composed once: the ancestors not yet
+  // composed are gathered walking up, then composed walking down (no recursion: a
+  // valid hierarchy may be tens of thousands of levels deep).
   std::vector<glm::dmat4> world(posed.size());
   std::vector<char> done(posed.size(), 0);
-  std::function<const glm::dmat4&(int)> worldOf = [&](int i) -> const glm::dmat4& {
-    const size_t u = static_cast<size_t>(i);
-    if (done[u]) return world[u];
-    const SceneNode& n = posed[u];
-    const glm::dmat4 local = n.hasMatrix ? n.matrix
-                                         : glm::translate(glm::dmat4(1.0), n.translation) *
-                                               glm::mat4_cast(n.rotation) *
-                                               glm::scale(glm::dmat4(1.0), n.scale);
-    world[u] = n.parent >= 0 ? worldOf(n.parent) * local : local;
-    done[u] = 1;
-    return world[u];
+  std::vector<size_t> chain;
+  auto worldOf = [&](int i) -> const glm::dmat4& {
+    chain.clear();
+    for (int a = i; a >= 0 && !done[static_cast<size_t>(a)];
+         a = posed[static_cast<size_t>(a)].parent)
+      chain.push_back(static_cast<size_t>(a));
+    for (auto u = chain.rbegin(); u != chain.rend(); ++u) {
+      const SceneNode& n = posed[*u];
+      const glm::dmat4 local = n.hasMatrix ? n.matrix
+                                           : glm::translate(glm::dmat4(1.0), n.translation) *
+                                                 glm::mat4_cast(n.rotation) *
+                                                 glm::scale(glm::dmat4(1.0), n.scale);
+      world[*u] = n.parent >= 0 ? world[static_cast<size_t>(n.parent)] * local : local;
+      done[*u] = 1;
+    }
+    return world[static_cast<size_t>(i)];
   };
   for (const AnimatedRange& r : animatedRanges) {
     const glm::dmat4& m = worldOf(r.node);

@@ -11,6 +11,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 #include "render/pathtracer.h"
+#include "support/scene_builder.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
@@ -262,6 +263,36 @@ TEST(Cli, RendersPngExrAndStats) {
   EXPECT_LT(stats["octree"]["bytes"].get<double>(), stats["octree"]["dense_bytes"].get<double>());
   // Nothing but the three outputs in the folder.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
+}
+
+// A node hierarchy 50,000 levels deep is valid glTF: it renders under the default
+// 8 MB stack, still and animated (the root's channel moves the deepest node's
+// triangle; frame 1 at 2 fps poses it at t = 0.5 s).
+TEST(Cli, RendersAHierarchy50000LevelsDeep) {
+  const std::string dir = scratchDir();
+  const glm::dvec3 step(1.0 / 1024.0, -1.0 / 2048.0, 0.0);
+  for (bool animated : {false, true}) {
+    SCOPED_TRACE(animated ? "animated" : "still");
+    const std::string scene = writeDeepChainGltf(
+        animated ? "deep_chain_animated.gltf" : "deep_chain.gltf", 50000, step, animated);
+    const auto r =
+        runCommand("ulimit -s 8192 2>/dev/null; " +
+                   voxgi("render " + scene + " --mode raster --size 64x64 --frames 2 " +
+                         "--fps 2 --out " + dir + "/deep.png --stats " + dir + "/deep.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(dir + "/deep.json");
+    const auto stats = nlohmann::json::parse(in);
+    EXPECT_EQ(stats["triangles"], 1);
+    EXPECT_EQ(stats["animated"], animated);
+    // The triangle is in the picture: lit pixels beside the black background.
+    const image::Image png = image::readImage(dir + "/deep.png");
+    ASSERT_EQ(png.width, 64);
+    size_t lit = 0;
+    for (size_t i = 0; i < png.pixels.size(); i += static_cast<size_t>(png.channels))
+      if (png.pixels[i] + png.pixels[i + 1] + png.pixels[i + 2] > 0.0f) ++lit;
+    EXPECT_GT(lit, 64u * 64u / 20u);
+    EXPECT_LT(lit, 64u * 64u);
+  }
 }
 
 TEST(Cli, PathtraceWritesImagesAndThroughput) {

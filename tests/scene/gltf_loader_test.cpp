@@ -1087,6 +1087,61 @@ INSTANTIATE_TEST_SUITE_P(Corpus, MalformedTest, ::testing::ValuesIn(corpusFiles(
 
 // --- deep hierarchies ---------------------------------------------------------------
 
+// A node hierarchy tens of thousands of levels deep is valid glTF, and small: it
+// loads, poses and renders. The files are written at run time (a 50,000-level
+// chain is some 3 MB of JSON), each level translated by binary fractions whose sums
+// are exact.
+constexpr int kDeepChain = 50000;
+const glm::dvec3 kDeepStep(1.0 / 1024.0, -1.0 / 2048.0, 0.0);
+
+// The chain's one triangle, (0, 0, 0), (1, 0, 0), (0, 1, 0), lies moved by `offset`.
+void expectTriangleAt(const Scene& s, const glm::dvec3& offset) {
+  ASSERT_EQ(s.triangleCount(), 1u);
+  glm::dvec3 lo(1e30), hi(-1e30);
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 p =
+        glm::dvec3(s.vertices[s.indices[static_cast<size_t>(k)]].position) + s.origin;
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(lo[a], offset[a], 1e-6) << "axis " << a;
+    EXPECT_NEAR(hi[a], offset[a] + (a < 2 ? 1.0 : 0.0), 1e-6) << "axis " << a;
+  }
+}
+
+// Loaded first in a child held to the default 8 MB stack (crashInChild): a walk
+// that recursed once per level would overflow it.
+TEST(GltfLoaderDeep, ChainOf50000LevelsLoadsWithItsComposedTransform) {
+  const std::string path = test::writeDeepChainGltf("deep_chain.gltf", kDeepChain, kDeepStep);
+  ASSERT_EQ(crashInChild(path, true), "") << path;
+  const Scene s = loadGltf(path);
+  EXPECT_TRUE(s.warnings.empty()) << joined(s.warnings);
+  EXPECT_EQ(s.nodes.size(), static_cast<size_t>(kDeepChain));
+  EXPECT_FALSE(s.animated());
+  expectTriangleAt(s, static_cast<double>(kDeepChain) * kDeepStep);
+}
+
+// The root's channel moves the triangle at the chain's far end: pose() composes
+// all 50,000 levels.
+TEST(GltfLoaderDeep, AnimatedChainPosesItsDeepestNode) {
+  const std::string path =
+      test::writeDeepChainGltf("deep_chain_animated.gltf", kDeepChain, kDeepStep, true);
+  ASSERT_EQ(crashInChild(path, true), "") << path;
+  Scene s = loadGltf(path);
+  ASSERT_TRUE(s.meshesAnimated());
+  const glm::dvec3 rest = static_cast<double>(kDeepChain) * kDeepStep;
+  expectTriangleAt(s, rest);  // loaded at t = 0
+  for (double t : {0.25, 0.75, 0.5}) {
+    SCOPED_TRACE(testing::Message() << "t = " << t);
+    s.pose(t);
+    expectTriangleAt(s, rest + glm::dvec3(t, 0.0, 0.0));
+  }
+  // The bounds cover the motion: the triangle's x from rest.x on.
+  EXPECT_LE(s.motionBounds.min.x + s.origin.x, rest.x + 1e-5);
+  EXPECT_GE(s.motionBounds.max.x + s.origin.x, rest.x + 1.75);
+}
+
 // Walking each node up to its root (to find cycles, or what an animation moves)
 // would make the load quadratic in the depth: some 10^10 steps for 200,000 levels,
 // minutes. Each node visited once, it takes a few seconds (a sanitizer build some
