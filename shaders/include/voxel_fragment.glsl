@@ -17,16 +17,13 @@ layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]
 layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
 layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
 
-ivec3 voxelUnswizzle(ivec3 p, int axis) {
-  return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p);
-}
+ivec3 voxelUnswizzle(ivec3 p, int axis) { return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p); }
 
 // Saturating adds: once a sum would pass 2^32 - 1 it stays there.
-#define ADD_SATURATING(sums, i, value)                         \
-  {                                                            \
-    uint v_ = (value);                                         \
-    if (v_ != 0u && atomicAdd(sums[i], v_) > 0xFFFFFFFFu - v_) \
-      atomicMax(sums[i], 0xFFFFFFFFu);                         \
+#define ADD_SATURATING(sums, i, value)                                                          \
+  {                                                                                             \
+    uint v_ = (value);                                                                          \
+    if (v_ != 0u && atomicAdd(sums[i], v_) > 0xFFFFFFFFu - v_) atomicMax(sums[i], 0xFFFFFFFFu); \
   }
 
 // Claiming an entry of the brick map or the pool, with atomicMax only (a
@@ -36,7 +33,7 @@ ivec3 voxelUnswizzle(ivec3 p, int axis) {
 // first: it takes the next slot and publishes it. Every other one reads the entry
 // until the slot is there (it waits only on a claim made by another thread: a
 // claim made in its own batch is published before the wait).
-#define CLAIM(entries, index, counter, capacity, firstAction)                 \
+#define CLAIM(entries, index, counter, capacity, firstAction)              \
   uint seen = entries[index];                                              \
   if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {          \
     seen = atomicMax(entries[index], epoch);                               \
@@ -91,8 +88,8 @@ void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo
   int k0 = clamp(int(floor(z0)), 0, res - 1);
   int k1 = clamp(int(floor(z1)), 0, res - 1);
 
-  uint a[3] = uint[3](voxelFixedPoint(albedo.r), voxelFixedPoint(albedo.g),
-                      voxelFixedPoint(albedo.b));
+  uint a[3] =
+      uint[3](voxelFixedPoint(albedo.r), voxelFixedPoint(albedo.g), voxelFixedPoint(albedo.b));
   uint nf[3] = uint[3](voxelFixedPoint(n.x * 0.5 + 0.5), voxelFixedPoint(n.y * 0.5 + 0.5),
                        voxelFixedPoint(n.z * 0.5 + 0.5));
   uint ef[3] = uint[3](voxelFixedPoint(e.r), voxelFixedPoint(e.g), voxelFixedPoint(e.b));

@@ -16,9 +16,7 @@ vec3 voxelGridPosition(vec3 scenePosition) {
   return g;
 }
 
-vec3 voxelSwizzle(vec3 p, int axis) {
-  return axis == 0 ? p.yzx : (axis == 1 ? p.zxy : p);
-}
+vec3 voxelSwizzle(vec3 p, int axis) { return axis == 0 ? p.yzx : (axis == 1 ? p.zxy : p); }
 
 // The projection axis (0: x, 1: y, 2: z) and the grid-space normal (not unit);
 // -1 for a triangle of no area in grid space.

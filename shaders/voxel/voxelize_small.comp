@@ -107,9 +107,9 @@ void main() {
   vec2 lo = floor(min(s0.xy, min(s1.xy, s2.xy)));
   ivec2 hi = ivec2(floor(max(s0.xy, max(s1.xy, s2.xy))) - lo);
   int snap = int(voxel.slotInfo.z);
-  ivec2 q[3] = ivec2[3](ivec2(round((s0.xy - lo) * float(snap))),
-                        ivec2(round((s1.xy - lo) * float(snap))),
-                        ivec2(round((s2.xy - lo) * float(snap))));
+  ivec2 q[3] =
+      ivec2[3](ivec2(round((s0.xy - lo) * float(snap))), ivec2(round((s1.xy - lo) * float(snap))),
+               ivec2(round((s2.xy - lo) * float(snap))));
   int area = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
   if (area == 0) return;  // no area once snapped: the rasterizer drops it too
   if (area < 0) {         // clockwise: swap two corners for the coverage test
@@ -201,9 +201,9 @@ void main() {
 #ifndef VOXGI_NO_EMISSION
       if ((m.flags & kMaterialHasEmissiveTexture) != 0u) {
         if (uv2)
-          emitted *= textureGrad(emissiveTexture, b0 * vt2[0] + b1 * vt2[1] + b2 * vt2[2], duv2dx,
-                                 duv2dy)
-                         .rgb;
+          emitted *=
+              textureGrad(emissiveTexture, b0 * vt2[0] + b1 * vt2[1] + b2 * vt2[2], duv2dx, duv2dy)
+                  .rgb;
         else
           emitted *= textureGrad(emissiveTexture, uv, duvdx, duvdy).rgb;
       }
