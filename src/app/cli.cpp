@@ -124,7 +124,9 @@ std::string renderHelpGeneral() {
          "                    can be rendered there too)\n"
          "  --fps F           animated scenes: frame f shows T + f/F (default 30); meshes,\n"
          "                    lights and an animated camera (a camera path) move; the\n"
-         "                    image is the last frame\n"
+         "                    image is the last frame. After the animation's end the\n"
+         "                    last pose stays\n"
+         "  --loop            animated scenes: time wraps around the end instead\n"
          "  --backend B       egl (default; surfaceless Mesa or an NVIDIA device), osmesa,\n"
          "                    or glfw (a hidden window; needs a display)\n"
          "  --exposure E      linear exposure before tonemapping (default 1)\n"
@@ -644,6 +646,8 @@ bool parseRenderOnlyOption(const std::string& a, const std::function<std::string
   } else if (a == "--fps") {
     o.fps = parseFloat("--fps", value());
     if (!(o.fps > 0.0)) throw UsageError("--fps: must be positive");
+  } else if (a == "--loop") {
+    o.loop = true;
   } else if (a == "--look-from") {
     o.lookFrom = parseVec3("--look-from", value());
   } else if (a == "--look-at") {

@@ -33,6 +33,7 @@ struct RenderOptions {
   int frames = 0;                    // 0 until parsed: the mode's default (render::defaultFrames)
   double time = 0.0;                 // animated scenes: the pose of the first frame, seconds
   double fps = 30.0;                 // animated scenes: frame f shows time + f / fps
+  bool loop = false;                 // animated scenes: time wraps around the end (else held)
   bool verbose = false;
   bool quiet = false;
   bool progress = true;  // pathtrace: a progress bar on stderr when it is a terminal

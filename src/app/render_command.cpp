@@ -93,6 +93,7 @@ void checkOutputs(const RenderOptions& o) {
 // The scene posed at --time, seen from --look-from when it is given.
 scene::Scene loadScene(const std::string& scenePath, const RenderOptions& o) {
   scene::Scene scene = scene::loadGltf(scenePath);
+  scene.loopAnimation = o.loop;
   scene.pose(o.time);
   if (o.lookFrom) {
     scene::Camera& c = scene.camera;

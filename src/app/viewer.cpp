@@ -323,6 +323,7 @@ void Viewer::checkScene() {
   sceneStamp_ = stamp;
   try {
     auto fresh = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+    fresh->loopAnimation = true;  // playback loops
     fresh->pose(animationTime_);
     auto renderer = std::make_unique<render::Renderer>(*programs_, *fresh, renderer_->settings());
     renderer->setTonemapSettings(renderer_->tonemapSettings());
@@ -658,6 +659,7 @@ void Viewer::loadScene() {
   scenePath_ = options_.scene.empty() ? defaultScenePath() : options_.scene;
   sceneStamp_ = fileStamp(scenePath_);
   scene_ = std::make_unique<scene::Scene>(scene::loadGltf(scenePath_));
+  scene_->loopAnimation = true;  // playback loops
 }
 
 void Viewer::openWindow() {

@@ -138,11 +138,10 @@ namespace {
 
 glm::dvec4 sample(const AnimationChannel& c, double t) {
   const std::vector<float>& k = c.times;
-  if (t <= k.front()) return c.values.front();
-  if (t >= k.back()) return c.values.back();
-  const size_t i =
-      static_cast<size_t>(std::upper_bound(k.begin(), k.end(), static_cast<float>(t)) - k.begin()) -
-      1;
+  const float key = static_cast<float>(t);  // compared in the keys' precision
+  if (key <= k.front()) return c.values.front();
+  if (key >= k.back()) return c.values.back();
+  const size_t i = static_cast<size_t>(std::upper_bound(k.begin(), k.end(), key) - k.begin()) - 1;
   if (c.interpolation == Interpolation::kStep || i + 1 >= k.size()) return c.values[i];
   const double span = static_cast<double>(k[i + 1]) - k[i];
   const double u = span > 0.0 ? (t - k[i]) / span : 0.0;
@@ -172,7 +171,10 @@ bool Scene::lightsAnimated() const {
 void Scene::pose(double seconds) {
   if (!animated()) return;
   double t = seconds;
-  if (animationDuration > 0.0) {
+  // Looping, a time past the end (in the keys' precision) wraps around; the end
+  // itself shows the last pose. Otherwise sample() holds the first and last keys.
+  if (loopAnimation && animationDuration > 0.0 &&
+      (static_cast<float>(t) > static_cast<float>(animationDuration) || t < 0.0)) {
     t = std::fmod(t, animationDuration);
     if (t < 0.0) t += animationDuration;
   }

@@ -254,7 +254,11 @@ struct Scene {
   // pose() moves the camera along its path; false keeps it where it was set
   // (render --look-from).
   bool poseCamera = true;
-  double animationDuration = 0.0;  // seconds; time wraps around
+  double animationDuration = 0.0;  // seconds: the last key of any channel
+  // pose() after the end: false holds the last pose (an offline render's default,
+  // as Blender and Cesium's clampAnimations do), true wraps around (the viewer's
+  // playback, render --loop).
+  bool loopAnimation = false;
   Bounds motionBounds;             // union of the animated vertices over all poses
   std::vector<std::string> warnings;
   std::vector<std::string> notes;  // information the loader printed (a file without scenes)
@@ -268,7 +272,9 @@ struct Scene {
   bool lightsAnimated() const;
   // Moves the animated vertices, lights and (with poseCamera) the camera to their
   // pose at `seconds`, through the node hierarchy; the camera's clip planes are
-  // refitted to the bounds. A no-op for a still scene.
+  // refitted to the bounds. A no-op for a still scene. Times are compared with the
+  // keys in the keys' own (float) precision: a frame time a hair past a float key
+  // time is at that key.
   void pose(double seconds);
   bool hasEmission() const;
   // A drawn material has a second texture-coordinate channel (Material::hasUv2).

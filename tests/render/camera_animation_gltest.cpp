@@ -227,5 +227,22 @@ TEST(CameraAnimationCli, RenderPlaysTheCameraPath) {
   EXPECT_NE(image::readImage(dir + "/lp.png").pixels, image::readImage(dir + "/l0.png").pixels);
 }
 
+// Frames after the path's end (2 s) hold its last pose; --loop wraps them around.
+TEST(CameraAnimationCli, TheLastFrameHoldsTheLastKey) {
+  const std::string dir = scratchDir();
+  const std::string common =
+      voxgiBinary() + " render " + cameraPath() + " --mode raster --size 48x40 --quiet ";
+  const auto render = [&](const std::string& args, const std::string& name) {
+    const CommandResult r = runCommand(common + args + " --out " + dir + "/" + name + ".png");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return image::readImage(dir + "/" + name + ".png").pixels;
+  };
+  const auto last = render("--time 2", "last");
+  EXPECT_NE(last, render("", "first"));
+  EXPECT_EQ(render("--frames 21 --fps 10", "end"), last);  // frame 20 at t = 2
+  EXPECT_EQ(render("--frames 26 --fps 10", "after"), last);
+  EXPECT_EQ(render("--frames 26 --fps 10 --loop", "looped"), render("--time 0.5", "half"));
+}
+
 }  // namespace
 }  // namespace voxgi::test

@@ -42,6 +42,7 @@ TEST(Animation, LoadsChannelsAndRanges) {
 
 TEST(Animation, PosesFollowTheKeyframesAndWrap) {
   Scene s = loadGltf(movingBox());
+  s.loopAnimation = true;
   EXPECT_NEAR(boxCenterX(s), -0.5, 1e-6);  // loaded at t = 0
   s.pose(1.0);
   EXPECT_NEAR(boxCenterX(s), 0.5, 1e-6);
@@ -53,6 +54,44 @@ TEST(Animation, PosesFollowTheKeyframesAndWrap) {
   EXPECT_NEAR(boxCenterX(s), -0.25, 1e-6);
   s.pose(0.0);
   EXPECT_NEAR(boxCenterX(s), -0.5, 1e-6);
+}
+
+// Without looping (an offline render's default) the last pose stays after the end.
+TEST(Animation, TheEndHoldsTheLastPoseUnlessLooping) {
+  Scene s = loadGltf(movingBox());
+  EXPECT_FALSE(s.loopAnimation);
+  s.pose(2.25);
+  EXPECT_NEAR(boxCenterX(s), -0.5, 1e-6);  // the key at t = 2
+  s.pose(2.0);
+  EXPECT_NEAR(boxCenterX(s), -0.5, 1e-6);
+  s.pose(-1.0);
+  EXPECT_NEAR(boxCenterX(s), -0.5, 1e-6);  // the first key
+  s.loopAnimation = true;
+  s.pose(2.25);  // wraps to 0.25
+  EXPECT_NEAR(boxCenterX(s), -0.25, 1e-6);
+  s.pose(-0.25);  // wraps to 1.75
+  EXPECT_NEAR(boxCenterX(s), -0.25, 1e-6);
+}
+
+// A path whose last key is at 29/30 s, stored as a float, a hair below the double
+// 29/30 at which frame 29 of a 30 fps render is asked for: that frame is at the last
+// key, looping or not (it wrapped to the first pose when the times were compared in
+// double precision).
+TEST(Animation, AFrameTimeAHairPastAFloatKeyIsAtThatKey) {
+  Scene s = loadGltf(movingBox());
+  AnimationChannel& c = s.animations[0];
+  c.times = {0.0f, 0.5f, static_cast<float>(29.0 / 30.0)};
+  c.values.back() = glm::dvec4(1.5, 0.0, 0.0, 0.0);
+  s.animationDuration = c.times.back();
+  ASSERT_GT(29.0 / 30.0, s.animationDuration);
+  for (bool loop : {false, true}) {
+    SCOPED_TRACE(loop ? "looping" : "held");
+    s.loopAnimation = loop;
+    s.pose(29.0 / 30.0);
+    EXPECT_NEAR(boxCenterX(s), 1.5, 1e-6);
+    s.pose(28.0 / 30.0);
+    EXPECT_NEAR(boxCenterX(s), 0.5 + (28.0 / 30.0 - 0.5) / (29.0 / 30.0 - 0.5), 1e-5);
+  }
 }
 
 // World-space half-width in x of the box (the draw of mesh 1).

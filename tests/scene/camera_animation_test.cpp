@@ -98,9 +98,15 @@ TEST(CameraAnimation, ParentedCameraFollowsTheInterpolation) {
   EXPECT_NEAR(s.camera.forward.z, -c15 * std::cos(d10), 1e-6);
   EXPECT_NEAR(glm::length(s.camera.forward), 1.0f, 1e-6);
   EXPECT_NEAR(glm::dot(s.camera.forward, s.camera.up), 0.0f, 1e-6);
-  // Time wraps around the 2 s animation (t = 2 is t = 0 again).
-  s.pose(2.0);
+  // After the 2 s animation the last pose stays (before it, the first); looping,
+  // time wraps around it (t = 2 itself is the end).
+  s.pose(2.5);
+  expectCameraAt(s, 2.0);
+  s.pose(-0.5);
   expectCameraAt(s, 0.0);
+  s.loopAnimation = true;
+  s.pose(2.0);
+  expectCameraAt(s, 2.0);
   s.pose(2.5);
   expectCameraAt(s, 0.5);
   s.pose(-0.5);
