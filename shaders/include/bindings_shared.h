@@ -65,6 +65,9 @@ VOXGI_CONST uint kVoxelAttribBinding = 17u;  // uvec4 attributes per listed voxe
 // to the raster: their indices, and the indirect commands (5 uints) per group.
 VOXGI_CONST uint kLargeIndexBinding = 10u;
 VOXGI_CONST uint kDrawCommandBinding = 11u;
+// Fragments whose voxel another thread was still claiming when the wait ran out
+// (VoxelDeferred records, added after the raster by voxelize_deferred.comp).
+VOXGI_CONST uint kVoxelDeferredBinding = 12u;
 
 // The octree (octree_shared.h): the voxelization's sum buffers are done with by
 // the time it builds, so it takes their numbers; it reads the voxel list (4) and

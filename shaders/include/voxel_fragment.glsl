@@ -16,6 +16,9 @@ layout(std430, binding = kVoxelListBinding) writeonly buffer List { uint voxels[
 layout(std430, binding = kSlotSumsABinding) coherent buffer SumsA { uint sumsA[]; };
 layout(std430, binding = kSlotSumsNBinding) coherent buffer SumsN { uint sumsN[]; };
 layout(std430, binding = kSlotSumsEBinding) coherent buffer SumsE { uint sumsE[]; };
+layout(std430, binding = kVoxelDeferredBinding) buffer Deferred { VoxelDeferred deferred[]; };
+
+uint voxelPacked(ivec3 p) { return uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20); }
 
 ivec3 voxelUnswizzle(ivec3 p, int axis) { return axis == 0 ? p.zxy : (axis == 1 ? p.yzx : p); }
 
@@ -31,23 +34,33 @@ ivec3 voxelUnswizzle(ivec3 p, int axis) { return axis == 0 ? p.zxy : (axis == 1 
 // reliable on every driver). Entries hold epoch | (slot + 1); epoch | 0 means "being
 // claimed". The invocation whose atomicMax raises an older epoch to this one is the
 // first: it takes the next slot and publishes it. Every other one reads the entry
-// until the slot is there (it waits only on a claim made by another thread: a
-// claim made in its own batch is published before the wait).
-#define CLAIM(entries, index, counter, capacity, firstAction)              \
-  uint seen = entries[index];                                              \
-  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {          \
-    seen = atomicMax(entries[index], epoch);                               \
-    if ((seen & ~kSlotMask) != epoch) {                                    \
-      uint ticket = atomicAdd(counter, 1u);                                \
-      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u); \
-      atomicMax(entries[index], seen);                                     \
-      if (ticket < capacity) firstAction;                                  \
-    }                                                                      \
-    while ((seen & kSlotMask) == 0u) seen = atomicOr(entries[index], 0u);  \
+// until the slot is there, at most kClaimSpins times (it waits only on a claim made
+// by another thread: a claim made in its own batch is published before the wait);
+// after that the slot stays 0 and the caller defers the fragment (voxel_shared.h).
+#ifndef VOXGI_CLAIM_SPINS
+#define VOXGI_CLAIM_SPINS kClaimSpins
+#endif
+#define CLAIM(entries, index, counter, capacity, firstAction)                         \
+  uint seen = entries[index];                                                         \
+  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                     \
+    seen = atomicMax(entries[index], epoch);                                          \
+    if ((seen & ~kSlotMask) != epoch) {                                               \
+      uint ticket = atomicAdd(counter, 1u);                                           \
+      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u);            \
+      atomicMax(entries[index], seen);                                                \
+      if (ticket < capacity) firstAction;                                             \
+    }                                                                                 \
+    for (uint spin_ = 0u; spin_ < VOXGI_CLAIM_SPINS && (seen & kSlotMask) == 0u; ++spin_) \
+      seen = atomicOr(entries[index], 0u);                                            \
   }
 
-// The slot of voxel p in this epoch (kSlotFull when out of room), taking the next
-// brick and voxel slots where this invocation is the first to reach them.
+// voxelSlot(): the voxel is being claimed by a thread that has not published its
+// slot yet.
+const uint kSlotPending = 0xFFFFFFFFu;
+
+// The slot of voxel p in this epoch (kSlotFull when out of room, kSlotPending when
+// another thread's claim is not published yet), taking the next brick and voxel
+// slots where this invocation is the first to reach them.
 uint voxelSlot(ivec3 p) {
   uint epoch = voxel.slotInfo.x;
   uvec3 b = uvec3(p) / kBrickSize;
@@ -55,6 +68,7 @@ uint voxelSlot(ivec3 p) {
   uint brick;
   {
     CLAIM(brickMap, bi, stats.brickCount, voxel.limits.y, {})
+    if ((seen & kSlotMask) == 0u) return kSlotPending;
     brick = (seen & kSlotMask) - 1u;
   }
   if (brick == kSlotFull - 1u) return kSlotFull;
@@ -63,11 +77,28 @@ uint voxelSlot(ivec3 p) {
   uint slot;
   {
     // The voxel's slot is its place in the list of occupied voxels.
-    CLAIM(pool, vi, stats.listCount, voxel.limits.x,
-          voxels[ticket] = uint(p.x) | (uint(p.y) << 10) | (uint(p.z) << 20))
+    CLAIM(pool, vi, stats.listCount, voxel.limits.x, voxels[ticket] = voxelPacked(p))
+    if ((seen & kSlotMask) == 0u) return kSlotPending;
     slot = (seen & kSlotMask) - 1u;
   }
   return slot == kSlotFull - 1u ? kSlotFull : slot;
+}
+
+// Adds one fragment's weighted values to the sums of `slot`.
+void voxelAddToSlot(uint slot, uint weight, uvec3 a, uvec3 n, uvec3 e) {
+  uint i = slot * 4u;
+  ADD_SATURATING(sumsA, i + 0u, a.r);
+  ADD_SATURATING(sumsA, i + 1u, a.g);
+  ADD_SATURATING(sumsA, i + 2u, a.b);
+  ADD_SATURATING(sumsA, i + 3u, weight);
+  ADD_SATURATING(sumsN, i + 0u, n.x);
+  ADD_SATURATING(sumsN, i + 1u, n.y);
+  ADD_SATURATING(sumsN, i + 2u, n.z);
+  if (e != uvec3(0u)) {
+    ADD_SATURATING(sumsE, i + 0u, e.r);
+    ADD_SATURATING(sumsE, i + 1u, e.g);
+    ADD_SATURATING(sumsE, i + 2u, e.b);
+  }
 }
 
 uint voxelFixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
@@ -88,28 +119,30 @@ void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo
   int k0 = clamp(int(floor(z0)), 0, res - 1);
   int k1 = clamp(int(floor(z1)), 0, res - 1);
 
-  uint a[3] =
-      uint[3](voxelFixedPoint(albedo.r), voxelFixedPoint(albedo.g), voxelFixedPoint(albedo.b));
-  uint nf[3] = uint[3](voxelFixedPoint(n.x * 0.5 + 0.5), voxelFixedPoint(n.y * 0.5 + 0.5),
-                       voxelFixedPoint(n.z * 0.5 + 0.5));
-  uint ef[3] = uint[3](voxelFixedPoint(e.r), voxelFixedPoint(e.g), voxelFixedPoint(e.b));
-  bool emits = ef[0] + ef[1] + ef[2] != 0u;
+  uvec3 a = uvec3(voxelFixedPoint(albedo.r), voxelFixedPoint(albedo.g), voxelFixedPoint(albedo.b));
+  uvec3 nf = uvec3(voxelFixedPoint(n.x * 0.5 + 0.5), voxelFixedPoint(n.y * 0.5 + 0.5),
+                   voxelFixedPoint(n.z * 0.5 + 0.5));
+  uvec3 ef = uvec3(voxelFixedPoint(e.r), voxelFixedPoint(e.g), voxelFixedPoint(e.b));
+  a *= weight;
+  nf *= weight;
+  ef *= weight;
   for (int k = k0; k <= k1; ++k) {
     ivec3 p = voxelUnswizzle(ivec3(pixel, k), axis);
+#ifdef VOXGI_DEFER_ALL  // tests: the deferred pass adds every fragment
+    uint slot = kSlotPending;
+#else
     uint slot = voxelSlot(p);
+#endif
     if (slot == kSlotFull) continue;  // the list overflowed: the pass runs again
-    uint i = slot * 4u;
-    ADD_SATURATING(sumsA, i + 0u, a[0] * weight);
-    ADD_SATURATING(sumsA, i + 1u, a[1] * weight);
-    ADD_SATURATING(sumsA, i + 2u, a[2] * weight);
-    ADD_SATURATING(sumsA, i + 3u, weight);
-    ADD_SATURATING(sumsN, i + 0u, nf[0] * weight);
-    ADD_SATURATING(sumsN, i + 1u, nf[1] * weight);
-    ADD_SATURATING(sumsN, i + 2u, nf[2] * weight);
-    if (emits) {
-      ADD_SATURATING(sumsE, i + 0u, ef[0] * weight);
-      ADD_SATURATING(sumsE, i + 1u, ef[1] * weight);
-      ADD_SATURATING(sumsE, i + 2u, ef[2] * weight);
+    if (slot == kSlotPending) {
+      // Added after the raster (voxelize_deferred.comp); no room: the pass grows the
+      // buffer and runs again.
+      uint d = atomicAdd(stats.deferred, 1u);
+      if (d < voxel.limits.w)
+        deferred[d] = VoxelDeferred(uvec4(voxelPacked(p), weight, a.rg), uvec4(a.b, nf),
+                                    uvec4(ef, 0u));
+      continue;
     }
+    voxelAddToSlot(slot, weight, a, nf, ef);
   }
 }

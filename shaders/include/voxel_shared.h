@@ -59,8 +59,27 @@ VOXGI_CONST int kVoxelHasColorsLocation = 4;      // uniform uint: 1 when the sc
 VOXGI_CONST int kVoxelFirstIndexLocation = 1;     // uniform uint: the draw's first index
 VOXGI_CONST int kVoxelTriangleCountLocation = 2;  // uniform uint: the draw's triangles
 VOXGI_CONST int kVoxelCommandLocation = 3;        // uniform uint: the draw's first command
+VOXGI_CONST int kVoxelDeferredAddLocation = 5;    // voxelize_deferred.comp: 0 claim, 1 add
 VOXGI_CONST uint kResolveGroupSize = 64u;         // invocations per group: one brick, or 64 voxels
 VOXGI_CONST uint kMaxGroupsX = 32768u;            // larger dispatches go 2D
+// Waiting for a slot that another thread is claiming. A driver may cut a loop
+// short: llvmpipe gives each invocation 65535 loop iterations in all (gallivm's
+// LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of the shader), and a thread
+// that another holds up on a busy machine can outlast that. So the wait is short,
+// and a fragment still waiting when it ends is not lost: it is recorded as it would
+// have been added (VoxelDeferred) and added after the raster, when every claim is
+// published (voxelize_deferred.comp). Too many for the buffer: it grows, and the
+// raster runs again.
+VOXGI_CONST uint kClaimSpins = 256u;
+VOXGI_CONST uint kInitialDeferred = 4096u;
+
+// What one deferred fragment adds to one voxel: the values already weighted.
+struct VoxelDeferred {
+  uvec4 voxel;     // x packed coordinates (10 bits per axis), y weight, zw albedo rg
+  uvec4 albedoN;   // x albedo b, yzw normal xyz
+  uvec4 emission;  // xyz emission rgb, w 0
+};
+
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16
 // bytes and 2^19 pool bricks of 256 bytes (entries hold slot + 1 < kSlotFull).
 VOXGI_CONST uint kMaxListEntries = 8388606u;
@@ -73,7 +92,8 @@ struct VoxelParams {
                             // z the rasterizer's sub-pixel steps per pixel (2^GL_SUBPIXEL_BITS)
   vec4 samplePositions[2];  // the rasterizer's kSamplesPerFragment sample positions, xy xy
   uvec4 limits;             // x list entries (voxel slots) there is room for, y pool bricks there
-                            // is room for, z slots for the resolve
+                            // is room for, z slots for the resolve, w deferred records there is
+                            // room for
 };
 
 // Counters the passes add to, each on its own 64-byte cache line: two cores (or GPU
@@ -88,11 +108,15 @@ struct VoxelStats {
   uint checksumXor;
   uint smallTriangles;  // triangles the compute path took (counted for tests only)
   uint pad2[13];
+  uint deferred;      // fragments deferred (may exceed limits.w): VoxelDeferred
+  uint deferredLost;  // deferred fragments whose voxel was still being claimed when added
+  uint pad3[14];
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(VoxelParams) == 96);
-static_assert(sizeof(VoxelStats) == 192);
+static_assert(sizeof(VoxelStats) == 256);
+static_assert(sizeof(VoxelDeferred) == 48);
 }  // namespace voxgi::gpu
 #endif
 

@@ -15,6 +15,8 @@ namespace {
 constexpr uint64_t kBytesPerSlot = 3 * 16;                  // sums
 constexpr uint64_t kBytesPerBrick = gpu::kBrickVoxels * 4;  // pool entries
 constexpr uint64_t kBytesPerListEntry = 4 + 16;             // coordinates, attributes
+// Deferred records in one SSBO (llvmpipe's limit is 128 MiB).
+constexpr uint32_t kMaxDeferred = (128u << 20) / sizeof(gpu::VoxelDeferred);
 
 uint64_t bricksPerAxis(int resolution) {
   return (static_cast<uint64_t>(resolution) + gpu::kBrickSize - 1) / gpu::kBrickSize;
@@ -39,6 +41,15 @@ void dispatchFor(uint64_t count) {
 
 std::vector<std::string> withDefine(std::vector<std::string> defines, const char* extra) {
   if (*extra) defines.emplace_back(extra);
+  return defines;
+}
+
+// The voxelizing programs' defines: the effect-plan variant, the tests' wait.
+std::vector<std::string> claimDefines(std::vector<std::string> defines,
+                                      const VoxelizePass::Settings& settings) {
+  if (settings.claimSpins >= 0)
+    defines.push_back("VOXGI_CLAIM_SPINS=" + std::to_string(settings.claimSpins) + "u");
+  if (settings.deferAll) defines.emplace_back("VOXGI_DEFER_ALL");
   return defines;
 }
 
@@ -80,7 +91,8 @@ VoxelMemory voxelMemory(int resolution) {
   const uint64_t b = bricksPerAxis(resolution);
   const uint64_t list = kBytesPerListEntry * initialListCapacity(resolution);
   const uint64_t sparse = b * b * b * 4 + kBytesPerBrick * initialBrickCapacity(resolution) +
-                          kBytesPerSlot * initialListCapacity(resolution);
+                          kBytesPerSlot * initialListCapacity(resolution) +
+                          sizeof(gpu::VoxelDeferred) * uint64_t{gpu::kInitialDeferred};
   return {sparse + list, list};
 }
 
@@ -109,11 +121,14 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
                            const Settings& settings)
     : settings_(settings),
       voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
-                              settings.features.defines()})),
-      voxelizeSmall_(programs.get({{"voxel/voxelize_small.comp"},
-                                   withDefine(settings.features.defines(),
-                                              settings.inspectSums ? "VOXGI_COUNT_SMALL" : "")})),
-      resolve_(programs.get({{"voxel/resolve.comp"}, resolveDefines(settings)})) {
+                              claimDefines(settings.features.defines(), settings)})),
+      voxelizeSmall_(programs.get(
+          {{"voxel/voxelize_small.comp"},
+           claimDefines(withDefine(settings.features.defines(),
+                                   settings.inspectSums ? "VOXGI_COUNT_SMALL" : ""),
+                        settings)})),
+      resolve_(programs.get({{"voxel/resolve.comp"}, resolveDefines(settings)})),
+      addDeferred_(programs.get({{"voxel/voxelize_deferred.comp"}, claimDefines({}, settings)})) {
   const int n = settings.resolution;
   if (n < kMinResolution || n > kMaxResolution)
     throw Error(strf("--voxels %d: the grid resolution must be in [%d, %d]", n, kMinResolution,
@@ -128,8 +143,9 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
              static_cast<double>(budget) / (1 << 30)));
 
   capacity_ = initialListCapacity(n);
-  brickCapacity_ = initialBrickCapacity(n);
+  brickCapacity_ = settings.initialBricks > 0 ? settings.initialBricks : initialBrickCapacity(n);
   allocateLists();
+  allocateDeferred();
   if (settings_.keepSums || settings_.inspectSums) allocateSums();
 
   fbo_ = gl::createFramebuffer();
@@ -173,6 +189,11 @@ void VoxelizePass::allocateSums() {
   allocateBricks();
 }
 
+void VoxelizePass::allocateDeferred() {
+  deferred_ = gl::createBuffer(
+      static_cast<GLsizeiptr>(deferredCapacity_) * sizeof(gpu::VoxelDeferred), nullptr);
+}
+
 void VoxelizePass::allocateLists() {
   list_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 4, nullptr);
   attributes_ = gl::createBuffer(static_cast<GLsizeiptr>(capacity_) * 16, nullptr);
@@ -208,7 +229,7 @@ void VoxelizePass::nextEpoch() {
   }
   params_.slotInfo.x = epoch_ << gpu::kSlotBits;
   params_.slotInfo.y = static_cast<uint32_t>(bricksPerAxis(settings_.resolution));
-  params_.limits = glm::uvec4(capacity_, brickCapacity_, 0u, 0u);
+  params_.limits = glm::uvec4(capacity_, brickCapacity_, 0u, deferredCapacity_);
   glNamedBufferSubData(paramsBuffer_.id(), 0, sizeof(params_), &params_);
 }
 
@@ -340,6 +361,7 @@ void VoxelizePass::bindSlots() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsABinding, sumsA_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsNBinding, sumsN_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSlotSumsEBinding, sumsE_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelDeferredBinding, deferred_.id());
 }
 
 void VoxelizePass::dispatch(const gl::Program& program, uint64_t invocations) {
@@ -377,15 +399,43 @@ void VoxelizePass::execute(gl::FrameContext& ctx, const scene::GpuScene& gs) {
   stats_.bytes = kBytesPerListEntry * uint64_t{capacity_};
 }
 
-gpu::VoxelStats VoxelizePass::rasterUntilItFits(const scene::GpuScene& gs) {
-  const int n = settings_.resolution;
-  raster(gs);
+gpu::VoxelStats VoxelizePass::readCounters() const {
   gpu::VoxelStats out{};
   glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
-  // Out of voxel slots or pool bricks: grow what ran out and raster again in a fresh
-  // epoch (bricks that did not fit took no voxel slots, so this can take two rounds).
-  for (int round = 0; out.listCount > capacity_ || out.brickCount > brickCapacity_; ++round) {
-    VOXGI_CHECK_LT(round, 3);
+  return out;
+}
+
+gpu::VoxelStats VoxelizePass::rasterOnce(const scene::GpuScene& gs) {
+  raster(gs);
+  gpu::VoxelStats out = readCounters();
+  const bool fits = out.listCount <= capacity_ && out.brickCount <= brickCapacity_ &&
+                    out.deferred <= deferredCapacity_;
+  if (out.deferred > 0 && fits) {
+    // Claim, then add: every slot is published before any record is added.
+    for (GLuint add : {0u, 1u}) {
+      glProgramUniform1ui(addDeferred_.id(), gpu::kVoxelDeferredAddLocation, add);
+      dispatch(addDeferred_, out.deferred);
+    }
+    out = readCounters();
+  }
+  return out;
+}
+
+gpu::VoxelStats VoxelizePass::rasterUntilItFits(const scene::GpuScene& gs) {
+  const int n = settings_.resolution;
+  gpu::VoxelStats out = rasterOnce(gs);
+  stats_.rounds = 1;
+  // Out of voxel slots, pool bricks or deferred records: grow what ran out and
+  // raster again in a fresh epoch, from cleared sums (bricks that did not fit took
+  // no voxel slots, so this can take two rounds).
+  for (int round = 0; out.listCount > capacity_ || out.brickCount > brickCapacity_ ||
+                      out.deferred > deferredCapacity_ || out.deferredLost > 0;
+       ++round) {
+    if (round >= 4)
+      throw Error(strf("--voxels %d: voxelization did not settle in %d rounds (%u voxels, %u "
+                       "bricks, %u deferred fragments, %u lost)",
+                       n, round + 1, out.listCount, out.brickCount, out.deferred,
+                       out.deferredLost));
     if (out.listCount > gpu::kMaxListEntries)
       throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
                        out.listCount, gpu::kMaxListEntries));
@@ -396,15 +446,22 @@ gpu::VoxelStats VoxelizePass::rasterUntilItFits(const scene::GpuScene& gs) {
       capacity_ = std::min<uint32_t>(gpu::kMaxListEntries, out.listCount + out.listCount / 4);
       allocateSlots();
       allocateLists();
+    } else {
+      clearSums();  // what the round added stays there otherwise: nothing resolved it
     }
     if (out.brickCount > brickCapacity_) {
       brickCapacity_ = std::min<uint32_t>(gpu::kMaxBricks, out.brickCount + out.brickCount / 4);
       allocateBricks();
     }
+    if (out.deferred > deferredCapacity_) {
+      deferredCapacity_ = std::min<uint32_t>(kMaxDeferred, out.deferred + out.deferred / 4);
+      allocateDeferred();
+    }
     nextEpoch();
-    raster(gs);
-    glGetNamedBufferSubData(statsBuffer_.id(), 0, sizeof(out), &out);
+    out = rasterOnce(gs);
+    ++stats_.rounds;
   }
+  stats_.deferred = out.deferred;
   return out;
 }
 
@@ -422,7 +479,8 @@ void VoxelizePass::recordStats(const gpu::VoxelStats& out) {
   const uint64_t b = bricksPerAxis(settings_.resolution);
   stats_.peakBytes = b * b * b * 4 + kBytesPerBrick * brickCapacity_ +
                      (kBytesPerSlot + kBytesPerListEntry) * uint64_t{capacity_} +
-                     (settings_.smallTrianglesInCompute ? largeIndexBytes_ : 0);
+                     (settings_.smallTrianglesInCompute ? largeIndexBytes_ : 0) +
+                     sizeof(gpu::VoxelDeferred) * uint64_t{deferredCapacity_};
 }
 
 void VoxelizePass::keepListOnly() {

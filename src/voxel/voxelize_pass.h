@@ -71,6 +71,8 @@ struct VoxelGridStats {
   uint64_t peakBytes = 0;        // while voxelizing
   uint32_t smallTriangles = 0;   // taken by the compute path; counted with inspectSums only
   uint32_t rasterTriangles = 0;  // passed on to the raster; counted with inspectSums only
+  uint32_t deferred = 0;         // fragments deferred in the last raster (voxel_shared.h)
+  int rounds = 0;                // rasters it took: more than 1 when something had to grow
 };
 
 class VoxelizePass {
@@ -90,6 +92,14 @@ class VoxelizePass {
     bool checksum = true;
     // The memory the grid may take, in bytes; 0: voxelMemoryBudget's estimate.
     uint64_t memoryBudgetBytes = 0;
+    // Tests: how many times a fragment reads a voxel another thread is claiming
+    // before it is deferred (-1: gpu::kClaimSpins; 0 defers every one that meets a
+    // claim in progress).
+    int claimSpins = -1;
+    // Tests: every fragment is deferred (the deferred pass adds them all).
+    bool deferAll = false;
+    // Tests: the pool's first size in bricks (0: what the grid may need, up to 2^16).
+    uint32_t initialBricks = 0;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.
@@ -123,6 +133,7 @@ class VoxelizePass {
   void allocateSlots();
   void allocateBricks();
   void allocateLists();
+  void allocateDeferred();
   template <typename T>
   std::vector<T> readResolved(uint32_t component) const;
   static void clear(const gl::Buffer& buffer);
@@ -132,9 +143,12 @@ class VoxelizePass {
   void rasterSmall(const scene::GpuScene& gs);  // the compute path
   void bindSlots();
   void dispatch(const gl::Program& program, uint64_t invocations);
-  // The steps of execute(): rasters, growing the slots and bricks and rastering
-  // again until every voxel fits; returns the last raster's counters.
+  // The steps of execute(): rasters, growing the slots, bricks or deferred records
+  // and rastering again until every voxel fits; returns the last raster's counters.
   gpu::VoxelStats rasterUntilItFits(const scene::GpuScene& gs);
+  // One raster, then the fragments it deferred when everything fit; its counters.
+  gpu::VoxelStats rasterOnce(const scene::GpuScene& gs);
+  gpu::VoxelStats readCounters() const;
   // stats_ but bytes, from the resolve's counters.
   void recordStats(const gpu::VoxelStats& out);
   // Frees all but the list and its attributes, trimmed to the voxels listed.
@@ -144,6 +158,7 @@ class VoxelizePass {
   const gl::Program& voxelize_;
   const gl::Program& voxelizeSmall_;  // the compute path for small triangles
   const gl::Program& resolve_;
+  const gl::Program& addDeferred_;  // voxelize_deferred.comp
   // While voxelizing (kept with keepSums): brick map, brick pool, per-slot sums.
   gl::Buffer brickMap_, pool_, sumsA_, sumsN_, sumsE_;
   // The compute path's output for the raster: the triangles it passed on, and one
@@ -154,6 +169,8 @@ class VoxelizePass {
   GLsizeiptr drawCommandBytes_ = 0;
   gl::Framebuffer fbo_;
   gl::Buffer paramsBuffer_, statsBuffer_, list_, attributes_;
+  gl::Buffer deferred_;  // VoxelDeferred records
+  uint32_t deferredCapacity_ = gpu::kInitialDeferred;
   gpu::VoxelParams params_{};
   uint32_t epoch_ = 0;
   uint32_t capacity_ = 0;       // slots, and entries of list_

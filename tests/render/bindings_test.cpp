@@ -72,6 +72,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kVoxelAttribBinding),
       VOXGI_ENTRY(Ssbo, kLargeIndexBinding),
       VOXGI_ENTRY(Ssbo, kDrawCommandBinding),
+      VOXGI_ENTRY(Ssbo, kVoxelDeferredBinding),
       VOXGI_ENTRY(Ssbo, kOctreeNodeBinding),
       VOXGI_ENTRY(Ssbo, kOctreeRadianceBinding),
       VOXGI_ENTRY(Ssbo, kOctreeMaterialBinding),

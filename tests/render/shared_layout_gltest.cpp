@@ -146,9 +146,23 @@ TEST_F(SharedLayoutTest, VoxelStatsMatchCpp) {
                  VOXGI_MEMBER("stats.", VoxelStats, checksumSum, ""),
                  VOXGI_MEMBER("stats.", VoxelStats, checksumXor, ""),
                  VOXGI_MEMBER("stats.", VoxelStats, smallTriangles, ""),
-                 VOXGI_MEMBER("stats.", VoxelStats, pad2, "[0]")});
+                 VOXGI_MEMBER("stats.", VoxelStats, pad2, "[0]"),
+                 VOXGI_MEMBER("stats.", VoxelStats, deferred, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, deferredLost, ""),
+                 VOXGI_MEMBER("stats.", VoxelStats, pad3, "[0]")});
   EXPECT_EQ(query(p, GL_SHADER_STORAGE_BLOCK, "Stats", GL_BUFFER_DATA_SIZE),
             static_cast<GLint>(sizeof(VoxelStats)));
+}
+
+TEST_F(SharedLayoutTest, VoxelDeferredMatchesCpp) {
+  using gpu::VoxelDeferred;
+  const GLuint p = program("voxel/voxelize_deferred.comp");
+  expectOffsets(p, GL_BUFFER_VARIABLE,
+                {VOXGI_MEMBER("deferred[0].", VoxelDeferred, voxel, ""),
+                 VOXGI_MEMBER("deferred[0].", VoxelDeferred, albedoN, ""),
+                 VOXGI_MEMBER("deferred[0].", VoxelDeferred, emission, "")});
+  EXPECT_EQ(query(p, GL_BUFFER_VARIABLE, "deferred[0].voxel", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(VoxelDeferred)));
 }
 
 TEST_F(SharedLayoutTest, SceneStructsMatchCpp) {
