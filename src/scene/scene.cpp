@@ -162,7 +162,52 @@ glm::dvec4 sample(const AnimationChannel& c, double t) {
   return glm::mix(c.values[i], c.values[i + 1], u);
 }
 
+glm::dmat4 localTransform(const SceneNode& n) {
+  if (n.hasMatrix) return n.matrix;
+  return glm::translate(glm::dmat4(1.0), n.translation) * glm::mat4_cast(n.rotation) *
+         glm::scale(glm::dmat4(1.0), n.scale);
+}
+
 }  // namespace
+
+void Scene::preparePose() {
+  PoseChains& pc = poseChains;
+  const size_t n = nodes.size();
+  pc.animatedSlot.assign(n, -1);
+  pc.animatedNodes.clear();
+  for (const AnimationChannel& c : animations) {
+    int& slot = pc.animatedSlot[static_cast<size_t>(c.node)];
+    if (slot >= 0) continue;
+    slot = static_cast<int>(pc.animatedNodes.size());
+    pc.animatedNodes.push_back(c.node);
+  }
+  // From the roots down, each node once, its parent before it (the graph is a
+  // forest: the loader refused cycles).
+  std::vector<std::vector<int>> children(n);
+  std::vector<int> pending;
+  for (size_t i = 0; i < n; ++i) {
+    const int p = nodes[i].parent;
+    if (p >= 0)
+      children[static_cast<size_t>(p)].push_back(static_cast<int>(i));
+    else
+      pending.push_back(static_cast<int>(i));
+  }
+  pc.anchor.assign(n, -1);
+  pc.still.assign(n, glm::dmat4(1.0));
+  while (!pending.empty()) {
+    const auto i = static_cast<size_t>(pending.back());
+    pending.pop_back();
+    const int p = nodes[i].parent;
+    if (pc.animatedSlot[i] >= 0) {
+      pc.anchor[i] = static_cast<int>(i);  // composed at each pose; nothing still below it yet
+    } else {
+      const glm::dmat4 local = localTransform(nodes[i]);
+      pc.anchor[i] = p >= 0 ? pc.anchor[static_cast<size_t>(p)] : -1;
+      pc.still[i] = p >= 0 ? pc.still[static_cast<size_t>(p)] * local : local;
+    }
+    for (int c : children[i]) pending.push_back(c);
+  }
+}
 
 bool Scene::lightsAnimated() const {
   return std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.moves; });
@@ -178,39 +223,59 @@ void Scene::pose(double seconds) {
     t = std::fmod(t, animationDuration);
     if (t < 0.0) t += animationDuration;
   }
-  std::vector<SceneNode> posed = nodes;
+  if (poseChains.anchor.size() != nodes.size()) preparePose();
+  const PoseChains& pc = poseChains;
+  // The animated nodes' transforms at t; every other node keeps its own.
+  std::vector<SceneNode> posed(pc.animatedNodes.size());
+  for (size_t k = 0; k < posed.size(); ++k)
+    posed[k] = nodes[static_cast<size_t>(pc.animatedNodes[k])];
   for (const AnimationChannel& c : animations) {
     const glm::dvec4 v = sample(c, t);
-    SceneNode& n = posed[static_cast<size_t>(c.node)];
+    SceneNode& n = posed[static_cast<size_t>(pc.animatedSlot[static_cast<size_t>(c.node)])];
     if (c.path == AnimationPath::kTranslation) n.translation = glm::dvec3(v);
     if (c.path == AnimationPath::kScale) n.scale = glm::dvec3(v);
     if (c.path == AnimationPath::kRotation)
       n.rotation = glm::normalize(glm::dquat(v.w, v.x, v.y, v.z));
   }
-  // World matrices on demand, each node's composed once: the ancestors not yet
-  // composed are gathered walking up, then composed walking down (no recursion: a
+  // World matrices on demand. A node's is its anchor's times the still transforms
+  // below it; an animated node's, its parent's times its posed local transform.
+  // Each animated node's is composed once: those not yet composed are gathered
+  // walking up from anchor to anchor, then composed walking down (no recursion: a
   // valid hierarchy may be tens of thousands of levels deep).
-  std::vector<glm::dmat4> world(posed.size());
+  std::vector<glm::dmat4> animatedWorld(posed.size());
   std::vector<char> done(posed.size(), 0);
-  std::vector<size_t> chain;
-  auto worldOf = [&](int i) -> const glm::dmat4& {
+  std::vector<int> chain;
+  auto anchorWorld = [&](int a) -> const glm::dmat4& {
     chain.clear();
-    for (int a = i; a >= 0 && !done[static_cast<size_t>(a)];
-         a = posed[static_cast<size_t>(a)].parent)
-      chain.push_back(static_cast<size_t>(a));
-    for (auto u = chain.rbegin(); u != chain.rend(); ++u) {
-      const SceneNode& n = posed[*u];
-      const glm::dmat4 local = n.hasMatrix ? n.matrix
-                                           : glm::translate(glm::dmat4(1.0), n.translation) *
-                                                 glm::mat4_cast(n.rotation) *
-                                                 glm::scale(glm::dmat4(1.0), n.scale);
-      world[*u] = n.parent >= 0 ? world[static_cast<size_t>(n.parent)] * local : local;
-      done[*u] = 1;
+    for (int u = a;
+         u >= 0 && !done[static_cast<size_t>(pc.animatedSlot[static_cast<size_t>(u)])];) {
+      chain.push_back(u);
+      const int parent = nodes[static_cast<size_t>(u)].parent;
+      u = parent >= 0 ? pc.anchor[static_cast<size_t>(parent)] : -1;
     }
-    return world[static_cast<size_t>(i)];
+    for (auto u = chain.rbegin(); u != chain.rend(); ++u) {
+      const auto slot = static_cast<size_t>(pc.animatedSlot[static_cast<size_t>(*u)]);
+      const int parent = nodes[static_cast<size_t>(*u)].parent;
+      glm::dmat4 above(1.0);
+      if (parent >= 0) {
+        const int pa = pc.anchor[static_cast<size_t>(parent)];
+        above = pa >= 0
+                    ? animatedWorld[static_cast<size_t>(pc.animatedSlot[static_cast<size_t>(pa)])] *
+                          pc.still[static_cast<size_t>(parent)]
+                    : pc.still[static_cast<size_t>(parent)];
+      }
+      animatedWorld[slot] = above * localTransform(posed[slot]);
+      done[slot] = 1;
+    }
+    return animatedWorld[static_cast<size_t>(pc.animatedSlot[static_cast<size_t>(a)])];
+  };
+  auto worldOf = [&](int i) -> glm::dmat4 {
+    const int a = pc.anchor[static_cast<size_t>(i)];
+    return a >= 0 ? anchorWorld(a) * pc.still[static_cast<size_t>(i)]
+                  : pc.still[static_cast<size_t>(i)];
   };
   for (const AnimatedRange& r : animatedRanges) {
-    const glm::dmat4& m = worldOf(r.node);
+    const glm::dmat4 m = worldOf(r.node);
     const glm::mat3 normalMatrix = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(m))));
     for (size_t i = 0; i < r.localPositions.size(); ++i) {
       Vertex& v = vertices[r.firstVertex + i];
@@ -237,12 +302,12 @@ void Scene::pose(double seconds) {
   };
   for (Light& l : lights) {
     if (!l.moves) continue;
-    const glm::dmat4& m = worldOf(l.node);
+    const glm::dmat4 m = worldOf(l.node);
     l.position = glm::vec3(glm::dvec3(m[3]) - origin);
     l.direction = direction(-glm::dvec3(m[2]), l.direction);
   }
   if (cameraMoves && poseCamera) {
-    const glm::dmat4& m = worldOf(camera.node);
+    const glm::dmat4 m = worldOf(camera.node);
     camera.position = glm::vec3(glm::dvec3(m[3]) - origin);
     camera.forward = direction(-glm::dvec3(m[2]), camera.forward);
     camera.up = direction(glm::dvec3(m[1]), camera.up);

@@ -259,7 +259,16 @@ struct Scene {
   // as Blender and Cesium's clampAnimations do), true wraps around (the viewer's
   // playback, render --loop).
   bool loopAnimation = false;
-  Bounds motionBounds;             // union of the animated vertices over all poses
+  Bounds motionBounds;  // union of the animated vertices over all poses
+  // What pose() composes, made on its first call (PoseChains in scene.cpp): per
+  // node, its nearest animated ancestor or itself, and the still transforms between.
+  struct PoseChains {
+    std::vector<int> anchor;         // the nearest animated node up the path, or -1
+    std::vector<glm::dmat4> still;   // the local transforms below the anchor, composed
+    std::vector<int> animatedSlot;   // per node: its place among the animated ones, or -1
+    std::vector<int> animatedNodes;  // the nodes channels move
+  };
+  PoseChains poseChains;
   std::vector<std::string> warnings;
   std::vector<std::string> notes;  // information the loader printed (a file without scenes)
 
@@ -276,6 +285,8 @@ struct Scene {
   // keys in the keys' own (float) precision: a frame time a hair past a float key
   // time is at that key.
   void pose(double seconds);
+  // Makes poseChains from the nodes and channels (pose() does on its first call).
+  void preparePose();
   bool hasEmission() const;
   // A drawn material has a second texture-coordinate channel (Material::hasUv2).
   bool hasSecondUv() const;
