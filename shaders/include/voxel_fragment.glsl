@@ -40,18 +40,18 @@ ivec3 voxelUnswizzle(ivec3 p, int axis) { return axis == 0 ? p.zxy : (axis == 1 
 #ifndef VOXGI_CLAIM_SPINS
 #define VOXGI_CLAIM_SPINS kClaimSpins
 #endif
-#define CLAIM(entries, index, counter, capacity, firstAction)                         \
-  uint seen = entries[index];                                                         \
-  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                     \
-    seen = atomicMax(entries[index], epoch);                                          \
-    if ((seen & ~kSlotMask) != epoch) {                                               \
-      uint ticket = atomicAdd(counter, 1u);                                           \
-      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u);            \
-      atomicMax(entries[index], seen);                                                \
-      if (ticket < capacity) firstAction;                                             \
-    }                                                                                 \
+#define CLAIM(entries, index, counter, capacity, firstAction)                             \
+  uint seen = entries[index];                                                             \
+  if ((seen & ~kSlotMask) != epoch || (seen & kSlotMask) == 0u) {                         \
+    seen = atomicMax(entries[index], epoch);                                              \
+    if ((seen & ~kSlotMask) != epoch) {                                                   \
+      uint ticket = atomicAdd(counter, 1u);                                               \
+      seen = epoch | ((ticket < capacity ? ticket : kSlotFull - 1u) + 1u);                \
+      atomicMax(entries[index], seen);                                                    \
+      if (ticket < capacity) firstAction;                                                 \
+    }                                                                                     \
     for (uint spin_ = 0u; spin_ < VOXGI_CLAIM_SPINS && (seen & kSlotMask) == 0u; ++spin_) \
-      seen = atomicOr(entries[index], 0u);                                            \
+      seen = atomicOr(entries[index], 0u);                                                \
   }
 
 // voxelSlot(): the voxel is being claimed by a thread that has not published its
@@ -139,8 +139,8 @@ void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo
       // buffer and runs again.
       uint d = atomicAdd(stats.deferred, 1u);
       if (d < voxel.limits.w)
-        deferred[d] = VoxelDeferred(uvec4(voxelPacked(p), weight, a.rg), uvec4(a.b, nf),
-                                    uvec4(ef, 0u));
+        deferred[d] =
+            VoxelDeferred(uvec4(voxelPacked(p), weight, a.rg), uvec4(a.b, nf), uvec4(ef, 0u));
       continue;
     }
     voxelAddToSlot(slot, weight, a, nf, ef);

@@ -122,11 +122,11 @@ VoxelizePass::VoxelizePass(gl::ProgramCache& programs, const std::string& render
     : settings_(settings),
       voxelize_(programs.get({{"voxel/voxelize.vert", "voxel/voxelize.geom", "voxel/voxelize.frag"},
                               claimDefines(settings.features.defines(), settings)})),
-      voxelizeSmall_(programs.get(
-          {{"voxel/voxelize_small.comp"},
-           claimDefines(withDefine(settings.features.defines(),
-                                   settings.inspectSums ? "VOXGI_COUNT_SMALL" : ""),
-                        settings)})),
+      voxelizeSmall_(
+          programs.get({{"voxel/voxelize_small.comp"},
+                        claimDefines(withDefine(settings.features.defines(),
+                                                settings.inspectSums ? "VOXGI_COUNT_SMALL" : ""),
+                                     settings)})),
       resolve_(programs.get({{"voxel/resolve.comp"}, resolveDefines(settings)})),
       addDeferred_(programs.get({{"voxel/voxelize_deferred.comp"}, claimDefines({}, settings)})) {
   const int n = settings.resolution;
@@ -432,10 +432,10 @@ gpu::VoxelStats VoxelizePass::rasterUntilItFits(const scene::GpuScene& gs) {
                       out.deferred > deferredCapacity_ || out.deferredLost > 0;
        ++round) {
     if (round >= 4)
-      throw Error(strf("--voxels %d: voxelization did not settle in %d rounds (%u voxels, %u "
-                       "bricks, %u deferred fragments, %u lost)",
-                       n, round + 1, out.listCount, out.brickCount, out.deferred,
-                       out.deferredLost));
+      throw Error(
+          strf("--voxels %d: voxelization did not settle in %d rounds (%u voxels, %u "
+               "bricks, %u deferred fragments, %u lost)",
+               n, round + 1, out.listCount, out.brickCount, out.deferred, out.deferredLost));
     if (out.listCount > gpu::kMaxListEntries)
       throw Error(strf("--voxels %d: %u occupied voxels exceed the voxel list's limit of %u", n,
                        out.listCount, gpu::kMaxListEntries));
