@@ -1,6 +1,6 @@
 """rtgi against the path tracer, as time goes by: time to the image and its error.
 
-For each view (cornell_room from its camera and from a second viewpoint, dark_plane),
+For each view of the validation set (scenes/validation_set.json; --view picks some),
 renders rtgi at 1, 4, 16, 64 and 256 accumulated frames with the current defaults
 (denoised) and with --denoise off (the running mean itself), one row with the
 previous design's settings as the anchor of the same run
@@ -24,17 +24,11 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import sweep  # noqa: E402  (run_tool)
+import validation_set  # noqa: E402
 
 SIZE = "256x256"
 SEED = 7  # test renders; references use tools/make-reference's seed
 REF_SEED = 1000003
-# (name, scene, extra flags of the viewpoint)
-VIEWS = [
-    ("cornell_room", "cornell_room", []),
-    ("cornell_room_side", "cornell_room",
-     ["--look-from", "0.75,1.5,1.1", "--look-at", "-0.4,0.35,-0.5"]),
-    ("dark_plane", "dark_plane", []),
-]
 FRAMES = [1, 4, 16, 64, 256]
 SPP = [1, 4, 16, 64]
 ANCHOR = ["--voxel-rays", "--denoise", "off"]
@@ -45,6 +39,7 @@ def voxgi():
 
 
 def scene_path(scene):
+    """The glTF of a built-in scene, by its folder's name."""
     return os.path.join(ROOT, "scenes", scene, f"{scene}.gltf")
 
 
@@ -63,7 +58,7 @@ def reference(view, scene, extra, spp, size=SIZE):
     if best is None:
         base = os.path.join(refdir, f"{view}_{size}_{spp}spp")
         print(f"rendering the {view} reference ({spp} spp)", flush=True)
-        subprocess.run([voxgi(), "render", scene_path(scene), "--mode", "pathtrace", "--size",
+        subprocess.run([voxgi(), "render", scene, "--mode", "pathtrace", "--size",
                         size, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
                         "--out", base + ".png", "--stats", base + ".json", "--no-progress",
                         "-q"] + extra, check=True)
@@ -75,7 +70,7 @@ def reference(view, scene, extra, spp, size=SIZE):
 def run(view, scene, extra, args, outdir, tag):
     base = os.path.join(outdir, "runs", f"{view}_{tag}")
     os.makedirs(os.path.dirname(base), exist_ok=True)
-    subprocess.run([voxgi(), "render", scene_path(scene), "--size", SIZE, "--seed", str(SEED),
+    subprocess.run([voxgi(), "render", scene, "--size", SIZE, "--seed", str(SEED),
                     "--out", base + ".exr", "--out", base + ".png", "--stats", base + ".json",
                     "--no-progress", "-q"] + extra + args, check=True)
     with open(base + ".json") as f:
@@ -89,13 +84,16 @@ def measure(base, ref_exr, ref_png):
             "lum": m["mean_luminance_ratio"]}
 
 
-def plot(rows, outdir):
+def plot(rows, views, outdir):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    views = [v[0] for v in VIEWS]
-    fig, axes = plt.subplots(1, len(views), figsize=(5 * len(views), 4), squeeze=False)
-    for ax, view in zip(axes[0], views):
+    cols = min(3, len(views))
+    nrows = (len(views) + cols - 1) // cols
+    fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 4 * nrows), squeeze=False)
+    for ax in axes.flat[len(views):]:
+        ax.set_visible(False)
+    for ax, view in zip(axes.flat, views):
         for kind, style in (("rtgi", "o-"), ("rtgi, not denoised", "o:"), ("pathtrace", "s--"),
                             ("rtgi, previous", "x")):
             pts = [(r["ms"], r["flip"]) for r in rows if r["view"] == view and r["kind"] == kind]
@@ -118,8 +116,10 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=4096,
                     help="spp of a reference rendered because none exists (default 4096; the "
                     "committed references in tests/data/reference are 4096 spp)")
-    ap.add_argument("--view", action="append", choices=[v[0] for v in VIEWS],
-                    help="only this view (repeatable)")
+    ap.add_argument("--view", action="append", choices=validation_set.names(),
+                    help="only this view of the validation set (repeatable; default: all)")
+    ap.add_argument("--quick", action="store_true",
+                    help="rtgi at 1, 16 and 64 frames and pathtrace at 16 and 64 spp only")
     a = ap.parse_args()
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
@@ -127,16 +127,16 @@ def main():
     rows = []
     lines = ["| view | renderer | setting | time to the image (ms) | FLIP | RMSE | mean luminance "
              "ratio |", "|---|---|---|---:|---:|---:|---:|"]
-    for view, scene, extra in VIEWS:
-        if a.view and view not in a.view:
-            continue
+    frames, spps = ([1, 16, 64], [16, 64]) if a.quick else (FRAMES, SPP)
+    views = validation_set.views(a.view)
+    for view, scene, extra in views:
         ref_exr, ref_png, ref_spp = reference(view, scene, extra, a.ref_spp)
-        jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in FRAMES]
+        jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in frames]
         jobs += [("rtgi, not denoised", f"{f} frames, --denoise off",
-                  ["--frames", str(f), "--denoise", "off"]) for f in FRAMES]
+                  ["--frames", str(f), "--denoise", "off"]) for f in frames]
         jobs.append(("rtgi, previous", "64 frames, " + " ".join(ANCHOR),
                      ["--frames", "64"] + ANCHOR))
-        jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in SPP]
+        jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in spps]
         for kind, setting, args in jobs:
             tag = re.sub(r"[^a-z0-9]+", "_", f"{kind}_{setting}")
             base, stats = run(view, scene, extra, args, a.out, tag)
@@ -152,7 +152,7 @@ def main():
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write(table)
     print(table)
-    print("bench-convergence: wrote", os.path.join(a.out, "table.md"), "and", plot(rows, a.out))
+    print("bench-convergence: wrote", os.path.join(a.out, "table.md"), "and", plot(rows, [v[0] for v in views], a.out))
 
 
 if __name__ == "__main__":

@@ -133,7 +133,7 @@ def reference(view, spp):
     scene, eye, target = VIEWS[view]
     extra = [] if view == scene else ["--look-from", ",".join(map(str, eye)),
                                       "--look-at", ",".join(map(str, target))]
-    return conv.reference(view, scene, extra, spp)
+    return conv.reference(view, conv.scene_path(scene), extra, spp)
 
 
 def main():

@@ -26,10 +26,14 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-import bench_convergence as bc  # noqa: E402  (VIEWS, scene_path, REF_SEED)
+import bench_convergence as bc  # noqa: E402  (REF_SEED)
+import validation_set  # noqa: E402
 import flip as fliptool  # noqa: E402
 
 SIZE = "256x256"
+# The views whose figures are pinned (of the validation set): the two rooms' references
+# are committed.
+VIEWS = validation_set.views(["cornell_room", "cornell_room_side", "dark_plane"])
 SEED = 7
 NOISE_SEEDS = [3, 4, 5, 6, 7]
 REF_SPP = 4096
@@ -50,7 +54,7 @@ def reference_png(view):
 
 
 def render(voxgi, scene, extra, flags, seed, out):
-    cmd = [voxgi, "render", bc.scene_path(scene), "--size", SIZE, "--seed", str(seed), "--out",
+    cmd = [voxgi, "render", scene, "--size", SIZE, "--seed", str(seed), "--out",
            out, "--no-progress", "-q"] + extra + flags
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
@@ -68,7 +72,7 @@ def make_references(voxgi):
     """The references, as the 8-bit sRGB image FLIP reads and as linear radiance in
     half floats (what tools/bench-convergence's RMSE and mean ratio read)."""
     os.makedirs(DATA, exist_ok=True)
-    for view, scene, extra in bc.VIEWS:
+    for view, scene, extra in VIEWS:
         print(f"bench-regression: rendering the {view} reference ({REF_SPP} spp)", flush=True)
         png = reference_png(view)
         exr = png[:-4] + ".exr"
@@ -80,7 +84,7 @@ def make_references(voxgi):
 
 def update(voxgi, tmp):
     figures = {"size": SIZE, "seed": SEED, "reference_spp": REF_SPP, "views": {}}
-    for view, scene, extra in bc.VIEWS:
+    for view, scene, extra in VIEWS:
         figures["views"][view] = {}
         for name, flags in FIGURES_RUN:
             values = [measure(voxgi, view, scene, extra, flags, s, tmp) for s in NOISE_SEEDS]
@@ -102,7 +106,7 @@ def check(voxgi, tmp):
     failed = []
     print(f"| view | figure | committed | noise (sd) | bound | now | |")
     print("|---|---|---:|---:|---:|---:|---|")
-    for view, scene, extra in bc.VIEWS:
+    for view, scene, extra in VIEWS:
         for name, flags in FIGURES_RUN:
             fig = figures[view][name]
             bound = fig["flip"] + max(SIGMAS * fig["noise"], FLOOR)
@@ -132,7 +136,7 @@ def main():
         raise SystemExit(f"bench-regression: error: {a.voxgi} missing (tools/build)")
     if a.reference:
         make_references(a.voxgi)
-    for view, _, _ in bc.VIEWS:
+    for view, _, _ in VIEWS:
         if not os.path.exists(reference_png(view)):
             raise SystemExit(f"bench-regression: error: {reference_png(view)} missing "
                              "(--reference renders it)")

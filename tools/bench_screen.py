@@ -43,7 +43,8 @@ def reference(view, pose, eye, target, size, spp):
     """The path-traced reference of `view` at this pose and size (VIEW_POSE_SIZE)."""
     extra = ["--look-from", ",".join(f"{c:.6f}" for c in eye),
              "--look-at", ",".join(f"{c:.6f}" for c in target)]
-    exr, png, _ = conv.reference(f"{view}_{pose}", motion.VIEWS[view][0], extra, spp, size)
+    exr, png, _ = conv.reference(f"{view}_{pose}", conv.scene_path(motion.VIEWS[view][0]), extra, spp,
+                                 size)
     return exr, png
 
 
