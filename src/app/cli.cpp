@@ -288,7 +288,7 @@ std::string viewHelp() {
 }
 
 std::string compareHelp() {
-  return "usage: voxgi compare TEST REF [--json]\n"
+  return "usage: voxgi compare TEST REF [--json] [--blocks N]\n"
          "\n"
          "Error metrics of image TEST against reference REF (same size and channel count;\n"
          "EXR for linear radiance), over the colour channels:\n"
@@ -301,6 +301,11 @@ std::string compareHelp() {
          "\n"
          "options:\n"
          "  --json            print the metrics as one JSON object\n"
+         "  --blocks N        also cut the images into N x N-pixel blocks and compare\n"
+         "                    mean luminance block by block (blocks darker than 1% of\n"
+         "                    the reference's mean are left out): the lowest and highest\n"
+         "                    ratio of TEST to REF, where they are, and the share of\n"
+         "                    blocks off by more than 3% and 10% (block_* in the JSON)\n"
          "  -h, --help        this text\n"
          "\n"
          "Exit status: 0 on success, 1 on bad input, 2 on a usage error.\n";
@@ -536,6 +541,9 @@ Invocation parseCompare(const std::vector<std::string>& args) {
       return inv;
     } else if (a == "--json") {
       inv.compare.json = true;
+    } else if (a == "--blocks") {
+      if (i + 1 >= args.size()) throw UsageError("--blocks: needs a value");
+      inv.compare.blocks = parseInt("--blocks", args[++i], 1, 4096);
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "' (see voxgi compare --help)");
     } else {

@@ -51,6 +51,7 @@ struct CompareOptions {
   std::string test;
   std::string reference;
   bool json = false;
+  int blocks = 0;  // > 0: also the block luminance ratios over this many pixels a side
 };
 
 struct CheckOptions {

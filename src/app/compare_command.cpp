@@ -31,8 +31,10 @@ int runCompare(const CompareOptions& o) {
   const image::Image test = load(o.test);
   const image::Image ref = load(o.reference);
   image::ErrorMetrics m;
+  image::BlockRatios b;
   try {
     m = image::errorMetrics(test, ref);
+    if (o.blocks > 0) b = image::blockRatios(test, ref, o.blocks);
   } catch (const Error& e) {
     throw Error(o.test + " vs " + o.reference + ": " + e.what());
   }
@@ -50,6 +52,17 @@ int runCompare(const CompareOptions& o) {
     j["mean_luminance_test"] = m.meanLuminanceTest;
     j["mean_luminance_reference"] = m.meanLuminanceReference;
     j["mean_luminance_ratio"] = finiteOrNull(m.meanLuminanceRatio);
+    if (o.blocks > 0) {
+      j["block_size"] = b.block;
+      j["blocks"] = b.blocks;
+      j["blocks_skipped"] = b.skipped;
+      j["block_ratio_min"] = b.min;
+      j["block_ratio_min_at"] = {b.minX, b.minY};
+      j["block_ratio_max"] = b.max;
+      j["block_ratio_max_at"] = {b.maxX, b.maxY};
+      j["blocks_off_3_percent"] = b.over3Percent;
+      j["blocks_off_10_percent"] = b.over10Percent;
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -61,6 +74,12 @@ int runCompare(const CompareOptions& o) {
   std::printf("  ssim                  %.4f\n", m.ssim);
   std::printf("  mean_luminance_ratio  %.4f  (%.6g / %.6g)\n", m.meanLuminanceRatio,
               m.meanLuminanceTest, m.meanLuminanceReference);
+  if (o.blocks > 0)
+    std::printf(
+        "  %dx%d blocks          %d measured (%d too dark): ratio %.4f at (%d, %d) to %.4f at "
+        "(%d, %d); %.1f%% off by > 3%%, %.1f%% by > 10%%\n",
+        b.block, b.block, b.blocks, b.skipped, b.min, b.minX, b.minY, b.max, b.maxX, b.maxY,
+        100.0 * b.over3Percent, 100.0 * b.over10Percent);
   return 0;
 }
 

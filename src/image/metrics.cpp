@@ -137,4 +137,53 @@ ErrorMetrics errorMetrics(const Image& test, const Image& ref) {
   return m;
 }
 
+BlockRatios blockRatios(const Image& test, const Image& ref, int block, double floorFraction) {
+  if (test.width != ref.width || test.height != ref.height || test.channels != ref.channels)
+    throw Error(strf("images differ in size or channels (%dx%dx%d vs %dx%dx%d)", test.width,
+                     test.height, test.channels, ref.width, ref.height, ref.channels));
+  if (block < 1) throw Error(strf("block size %d: must be at least 1", block));
+  const auto lt = luminance(test), lr = luminance(ref);
+  double refMean = 0.0;
+  for (double v : lr) refMean += v;
+  refMean /= static_cast<double>(std::max<size_t>(lr.size(), 1));
+  BlockRatios out;
+  out.block = block;
+  int over3 = 0, over10 = 0;
+  for (int by = 0; by < ref.height; by += block)
+    for (int bx = 0; bx < ref.width; bx += block) {
+      double st = 0.0, sr = 0.0;
+      int n = 0;
+      for (int y = by; y < std::min(by + block, ref.height); ++y)
+        for (int x = bx; x < std::min(bx + block, ref.width); ++x) {
+          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + x;
+          st += lt[i];
+          sr += lr[i];
+          ++n;
+        }
+      if (n == 0 || sr / n <= floorFraction * refMean || sr <= 0.0) {
+        ++out.skipped;
+        continue;
+      }
+      const double r = st / sr;
+      if (out.blocks == 0 || r < out.min) {
+        out.min = r;
+        out.minX = bx;
+        out.minY = by;
+      }
+      if (out.blocks == 0 || r > out.max) {
+        out.max = r;
+        out.maxX = bx;
+        out.maxY = by;
+      }
+      ++out.blocks;
+      over3 += std::abs(r - 1.0) > 0.03;
+      over10 += std::abs(r - 1.0) > 0.10;
+    }
+  if (out.blocks > 0) {
+    out.over3Percent = static_cast<double>(over3) / out.blocks;
+    out.over10Percent = static_cast<double>(over10) / out.blocks;
+  }
+  return out;
+}
+
 }  // namespace voxgi::image

@@ -41,6 +41,25 @@ inline constexpr double kRelMseEpsilon = 0.01;
 
 ErrorMetrics errorMetrics(const Image& test, const Image& reference);
 
+// Mean luminance of the test over the reference's, block by block: the image cut
+// into `block` x `block`-pixel squares from the top left (a partial row or column of
+// blocks at the right or bottom edge counts too). A block whose reference mean is
+// below `floorFraction` of the whole reference's mean is left out (its ratio is noise
+// over nearly nothing). The measure of a bias where it lives, and of a leak: a
+// region too bright or too dark however well the whole image averages out.
+struct BlockRatios {
+  int block = 0;
+  int blocks = 0;   // measured
+  int skipped = 0;  // too dark in the reference to measure
+  double min = 1.0, max = 1.0;
+  int minX = 0, minY = 0, maxX = 0, maxY = 0;  // the extreme blocks' top-left pixels
+  // Share of the measured blocks whose ratio is off 1 by more than 3% and by more
+  // than 10%.
+  double over3Percent = 0.0, over10Percent = 0.0;
+};
+BlockRatios blockRatios(const Image& test, const Image& reference, int block,
+                        double floorFraction = 0.01);
+
 // Luminance per pixel (Rec. 709 weights on RGB; the channel itself when grey).
 std::vector<double> luminance(const Image& image);
 

@@ -344,6 +344,16 @@ TEST(Cli, CompareReportsMetricsAndRefusesMismatches) {
   EXPECT_EQ(j["ssim"], 1.0);
   EXPECT_TRUE(j["psnr"].is_null());  // identical: infinite PSNR
   EXPECT_EQ(j["mean_luminance_ratio"], 1.0);
+  EXPECT_FALSE(j.contains("block_ratio_max"));
+  r = runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/a.exr --json --blocks 8"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto jb = nlohmann::json::parse(r.output);
+  EXPECT_EQ(jb["block_size"], 8);
+  EXPECT_EQ(jb["blocks"].get<int>() + jb["blocks_skipped"].get<int>(), 4);
+  EXPECT_EQ(jb["block_ratio_max"], 1.0);
+  EXPECT_EQ(jb["blocks_off_3_percent"], 0.0);
+  expectOneLineError(runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/a.exr --blocks 0")), 2,
+                     "--blocks");
   expectOneLineError(runCommand(voxgi("compare " + dir + "/nope.exr " + dir + "/a.exr")), 1,
                      dir + "/nope.exr: no such file");
   expectOneLineError(runCommand(voxgi("compare " + dir + "/a.exr " + dir + "/b.exr")), 1,

@@ -90,5 +90,51 @@ TEST(Metrics, MismatchesAreOneLineErrors) {
   }
 }
 
+// One 16x16 block of a 40x36 image (blocks of 16: 3 x 3, the last row and column
+// partial) made 1.5x brighter, and one partial block 0.5x: the extremes are those
+// blocks, where they are; the whole image's mean hides both.
+TEST(Metrics, BlockRatiosFindTheBlockThatIsOff) {
+  const Image ref = constant(40, 36, 3, 0.4f);
+  Image test = ref;
+  auto set = [&](int x0, int y0, int x1, int y1, float v) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        for (int c = 0; c < 3; ++c) test.pixels[(static_cast<size_t>(y) * 40 + x) * 3 + c] = v;
+  };
+  set(16, 0, 32, 16, 0.6f);   // block (16, 0): 1.5x
+  set(32, 32, 40, 36, 0.2f);  // the bottom-right partial block: 0.5x
+  const BlockRatios b = blockRatios(test, ref, 16);
+  EXPECT_EQ(b.blocks, 9);
+  EXPECT_EQ(b.skipped, 0);
+  EXPECT_NEAR(b.max, 1.5, 1e-6);
+  EXPECT_EQ(b.maxX, 16);
+  EXPECT_EQ(b.maxY, 0);
+  EXPECT_NEAR(b.min, 0.5, 1e-6);
+  EXPECT_EQ(b.minX, 32);
+  EXPECT_EQ(b.minY, 32);
+  EXPECT_NEAR(b.over3Percent, 2.0 / 9.0, 1e-12);
+  EXPECT_NEAR(b.over10Percent, 2.0 / 9.0, 1e-12);
+  // A small change (2%) counts in neither share.
+  set(16, 0, 32, 16, 0.408f);
+  set(32, 32, 40, 36, 0.4f);
+  const BlockRatios near = blockRatios(test, ref, 16);
+  EXPECT_NEAR(near.max, 1.02, 1e-6);
+  EXPECT_EQ(near.over3Percent, 0.0);
+}
+
+// Blocks too dark in the reference to measure are left out, not divided by ~0.
+TEST(Metrics, BlockRatiosSkipBlackBlocks) {
+  Image ref = constant(32, 16, 3, 0.5f);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 16; x < 32; ++x)
+      for (int c = 0; c < 3; ++c) ref.pixels[(static_cast<size_t>(y) * 32 + x) * 3 + c] = 0.0f;
+  const BlockRatios b = blockRatios(constant(32, 16, 3, 0.5f), ref, 16);
+  EXPECT_EQ(b.blocks, 1);
+  EXPECT_EQ(b.skipped, 1);
+  EXPECT_DOUBLE_EQ(b.max, 1.0);
+  EXPECT_THROW(blockRatios(ref, ref, 0), Error);
+  EXPECT_THROW(blockRatios(ref, constant(16, 16, 3, 0.5f), 16), Error);
+}
+
 }  // namespace
 }  // namespace voxgi::image
