@@ -1,0 +1,158 @@
+"""rtgi term by term against the path tracer, and light leaks, on the validation set.
+
+For each view (scenes/validation_set.json; --view picks some), renders rtgi with
+--frames F (default 64) and --denoise off, one term at a time, and the path tracer
+at the matching depth:
+
+  direct           rtgi --effects -indirect,-specular   pathtrace --max-depth 2
+  direct + 1       rtgi --bounces 1 --effects -specular pathtrace --max-depth 3
+  all              rtgi (every effect)                  pathtrace (default depth)
+
+(The path tracer's depth-limited images also hold what a mirror shows at that depth,
+which rtgi's terms without specular leave out: read the mirror ball's blocks with
+that in mind.) Each pair is measured with `voxgi compare --blocks 16`: mean
+luminance ratio, the lowest and highest 16x16-block ratio, and the share of blocks
+off by more than 3%, plus FLIP. A bias shows where it lives: in the direct term, or
+only once light bounces.
+
+Leaks: for each pair of the set's "leaks" (a sealed room rendered with the light on
+the other side of its wall on, then off; nothing can pass the wall, so the two
+references are the same image), rtgi renders both at the same seed and the blocks of
+one are compared with the other's: a block over 1.10 is light that came through the
+wall. The path tracer does the same at --pt-spp as the control.
+
+Writes out/bench-terms/table.md and prints it. Path-traced images are kept in
+out/reference/ (VIEW_TERM_WxH_Nspp) and reused.
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import validation_set  # noqa: E402
+import flip as fliptool  # noqa: E402
+
+SIZE = "256x256"
+SEED = 7
+REF_SEED = 1000003
+TERMS = [
+    ("direct", ["--effects", "-indirect,-specular"], ["--max-depth", "2"]),
+    ("direct + 1", ["--bounces", "1", "--effects", "-specular"], ["--max-depth", "3"]),
+    ("all", [], []),
+]
+
+
+def voxgi():
+    return os.path.join(ROOT, "build", "voxgi")
+
+
+def render(scene, flags, base):
+    subprocess.run([voxgi(), "render", scene, "--size", SIZE, "--out", base + ".exr", "--out",
+                    base + ".png", "--stats", base + ".json", "--no-progress", "-q"] + flags,
+                   check=True)
+    with open(base + ".json") as f:
+        return json.load(f)
+
+
+def compare(test, ref):
+    out = subprocess.run([voxgi(), "compare", test + ".exr", ref + ".exr", "--json", "--blocks",
+                          "16"], check=True, capture_output=True, text=True).stdout
+    m = json.loads(out)
+    m["flip"] = fliptool.flip(test + ".png", ref + ".png")
+    return m
+
+
+def pathtraced(view, term, scene, extra, flags, spp):
+    """The path tracer's image of `view` for `term`, made once into out/reference."""
+    refdir = os.path.join(ROOT, "out", "reference")
+    os.makedirs(refdir, exist_ok=True)
+    tag = re.sub(r"[^a-z0-9]+", "_", term)
+    base = os.path.join(refdir, f"{view}_{tag}_{SIZE}_{spp}spp")
+    if not os.path.exists(base + ".exr"):
+        print(f"bench-terms: path tracing {view}, {term} ({spp} spp)", flush=True)
+        render(scene, extra + flags + ["--mode", "pathtrace", "--spp", str(spp), "--seed",
+                                       str(REF_SEED)], base)
+    return base
+
+
+def row(cells):
+    return "| " + " | ".join(cells) + " |"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(__doc__.splitlines()[1:]))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench-terms"))
+    ap.add_argument("--view", action="append", choices=validation_set.names(),
+                    help="only this view of the set (repeatable; default: every view)")
+    ap.add_argument("--frames", type=int, default=64, help="rtgi frames (default 64)")
+    ap.add_argument("--pt-spp", type=int, default=256,
+                    help="path tracer samples per pixel (default 256)")
+    ap.add_argument("--no-terms", action="store_true", help="only the leak pairs")
+    ap.add_argument("--no-leaks", action="store_true", help="only the terms")
+    a = ap.parse_args()
+    if not os.path.exists(voxgi()):
+        raise SystemExit("bench-terms: error: build/voxgi missing (tools/build)")
+    runs = os.path.join(a.out, "runs")
+    os.makedirs(runs, exist_ok=True)
+    lines = []
+    if not a.no_terms:
+        lines += [f"rtgi, {a.frames} frames, --denoise off, seed {SEED}, against the path tracer "
+                  f"at {a.pt_spp} spp and the matching depth ({SIZE}):", "",
+                  row(["view", "term", "rtgi ms", "FLIP", "mean ratio", "worst blocks (min, max)",
+                       "blocks off > 3%"]), "|---|---|---:|---:|---:|---|---:|"]
+        for view, scene, extra in validation_set.views(a.view, make=False):
+            for term, rtgi_flags, pt_flags in TERMS:
+                tag = re.sub(r"[^a-z0-9]+", "_", f"{view}_{term}")
+                base = os.path.join(runs, tag)
+                stats = render(scene, extra + rtgi_flags + ["--frames", str(a.frames), "--denoise",
+                                                            "off", "--seed", str(SEED)], base)
+                ref = pathtraced(view, term, scene, extra, pt_flags, a.pt_spp)
+                m = compare(base, ref)
+                lines.append(row([view, term, f"{stats['total_ms']:.0f}", f"{m['flip']:.4f}",
+                                  f"{m['mean_luminance_ratio']:.3f}",
+                                  f"{m['block_ratio_min']:.2f}, {m['block_ratio_max']:.2f}",
+                                  f"{100 * m['blocks_off_3_percent']:.0f}%"]))
+                print(lines[-1], flush=True)
+        lines.append("")
+    if not a.no_leaks:
+        lines += ["Leaks: the sealed room with the light beyond its wall on against off, "
+                  "block by block (16x16); 1.00 is no leak:", "",
+                  row(["view", "renderer", "mean ratio", "worst blocks (min, max)",
+                       "blocks off > 10%"]), "|---|---|---:|---|---:|"]
+        chosen = set(a.view or validation_set.names())
+        for pair in validation_set.load().get("leaks", []):
+            for view in pair["views"]:
+                if view not in chosen:
+                    continue
+                entry = next(e for e in validation_set.load()["views"] if e["view"] == view)
+                extra = validation_set.camera_flags(entry)
+                for renderer, flags in (
+                        (f"rtgi, {a.frames} frames", ["--frames", str(a.frames)]),
+                        (f"pathtrace, {a.pt_spp} spp",
+                         ["--mode", "pathtrace", "--spp", str(a.pt_spp)])):
+                    bases = []
+                    for side in ("lit", "dark"):
+                        tag = re.sub(r"[^a-z0-9]+", "_", f"leak_{view}_{renderer}_{side}")
+                        bases.append(os.path.join(runs, tag))
+                        render(os.path.join(ROOT, pair[side]),
+                               extra + flags + ["--seed", str(SEED)], bases[-1])
+                    m = compare(bases[0], bases[1])
+                    lines.append(row([view, renderer, f"{m['mean_luminance_ratio']:.3f}",
+                                      f"{m['block_ratio_min']:.2f}, {m['block_ratio_max']:.2f}",
+                                      f"{100 * m['blocks_off_10_percent']:.0f}%"]))
+                    print(lines[-1], flush=True)
+    table = "\n".join(lines) + "\n"
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write(table)
+    print(table)
+    print("bench-terms: wrote", os.path.join(a.out, "table.md"))
+
+
+if __name__ == "__main__":
+    main()
