@@ -16,7 +16,9 @@ lights and cameras:
 
 With --dense it also writes hall_dense.gltf and hall_dense.bin: the day hall with a
 sculpture of some 1.2 million triangles (not kept in git: tools/make-hall --dense
-makes it in a few seconds).
+makes it in a few seconds). With --triangles N it writes hall_N.gltf and hall_N.bin:
+the day hall with the knot tessellated so that the scene has at least N triangles
+(a scale scene: nearly the same image at any triangle count; N >= 10,000).
 
 Units are metres, +y up, colours linear. The output is deterministic: the same
 bytes on every run (tests/scene/validation_set_test.cpp checks the committed files
@@ -374,17 +376,29 @@ def write(path, data):
     print("make-hall: wrote", os.path.relpath(path))
 
 
+LIGHTINGS = ["hall", "hall_night", "sealed_room", "sealed_room_dark"]
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--out", default=OUT, help="output folder (default scenes/hall)")
     ap.add_argument("--dense", action="store_true",
                     help="also write hall_dense.gltf/.bin (about 1.2 M triangles, ~60 MB)")
+    ap.add_argument("--triangles", type=int, action="append", default=[], metavar="N",
+                    help="also write hall_N.gltf/.bin with at least N triangles (repeatable)")
     args = ap.parse_args(argv)
+    base = 37142 - 2 * 240 * 64  # the hall's triangles without the knot
     os.makedirs(args.out, exist_ok=True)
     write(os.path.join(args.out, "hall_tiles.png"), png(256, 256, floor_tiles()))
-    variants = [("hall.bin", (240, 64), ["hall", "hall_night", "sealed_room", "sealed_room_dark"])]
+    variants = [("hall.bin", (240, 64), LIGHTINGS)]
     if args.dense:
         variants.append(("hall_dense.bin", (4800, 128), ["hall_dense"]))
+    for n in args.triangles:
+        if n < 10000:
+            ap.error(f"--triangles {n}: at least 10000 (the hall without its knot has {base})")
+        around = 64 if n < 1000000 else 256
+        along = -(-(n - base) // (2 * around))
+        variants.append((f"hall_{n}.bin", (along, around), [f"hall_{n}"]))
     for bin_name, (along, around), names in variants:
         writer = Writer()
         geometry = build_geometry(along, around)
@@ -393,8 +407,9 @@ def main(argv):
         mesh_names = [g[0] for g in geometry]
         write(os.path.join(args.out, bin_name), bytes(writer.blob))
         for variant in names:
-            g = gltf_for("hall" if variant == "hall_dense" else variant, writer, mesh_names,
-                         bin_name, "hall_tiles.png")
+            # The dense and scale files are lit as the day hall.
+            lighting = variant if variant in LIGHTINGS else "hall"
+            g = gltf_for(lighting, writer, mesh_names, bin_name, "hall_tiles.png")
             write(os.path.join(args.out, variant + ".gltf"), json.dumps(g, indent=1) + "\n")
     return 0
 
