@@ -1,69 +1,21 @@
 // Direct lighting without visibility: punctual lights (KHR_lights_punctual) and
 // emissive surfaces as area lights (see src/scene/emitters.h for the model; the
-// C++ twin of emitterFactor() is scene::emitterIrradianceFactor, tested against
-// closed forms). BRDF: Lambert + GGX (Trowbridge-Reitz) with the height-correlated
-// Smith visibility and Schlick's Fresnel, as in the glTF 2.0 spec appendix B.
+// form factor is emitter_shared.h's, which scene::emitterIrradianceFactor shares
+// and the C++ tests hold to closed forms). BRDF: Lambert + GGX (Trowbridge-Reitz)
+// with the height-correlated Smith visibility and Schlick's Fresnel, as in the
+// glTF 2.0 spec appendix B.
 #ifndef VOXGI_LIGHTING_GLSL
 #define VOXGI_LIGHTING_GLSL
 
 #include "brdf_shared.h"
-
-// One edge's term of Lambert's formula for the irradiance of a polygon of unit
-// radiance: theta (gamma . n), for the edge from pa to pb (relative to the receiver).
-float lambertEdge(vec3 pa, vec3 pb, vec3 n) {
-  float la = length(pa);
-  float lb = length(pb);
-  if (!(la > 1e-30) || !(lb > 1e-30)) return 0.0;  // a corner at the receiver itself
-  vec3 a = pa / la;
-  vec3 b = pb / lb;
-  vec3 c = cross(a, b);
-  float s = length(c);
-  if (!(s >= 1e-12)) return 0.0;
-  return atan(s, dot(a, b)) * dot(c / s, n);
-}
-
-// The term of edge a -> b (heights da, db above the tangent plane) clipped to the
-// upper hemisphere, without branches: an end below the plane moves to where the
-// edge crosses it. Records that crossing as the polygon's exit (a above, b below)
-// or entry (a below, b above) point on the plane.
-float lambertClippedEdge(vec3 a, vec3 b, float da, float db, vec3 n, inout vec3 exitPoint,
-                         inout vec3 entryPoint) {
-  vec3 x = a + (b - a) * (da / (da - db));  // used only when the signs differ
-  bool aboveA = da > 0.0, aboveB = db > 0.0;
-  exitPoint = aboveA && !aboveB ? x : exitPoint;
-  entryPoint = !aboveA && aboveB ? x : entryPoint;
-  float term = lambertEdge(aboveA ? a : x, aboveB ? b : x, n);
-  return aboveA || aboveB ? term : 0.0;
-}
+#include "emitter_shared.h"
 
 // Irradiance per unit emitted radiance at p (normal n) from one emitter.
 float emitterFactor(GpuEmitter e, vec3 p, vec3 n) {
-  if (uint(e.a.w) == kEmitterCluster) {
-    vec3 toC = e.a.xyz - p;
-    float d2 = dot(toC, toC);
-    vec3 w = toC * inversesqrt(max(d2, 1e-30));
-    float cosE = -dot(e.b.xyz, w);
-    if (e.radiance.w > 0.5) cosE = abs(cosE);
-    float cosR = dot(n, w);
-    if (cosE <= 0.0 || cosR <= 0.0) return 0.0;
-    return e.b.w * cosE * cosR / (d2 + e.b.w / kPi);
-  }
-  vec3 en = normalize(cross(e.b.xyz - e.a.xyz, e.c.xyz - e.a.xyz));
-  if (e.radiance.w < 0.5 && dot(en, p - e.a.xyz) <= 0.0) return 0.0;
-  // The triangle clipped to the receiver's upper hemisphere: each edge keeps its
-  // part above the tangent plane, and where the triangle dips below, the clipped
-  // polygon closes along the plane from the exit point to the entry point. Written
-  // without arrays or loops (a dynamically indexed local array is slow on a SIMD
-  // software rasterizer).
-  vec3 a = e.a.xyz - p, b = e.b.xyz - p, c = e.c.xyz - p;
-  float da = dot(a, n), db = dot(b, n), dc = dot(c, n);
-  if (da <= 0.0 && db <= 0.0 && dc <= 0.0) return 0.0;
-  vec3 exitPoint = vec3(0.0), entryPoint = vec3(0.0);
-  float sum = lambertClippedEdge(a, b, da, db, n, exitPoint, entryPoint) +
-              lambertClippedEdge(b, c, db, dc, n, exitPoint, entryPoint) +
-              lambertClippedEdge(c, a, dc, da, n, exitPoint, entryPoint);
-  if (da <= 0.0 || db <= 0.0 || dc <= 0.0) sum += lambertEdge(exitPoint, entryPoint, n);
-  return 0.5 * abs(sum);
+  bool twoSided = e.radiance.w > 0.5;
+  if (uint(e.a.w) == kEmitterCluster)
+    return clusterEmitterFactor(e.a.xyz, e.b.xyz, e.b.w, twoSided, p, n);
+  return triangleEmitterFactor(e.a.xyz, e.b.xyz, e.c.xyz, twoSided, p, n);
 }
 
 vec3 emitterCenter(GpuEmitter e) {

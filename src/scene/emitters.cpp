@@ -8,6 +8,7 @@
 #include <map>
 
 #include "core/log.h"
+#include "emitter_shared.h"
 #include "texture_shared.h"
 
 namespace voxgi::scene {
@@ -247,48 +248,9 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
 }
 
 float emitterIrradianceFactor(const Emitter& e, const glm::vec3& p, const glm::vec3& n) {
-  if (e.kind == Emitter::Kind::kCluster) {
-    const glm::vec3 toC = e.v0 - p;
-    const float d2 = glm::dot(toC, toC);
-    const glm::vec3 w = toC / std::sqrt(std::max(d2, 1e-30f));
-    float cosE = -glm::dot(e.normal, w);
-    if (e.twoSided) cosE = std::abs(cosE);
-    const float cosR = glm::dot(n, w);
-    if (cosE <= 0.0f || cosR <= 0.0f) return 0.0f;
-    return e.area * cosE * cosR / (d2 + e.area / kPi);
-  }
-  // One-sided emitters light only the side their normal faces.
-  const float side = glm::dot(e.normal, p - e.v0);
-  if (!e.twoSided && side <= 0.0f) return 0.0f;
-  // Clip the triangle to the receiver's upper hemisphere (Sutherland-Hodgman).
-  std::array<glm::vec3, 3> in = {e.v0 - p, e.v1 - p, e.v2 - p};
-  std::array<glm::vec3, 4> poly;
-  int count = 0;
-  for (int i = 0; i < 3; ++i) {
-    const glm::vec3 a = in[static_cast<size_t>(i)], b = in[static_cast<size_t>((i + 1) % 3)];
-    const float da = glm::dot(a, n), db = glm::dot(b, n);
-    if (da > 0.0f) poly[static_cast<size_t>(count++)] = a;
-    if ((da > 0.0f) != (db > 0.0f))
-      poly[static_cast<size_t>(count++)] = a + (b - a) * (da / (da - db));
-  }
-  if (count < 3) return 0.0f;
-  // Lambert: E/L = 1/2 |sum_i theta_i (gamma_i . n)|.
-  float sum = 0.0f;
-  // A corner at the receiver itself (it sits on the emitter's edge or vertex) has no
-  // direction: its edges subtend nothing and are skipped, so the result stays finite.
-  for (int i = 0; i < count; ++i) {
-    const glm::vec3 pa = poly[static_cast<size_t>(i)];
-    const glm::vec3 pb = poly[static_cast<size_t>((i + 1) % count)];
-    const float la = glm::length(pa), lb = glm::length(pb);
-    if (!(la > 1e-30f) || !(lb > 1e-30f)) continue;
-    const glm::vec3 a = pa / la, b = pb / lb;
-    const glm::vec3 c = glm::cross(a, b);
-    const float s = glm::length(c);
-    if (!(s >= 1e-12f)) continue;
-    const float theta = std::atan2(s, glm::dot(a, b));
-    sum += theta * glm::dot(c / s, n);
-  }
-  return 0.5f * std::abs(sum);
+  if (e.kind == Emitter::Kind::kCluster)
+    return gpu::clusterEmitterFactor(e.v0, e.normal, e.area, e.twoSided, p, n);
+  return gpu::triangleEmitterFactor(e.v0, e.v1, e.v2, e.twoSided, p, n);
 }
 
 }  // namespace voxgi::scene

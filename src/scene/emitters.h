@@ -46,8 +46,8 @@ void measureEmissiveTextures(Scene* scene);
 // its emissive texture's mean over the triangle.
 glm::vec3 triangleEmission(const Scene& scene, const Draw& d, size_t t);
 
-// CPU reference of the GPU evaluation: irradiance (per unit radiance, i.e. the
-// geometric factor) at point p with normal n from one emitter. Used by tests.
+// Irradiance (per unit radiance, i.e. the geometric factor) at point p with normal
+// n from one emitter: the shaders' own code (emitter_shared.h). Used by tests.
 float emitterIrradianceFactor(const Emitter& e, const glm::vec3& p, const glm::vec3& n);
 
 }  // namespace voxgi::scene
