@@ -167,6 +167,12 @@ glm::vec3 triangleEmission(const Scene& scene, const Draw& d, size_t t) {
 }
 
 std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options) {
+  // Every emitting triangle stays exact when they all fit; else a primitive of more
+  // than exactTrianglesPerPrimitive is merged into clusters.
+  size_t emissive = 0;
+  for (const Draw& d : scene.draws)
+    if (scene.materials[static_cast<size_t>(d.material)].isEmissive()) emissive += d.indexCount / 3;
+  const bool allExact = emissive <= static_cast<size_t>(options.maxEmitters);
   std::vector<Emitter> out;
   for (const Draw& d : scene.draws) {
     const Material& m = scene.materials[static_cast<size_t>(d.material)];
@@ -175,7 +181,7 @@ std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& opt
     auto corner = [&](size_t t, int k) {
       return scene.vertices[scene.indices[d.firstIndex + t * 3 + static_cast<size_t>(k)]].position;
     };
-    if (tris <= static_cast<size_t>(options.exactTrianglesPerPrimitive)) {
+    if (allExact || tris <= static_cast<size_t>(options.exactTrianglesPerPrimitive)) {
       for (size_t t = 0; t < tris; ++t) {
         const glm::vec3 radiance = triangleEmission(scene, d, t);
         if (!(radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f)) continue;

@@ -440,5 +440,61 @@ TEST(Emitters, SmallEmittersStayExactTriangles) {
               1e-4 * expected);
 }
 
+// --- (e) a primitive of lamps far apart ------------------------------------------------
+
+// Four small sphere lamps (radius 5 cm, 16 x 8 facets each: 896 triangles in all)
+// in a row 3-4 m apart, in ONE primitive, as a file that merges its lamps into one
+// mesh has them. Every triangle fits among the emitters, so each stays exact:
+// clusters made over the whole primitive's bounds mixed facets of lamps metres
+// apart into discs where no lamp is.
+TEST(Emitters, LampsOfOnePrimitiveStayExactWhenTheyFit) {
+  constexpr float r = 0.05f;
+  const glm::vec3 centres[4] = {{0, 2, 0}, {3, 2, 0}, {7, 2, 0}, {10, 2, 0}};
+  Scene s;
+  s.path = "four_lamps";
+  const int segments = 16, rings = 8;
+  for (const glm::vec3& c : centres) {
+    const auto base = static_cast<uint32_t>(s.vertices.size());
+    for (int i = 0; i <= rings; ++i)
+      for (int j = 0; j <= segments; ++j) {
+        const double theta = kPi * i / rings, phi = 2.0 * kPi * j / segments;
+        const glm::vec3 n(static_cast<float>(std::sin(theta) * std::cos(phi)),
+                          static_cast<float>(std::cos(theta)),
+                          static_cast<float>(std::sin(theta) * std::sin(phi)));
+        s.vertices.push_back(Vertex{c + r * n, n, glm::vec2(0.0f)});
+      }
+    auto at = [&](int i, int j) { return base + static_cast<uint32_t>(i * (segments + 1) + j); };
+    for (int i = 0; i < rings; ++i)
+      for (int j = 0; j < segments; ++j) {
+        if (i != 0) s.indices.insert(s.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j)});
+        if (i != rings - 1)
+          s.indices.insert(s.indices.end(), {at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+      }
+  }
+  Material m;
+  m.emission = glm::vec3(50.0f);
+  s.materials.push_back(m);
+  Draw d;
+  d.indexCount = static_cast<uint32_t>(s.indices.size());
+  s.draws.push_back(d);
+  ASSERT_EQ(s.triangleCount(), 896u);
+  const std::vector<Emitter> emitters = buildEmitters(s);
+  EXPECT_EQ(emitters.size(), 896u);
+  for (const Emitter& e : emitters) EXPECT_EQ(e.kind, Emitter::Kind::kTriangle);
+  // 40 cm below each lamp, facing it: a sphere's irradiance per unit radiance,
+  // pi (r / d)^2, within the facets' shortfall (the 16 x 8 sphere has 2.5% less
+  // area than the sphere); the other lamps, 3 m away and low over the horizon, add
+  // 0.5% at most.
+  for (const glm::vec3& c : centres) {
+    const glm::vec3 p = c - glm::vec3(0.0f, 0.4f, 0.0f);
+    const double expected = kPi * (r / 0.4) * (r / 0.4);
+    EXPECT_NEAR(factor(emitters, p, glm::vec3(0.0f, 1.0f, 0.0f)), expected, 0.04 * expected);
+  }
+  // More triangles than the emitters hold: merged into clusters again.
+  const std::vector<Emitter> few = buildEmitters(s, EmitterOptions{32, 800});
+  EXPECT_LT(few.size(), 800u);
+  EXPECT_EQ(few.front().kind, Emitter::Kind::kCluster);
+}
+
 }  // namespace
 }  // namespace voxgi::scene
