@@ -91,10 +91,12 @@ class Mesh:
         for a in range(rings):
             for b in range(segments):
                 q = [a * w + b, a * w + b + 1, (a + 1) * w + b + 1, (a + 1) * w + b]
+                # Counter-clockwise seen from outside (theta down from +y, phi
+                # towards +z): the faces' winding agrees with their normals.
                 if a > 0:
-                    idx += [q[0], q[2], q[1]]
+                    idx += [q[0], q[1], q[2]]
                 if a < rings - 1:
-                    idx += [q[0], q[3], q[2]]
+                    idx += [q[0], q[2], q[3]]
         self.add(np.asarray(c) + r * n, n, uv, idx)
 
     def knot(self, c, scale, tube, along, around):

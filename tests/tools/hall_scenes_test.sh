@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The committed scenes/hall/ files are what tools/make-hall writes: regenerating
-# them into a scratch folder must give the same bytes.
+# them into a scratch folder must give the same bytes; and their triangles are wound
+# as their normals point (hall_winding_check.py).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 tmp=$(mktemp -d)
@@ -19,5 +20,6 @@ for f in "$root"/scenes/hall/*; do
   case "$name" in README.md | LICENSE.md | *.png.md) continue ;; esac
   [ -e "$tmp/$name" ] || { echo "hall_scenes_test: scenes/hall/$name is not written by tools/make-hall" >&2; status=1; }
 done
+"$root/.venv/bin/python" "$root/tests/tools/hall_winding_check.py" || status=1
 [ $status -eq 0 ] && echo "hall_scenes_test: $(ls "$tmp" | wc -l) files as committed"
 exit $status
