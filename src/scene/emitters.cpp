@@ -14,8 +14,6 @@
 namespace voxgi::scene {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
-
 // Normal buckets: the major axis face of the cube (6) times a 3x3 grid over the
 // other two components; facets in one bucket are within ~35 degrees of each other.
 int normalBucket(const glm::vec3& n) {
