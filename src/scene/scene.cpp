@@ -30,7 +30,8 @@ glm::mat4 Camera::view() const {
 }
 
 glm::mat4 Camera::projection(float aspect) const {
-  return glm::perspective(yfov, aspect, znear, zfar);
+  // glm's [0, 1]-depth projection with the planes swapped puts the near one at 1.
+  return glm::perspectiveRH_ZO(yfov, aspect, zfar, znear);
 }
 
 bool Scene::hasEmission() const {

@@ -140,6 +140,12 @@ struct Camera {
   bool fromFile = false;
   int node = -1;  // the glTF node of a camera from the file
   glm::mat4 view() const;
+  // Reversed depth (Lapidous and Jiao 1999; Reed 2015, "Depth precision
+  // visualized"): clip-space depth runs from 1 at the near plane to 0 at the far one,
+  // for clip control's [0, 1] range (render/frame_context.h). A float depth buffer
+  // then holds about the same relative precision, 2^-24, at every distance: with the
+  // usual mapping, at 1e5 times the near plane's distance it resolved only 15 cm in
+  // 23 m, and walls behind a 15 cm wall showed through it.
   glm::mat4 projection(float aspect) const;
 };
 
