@@ -37,9 +37,17 @@ struct Surface {
   float specular;  // 1: the glTF BRDF; 0: pure Lambert (isLambertian)
 };
 
-// Reflected radiance for irradiance `irradiance` arriving from direction l.
-// `alphaMin` widens the lobe for lights of finite size (Karis 2013).
-vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
+// The two parts of the reflected radiance for irradiance `irradiance` arriving from
+// direction l: the Lambert part (what the specular layer lets through) and the GGX
+// highlight. `alphaMin` widens the lobe for lights of finite size (Karis 2013).
+vec3 shadeDiffuse(Surface s, vec3 l, vec3 irradiance) {
+  if (dot(s.n, l) <= 0.0) return vec3(0.0);
+  float vh = max(dot(s.v, normalize(l + s.v)), 0.0);
+  vec3 f = s.specular * schlickFresnel(s.f0, vh);
+  return (1.0 - f) * s.diffuse / kPi * irradiance;
+}
+
+vec3 shadeSpecular(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
   float nl = dot(s.n, l);
   if (nl <= 0.0) return vec3(0.0);
   float nv = max(dot(s.n, s.v), 1e-4);
@@ -48,9 +56,11 @@ vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
   float vh = max(dot(s.v, h), 0.0);
   float alpha = clamp(max(s.alpha, alphaMin), 2e-3, 1.0);
   vec3 f = s.specular * schlickFresnel(s.f0, vh);
-  vec3 spec = f * ggxD(nh, alpha) * smithVisibility(nl, nv, alpha);
-  vec3 diff = (1.0 - f) * s.diffuse / kPi;
-  return (diff + spec) * irradiance;
+  return f * ggxD(nh, alpha) * smithVisibility(nl, nv, alpha) * irradiance;
+}
+
+vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
+  return shadeDiffuse(s, l, irradiance) + shadeSpecular(s, l, irradiance, alphaMin);
 }
 
 vec3 punctualLight(GpuLight light, Surface s) {
@@ -79,7 +89,12 @@ vec3 punctualLight(GpuLight light, Surface s) {
   return shade(s, l, light.radiance.rgb * atten * nl, 0.0);
 }
 
-vec3 areaLight(GpuEmitter e, Surface s) {
+// An emitter's unshadowed light reflected at s: the Lambert part exactly (the form
+// factor), the highlight from a representative point at its centre with the lobe
+// widened by its size (Karis 2013). Returns their sum, and the highlight alone in
+// `spec`.
+vec3 areaLightParts(GpuEmitter e, Surface s, out vec3 spec) {
+  spec = vec3(0.0);
   float g = emitterFactor(e, s.p, s.n);
   if (g <= 0.0) return vec3(0.0);
   vec3 toC = emitterCenter(e) - s.p;
@@ -88,7 +103,14 @@ vec3 areaLight(GpuEmitter e, Surface s) {
   float radius = sqrt(emitterArea(e) / kPi);
   // A light near the horizon may have part of it above: keep l above the surface.
   if (dot(s.n, l) <= 1e-3) l = normalize(l + s.n * (1e-3 - dot(s.n, l)));
-  return shade(s, l, e.radiance.rgb * g, clamp(0.5 * radius / max(d, 1e-30), 0.0, 1.0));
+  vec3 irradiance = e.radiance.rgb * g;
+  spec = shadeSpecular(s, l, irradiance, clamp(0.5 * radius / max(d, 1e-30), 0.0, 1.0));
+  return shadeDiffuse(s, l, irradiance) + spec;
+}
+
+vec3 areaLight(GpuEmitter e, Surface s) {
+  vec3 spec;
+  return areaLightParts(e, s, spec);
 }
 
 #endif  // VOXGI_LIGHTING_GLSL

@@ -32,6 +32,64 @@ float emitterSlack(GpuEmitter e) {
   return uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
 }
 
+// A direction from p towards a point of emitter e that emits towards p, from two
+// uniform numbers: returns its solid-angle pdf (0: no such point), the direction l and
+// the distance to the point. Triangles that p sees under at least
+// kMinSphericalTriangle: uniform in their solid angle (sampling_shared.h, Arvo 1995),
+// so the estimate below varies only with the receiver's cosine and BRDF over the
+// triangle, however large and near it is. Smaller triangles and clusters (disks):
+// uniform over their area, pdf = dist^2 / (area x cosine at the emitter).
+float sampleEmitterDirection(GpuEmitter e, vec3 p, vec2 u, out vec3 l, out float dist) {
+  l = vec3(0.0);
+  dist = 0.0;
+  bool twoSided = e.radiance.w > 0.5;
+  bool cluster = uint(e.a.w) == kEmitterCluster;
+  vec3 ne = cluster ? e.b.xyz : cross(e.b.xyz - e.a.xyz, e.c.xyz - e.a.xyz);
+  float ne2 = dot(ne, ne);
+  if (!(ne2 > 0.0)) return 0.0;
+  ne *= inversesqrt(ne2);
+  if (!cluster) {
+    vec3 a = e.a.xyz - p, b = e.b.xyz - p, c = e.c.xyz - p;
+    float la = length(a), lb = length(b), lc = length(c);
+    if (la > 0.0 && lb > 0.0 && lc > 0.0) {
+      a /= la;
+      b /= lb;
+      c /= lc;
+      float area = sphericalTriangleArea(a, b, c);
+      if (area >= kMinSphericalTriangle) {
+        l = sampleSphericalTriangle(a, b, c, area, u);
+        float cosE = -dot(ne, l);
+        float toPlane = dot(e.a.xyz - p, ne);  // -(p's height above the plane)
+        if (twoSided) {
+          cosE = abs(cosE);
+        } else if (!(cosE > 0.0)) {
+          return 0.0;  // p is behind a one-sided emitter
+        }
+        if (!(cosE > 1e-6)) return 0.0;
+        dist = abs(toPlane) / cosE;
+        return 1.0 / area;
+      }
+    }
+  }
+  vec3 d = emitterPoint(e, u) - p;
+  float dist2 = dot(d, d);
+  if (!(dist2 > 0.0)) return 0.0;
+  dist = sqrt(dist2);
+  l = d / dist;
+  float cosE = -dot(ne, l);
+  if (twoSided) cosE = abs(cosE);
+  float area = emitterArea(e);
+  if (!(cosE > 1e-6) || !(area > 0.0)) return 0.0;
+  return dist2 / (area * cosE);
+}
+
+// The Lambert part of the light arriving at s from emitter e along l, divided by the
+// direction's pdf: with the exact highlight sum, what directLight scales by
+// visibility.
+vec3 emitterDiffuseSample(GpuEmitter e, Surface s, vec3 l, float pdf) {
+  return shadeDiffuse(s, l, e.radiance.rgb * max(dot(s.n, l), 0.0)) / pdf;
+}
+
 // `ng`: the surface's own normal where a normal map tilts s.n, else 0: light from
 // below it does not count (the leak rule, normal_map_shared.h).
 vec3 directLight(Surface s, vec3 o, vec3 ng) {
@@ -55,53 +113,66 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
   for (int k = 0; k < emitterCount; ++k) result += areaLight(emitters[k], s);
   emitterCount = 0;
 #endif
+#if defined(RTGI_EMITTERS_EXACT) || defined(RTGI_EMITTERS_SAMPLED)
+  // One emitter k is picked with probability P_k, one direction l towards it with
+  // solid-angle pdf p(l), and one shadow ray traced to the point l meets. The Lambert
+  // part is the light-sampling estimate L (1 - F) albedo/pi cos / (P_k p(l)) x
+  // visibility, unbiased however the emitter is shadowed. The highlight is the exact
+  // unshadowed one (representative point) x that visibility: it stays smooth where a
+  // sampled GGX lobe would sparkle, and is biased only in partial shadow.
+  vec3 diffuse = vec3(0.0);
+  vec3 specular = vec3(0.0);
+  int pick = -1;
 #if defined(RTGI_EMITTERS_EXACT)
   {
-    // One pass, no array: emitter k replaces the pick with probability
-    // w_k / (w_0 + ... + w_k), which leaves each picked in proportion to w_k; the
-    // one uniform number is rescaled after each decision, so it stays uniform.
-    vec3 sum = vec3(0.0);
+    // Picked in proportion to their unshadowed contribution w_k. One pass, no array:
+    // emitter k replaces the pick with probability w_k / (w_0 + ... + w_k), which
+    // leaves each picked in proportion to w_k; the one uniform number is rescaled
+    // after each decision, so it stays uniform.
     float total = 0.0;
+    float picked = 0.0;
     float u = rand01();
-    int pick = -1;
     for (int k = 0; k < emitterCount; ++k) {
-      vec3 c = areaLight(emitters[k], s);
-      float w = luminance(c);
-      sum += c;
+      vec3 spec;
+      float w = luminance(areaLightParts(emitters[k], s, spec));
+      specular += spec;
       if (!(w > 0.0)) continue;
       total += w;
       float q = w / total;
       if (u < q) {
         pick = k;
+        picked = w;
         u = u / q;
       } else {
         u = (u - q) / (1.0 - q);
       }
     }
-    if (pick >= 0) {
-      vec3 q = emitterPoint(emitters[pick], vec2(rand01(), rand01()));
-      vec3 d = q - o;
-      float dist = length(d);
-      float slack = emitterSlack(emitters[pick]);
-      if (dot(d, ng) >= 0.0)
-        result += sum * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, slack) : 1.0);
+    float pmf = pick >= 0 ? picked / total : 0.0;
+#else
+  {
+    // Picked from the light tree in proportion to a bound on their contribution.
+    float pmf = 0.0;
+    if (emitterCount > 0) {
+      float u = rand01();
+      pick = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, pmf);
     }
-  }
-#elif defined(RTGI_EMITTERS_SAMPLED)
-  if (emitterCount > 0) {
-    float pmf;
-    float u = rand01();
-    int pick = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, pmf);
+    if (pick >= 0 && pmf > 0.0) {
+      areaLightParts(emitters[pick], s, specular);
+      specular /= pmf;
+    }
+#endif
     if (pick >= 0 && pmf > 0.0) {
       GpuEmitter e = emitters[pick];
-      vec3 c = areaLight(e, s);
-      if (any(greaterThan(c, vec3(0.0)))) {
-        vec3 q = emitterPoint(e, vec2(rand01(), rand01()));
-        vec3 d = q - o;
-        float dist = length(d);
-        if (dot(d, ng) >= 0.0)
-          result +=
-              c * (dist > 0.0 ? shadowRay(o, d / dist, dist, true, emitterSlack(e)) : 1.0) / pmf;
+      vec3 l;
+      float dist;
+      float pdf = sampleEmitterDirection(e, s.p, vec2(rand01(), rand01()), l, dist);
+      if (pdf > 0.0) {
+        diffuse = emitterDiffuseSample(e, s, l, pdf) / pmf;
+        vec3 d = s.p + l * dist - o;
+        float len = length(d);
+        if (dot(d, ng) >= 0.0 && any(greaterThan(diffuse + specular, vec3(0.0))))
+          result += (diffuse + specular) *
+                    (len > 0.0 ? shadowRay(o, d / len, len, true, emitterSlack(e)) : 1.0);
       }
     }
   }

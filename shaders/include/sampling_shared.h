@@ -66,6 +66,52 @@ VOXGI_FN vec3 sampleVndf(vec3 ve, float alpha, vec2 u) {
   return normalize(vec3(alpha * nh.x, alpha * nh.y, max(1e-6f, nh.z)));
 }
 
+// --- directions towards a triangle, uniform in solid angle ------------------------------
+// Below this solid angle (sr), float loses the spherical triangle's shape (its angles
+// are differences of nearly equal numbers): sample the triangle's area instead, which
+// is as good there, as a small triangle's points are almost equally far and oblique.
+VOXGI_CONST float kMinSphericalTriangle = 1e-2f;
+
+// Solid angle of the spherical triangle with unit corners a, b, c (Van Oosterom and
+// Strackee 1983, "The solid angle of a plane triangle"): exact for small triangles,
+// where the sum of its angles minus pi is not.
+VOXGI_FN float sphericalTriangleArea(vec3 a, vec3 b, vec3 c) {
+  float num = abs(dot(a, cross(b, c)));
+  float den = 1.0f + dot(a, b) + dot(b, c) + dot(c, a);
+  return 2.0f * atan(num, den);
+}
+
+// The unit component of v orthogonal to unit a (0 where v is along a).
+VOXGI_FN vec3 orthogonalUnit(vec3 v, vec3 a) {
+  vec3 w = v - a * dot(v, a);
+  float len2 = dot(w, w);
+  return len2 > 1e-30f ? w * inversesqrt(len2) : vec3(0.0f);
+}
+
+// A direction uniform over the spherical triangle with unit corners a, b, c and solid
+// angle `area` (sphericalTriangleArea), from two uniform numbers: Arvo 1995,
+// "Stratified sampling of spherical triangles". u.x chooses the sub-triangle a, b, c'
+// of area u.x * area (c' on the arc from a to c), u.y a point on the arc from b to c'.
+VOXGI_FN vec3 sampleSphericalTriangle(vec3 a, vec3 b, vec3 c, float area, vec2 u) {
+  // The angle at a, between the arcs towards b and towards c.
+  vec3 tb = orthogonalUnit(b, a);
+  vec3 tc = orthogonalUnit(c, a);
+  float cosAlpha = clamp(dot(tb, tc), -1.0f, 1.0f);
+  float sinAlpha = sqrt(max(0.0f, 1.0f - cosAlpha * cosAlpha));
+  float cosC = dot(a, b);  // the arc from a to b
+  float phi = u.x * area - acos(cosAlpha);
+  float s = sin(phi);
+  float t = cos(phi);
+  float uu = t - cosAlpha;
+  float vv = s + sinAlpha * cosC;
+  float den = (vv * s + uu * t) * sinAlpha;
+  float q = den != 0.0f ? clamp(((vv * t - uu * s) * cosAlpha - vv) / den, -1.0f, 1.0f) : 1.0f;
+  vec3 cHat = a * q + tc * sqrt(max(0.0f, 1.0f - q * q));
+  float z = 1.0f - u.y * (1.0f - dot(cHat, b));
+  z = clamp(z, -1.0f, 1.0f);
+  return normalize(b * z + orthogonalUnit(cHat, b) * sqrt(max(0.0f, 1.0f - z * z)));
+}
+
 #ifdef __cplusplus
 }  // namespace voxgi::gpu
 #endif

@@ -18,6 +18,7 @@ using vec3 = glm::vec3;
 using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using glm::abs;
+using glm::acos;
 using glm::atan;
 using glm::clamp;
 using glm::cos;

@@ -1,0 +1,129 @@
+// Directions uniform in the solid angle of a triangle (sampleSphericalTriangle in
+// shaders/include/sampling_shared.h, which rtgi's direct light draws from), in its
+// C++ build: every direction lands on the triangle, each part of the triangle gets
+// its share of the directions, and the mean cosine over them is the closed-form
+// irradiance factor (emitter_shared.h) that the shaders' exact emitter sums use.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <random>
+
+#include "emitter_shared.h"
+#include "sampling_shared.h"
+
+namespace voxgi::gpu {
+namespace {
+
+struct Triangle {
+  vec3 a, b, c;
+};
+
+// A triangle seen from the origin under roughly `size` radians, at a random place.
+Triangle randomTriangle(std::mt19937& rng, float size) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::normal_distribution<float> g;
+  const vec3 centre = glm::normalize(vec3(g(rng), g(rng), g(rng))) * 2.0f;
+  Triangle t;
+  for (vec3* v : {&t.a, &t.b, &t.c}) *v = centre + 2.0f * size * vec3(u(rng), u(rng), u(rng));
+  return t;
+}
+
+// Where the ray from the origin along d meets the triangle's plane, and whether
+// that point lies inside it (barycentrics within `slack` of [0, 1]).
+bool rayHits(const Triangle& t, vec3 d, float slack) {
+  const vec3 e1 = t.b - t.a, e2 = t.c - t.a;
+  const vec3 pv = cross(d, e2);
+  const float det = dot(e1, pv);
+  if (std::abs(det) < 1e-12f) return false;
+  const vec3 tv = -t.a;
+  const float bu = dot(tv, pv) / det;
+  const vec3 qv = cross(tv, e1);
+  const float bv = dot(d, qv) / det;
+  const float dist = dot(e2, qv) / det;
+  return dist > 0.0f && bu >= -slack && bv >= -slack && bu + bv <= 1.0f + slack;
+}
+
+float solidAngle(const Triangle& t) {
+  return sphericalTriangleArea(normalize(t.a), normalize(t.b), normalize(t.c));
+}
+
+struct Sizes : testing::TestWithParam<float> {};
+
+// Sizes from just above kMinSphericalTriangle to a triangle filling much of the
+// hemisphere.
+INSTANTIATE_TEST_SUITE_P(SphericalTriangle, Sizes, testing::Values(0.15f, 0.3f, 0.6f, 0.9f));
+
+TEST_P(Sizes, EveryPartGetsItsShareAndEveryDirectionLandsOnTheTriangle) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  constexpr int kTriangles = 40;
+  constexpr int kSamples = 20000;
+  int tested = 0;
+  for (int k = 0; k < kTriangles; ++k) {
+    const Triangle t = randomTriangle(rng, GetParam());
+    const float area = solidAngle(t);
+    if (!(area > kMinSphericalTriangle)) continue;
+    ++tested;
+    // The four triangles of the midpoint subdivision, by their solid angle.
+    const vec3 ab = 0.5f * (t.a + t.b), bc = 0.5f * (t.b + t.c), ca = 0.5f * (t.c + t.a);
+    const std::array<Triangle, 4> parts = {Triangle{t.a, ab, ca}, Triangle{ab, t.b, bc},
+                                           Triangle{ca, bc, t.c}, Triangle{ab, bc, ca}};
+    std::array<int, 4> counts{};
+    int missed = 0;
+    for (int i = 0; i < kSamples; ++i) {
+      const vec3 d = sampleSphericalTriangle(normalize(t.a), normalize(t.b), normalize(t.c), area,
+                                             vec2(u01(rng), u01(rng)));
+      ASSERT_NEAR(length(d), 1.0f, 1e-4f);
+      if (!rayHits(t, d, 1e-4f)) ++missed;
+      for (int p = 0; p < 4; ++p)
+        if (rayHits(parts[p], d, 0.0f)) {
+          ++counts[p];
+          break;
+        }
+    }
+    EXPECT_EQ(missed, 0) << "triangle " << k << ", solid angle " << area;
+    for (int p = 0; p < 4; ++p) {
+      // Binomial: the count is within 5 standard deviations of its share.
+      const double share = solidAngle(parts[p]) / area;
+      const double expected = share * kSamples;
+      const double sigma = std::sqrt(kSamples * share * (1.0 - share));
+      EXPECT_NEAR(counts[p], expected, 5.0 * sigma + 2.0)
+          << "triangle " << k << " part " << p << ", solid angle " << area;
+    }
+  }
+  EXPECT_GE(tested, kTriangles / 4);
+}
+
+TEST_P(Sizes, MeanCosineIsTheClosedFormIrradiance) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  constexpr int kSamples = 50000;
+  for (int k = 0; k < 20; ++k) {
+    const Triangle t = randomTriangle(rng, GetParam());
+    const float area = solidAngle(t);
+    if (!(area > kMinSphericalTriangle)) continue;
+    // A receiver at the origin facing the triangle's centre, so it is wholly above
+    // the horizon (the closed form clips what is below).
+    const vec3 centre = (t.a + t.b + t.c) / 3.0f;
+    vec3 n = normalize(centre);
+    bool above = dot(n, normalize(t.a)) > 0.0f && dot(n, normalize(t.b)) > 0.0f &&
+                 dot(n, normalize(t.c)) > 0.0f;
+    if (!above) continue;
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < kSamples; ++i) {
+      const vec3 d = sampleSphericalTriangle(normalize(t.a), normalize(t.b), normalize(t.c), area,
+                                             vec2(u01(rng), u01(rng)));
+      const double f = std::max(0.0f, dot(d, n)) * area;  // estimate with pdf 1/area
+      sum += f;
+      sum2 += f * f;
+    }
+    const double mean = sum / kSamples;
+    const double stderr_ = std::sqrt(std::max(0.0, sum2 / kSamples - mean * mean) / kSamples);
+    const double exact = triangleEmitterFactor(t.a, t.b, t.c, true, vec3(0.0f), n);
+    EXPECT_NEAR(mean, exact, 5.0 * stderr_ + 1e-5 * exact) << "triangle " << k;
+  }
+}
+
+}  // namespace
+}  // namespace voxgi::gpu
