@@ -1,16 +1,18 @@
 // Direct light reflected at a surface towards its viewer, as rtgi estimates it at
 // the pixels (rtgi_direct.comp) and at the hits of their reflected rays
-// (rtgi_specular.comp). Punctual lights: their exact contribution x visibility.
-// Emissive surfaces, when there are few (RTGI_EMITTERS_EXACT): their summed
-// unshadowed contribution (exact irradiance, GGX highlight) x the visibility of one
-// random point on one of them, drawn in proportion to its contribution (one shadow
-// ray); with many (RTGI_EMITTERS_SAMPLED), one emitter drawn from the light tree
-// (light_tree_shared.h) in proportion to a bound on its contribution at the point,
-// its contribution x visibility divided by its probability (light importance
-// sampling).
+// (rtgi_specular.comp). Punctual lights: their exact contribution x visibility,
+// each with its shadow ray, or with many one drawn in proportion to its
+// contribution. Emissive surfaces: one emitter drawn in proportion to its exact
+// unshadowed contribution (few: RTGI_EMITTERS_EXACT) or from the light tree
+// (light_tree_shared.h) in proportion to a bound on it (many:
+// RTGI_EMITTERS_SAMPLED), one direction towards it and one shadow ray; the
+// Lambert part by light sampling, the GGX highlight as the exact unshadowed one x
+// that visibility (directLight below).
 // Accumulation over frames turns the visibility samples into soft shadows.
 // VOXGI_NO_SHADOWS: no shadow ray, and the exact sum over the emitters;
-// VOXGI_NO_EMISSION: no emitters. RTGI_LIGHTS: the scene has punctual lights.
+// VOXGI_NO_EMISSION: no emitters. RTGI_LIGHTS: the scene has punctual lights;
+// RTGI_LIGHTS_SAMPLED: more than RtgiPass::Settings::exactLights of them, one drawn
+// per pixel and frame.
 //
 // The including shader defines the shadow ray first:
 //   float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack)
@@ -22,6 +24,11 @@
 
 #ifdef RTGI_EMITTERS_SAMPLED
 #include "light_tree_shared.h"
+// Candidates drawn from the light tree for each emitter sample (directLight).
+#ifndef RTGI_EMITTER_CANDIDATES
+#define RTGI_EMITTER_CANDIDATES 4
+#endif
+const int kRtgiEmitterCandidates = RTGI_EMITTER_CANDIDATES;
 layout(std430, binding = kLightTreeBinding) readonly buffer LightTree { GpuLightNode lightTree[]; };
 GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
 #endif
@@ -94,7 +101,45 @@ vec3 emitterDiffuseSample(GpuEmitter e, Surface s, vec3 l, float pdf) {
 // below it does not count (the leak rule, normal_map_shared.h).
 vec3 directLight(Surface s, vec3 o, vec3 ng) {
   vec3 result = vec3(0.0);
-#ifdef RTGI_LIGHTS
+#if defined(RTGI_LIGHTS_SAMPLED)
+  {
+    // Many punctual lights: one drawn in proportion to its exact unshadowed
+    // contribution c_k (the same one-pass draw as the emitters' below), and its
+    // c_k x visibility / P_k, P_k = c_k / sum: the unshadowed sum where the light is
+    // seen, unbiased, at the cost of one shadow ray however many lights there are.
+    int lightCount = int(rtgi.counts.x);
+    float total = 0.0;
+    float picked = 0.0;
+    vec3 pickedLight = vec3(0.0);
+    float u = rand01();
+    int pick = -1;
+    for (int k = 0; k < lightCount; ++k) {
+      vec3 c = punctualLight(lights[k], s);
+      float w = luminance(c);
+      if (!(w > 0.0)) continue;
+      vec3 l;
+      float dist;
+      punctualDirection(lights[k], s.p, l, dist);
+      if (dot(l, ng) < 0.0) continue;
+      total += w;
+      float q = w / total;
+      if (u < q) {
+        pick = k;
+        picked = w;
+        pickedLight = c;
+        u = u / q;
+      } else {
+        u = (u - q) / (1.0 - q);
+      }
+    }
+    if (pick >= 0) {
+      vec3 l;
+      float dist;
+      punctualDirection(lights[pick], s.p, l, dist);
+      result += pickedLight * (total / picked) * shadowRay(o, l, dist, false, 0.0);
+    }
+  }
+#elif defined(RTGI_LIGHTS)
   int lightCount = int(rtgi.counts.x);
   for (int k = 0; k < lightCount; ++k) {
     vec3 c = punctualLight(lights[k], s);
@@ -150,14 +195,39 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
     float pmf = pick >= 0 ? picked / total : 0.0;
 #else
   {
-    // Picked from the light tree in proportion to a bound on their contribution.
+    // Resampled importance sampling (Talbot et al. 2005, as ReSTIR DI's candidate
+    // stage, Bitterli et al. 2020): kRtgiEmitterCandidates emitters k_i drawn from
+    // the light tree with probabilities P_i (in proportion to a bound on what they
+    // send here, loose for a node of emitters far apart), each weighed by
+    // w_i = h(k_i) / P_i, h the luminance of its exact unshadowed contribution; one
+    // kept in proportion to w_i (streaming, one number each). Its estimate is then
+    // divided by h(k) M / sum(w_i) in place of a probability: unbiased, as h > 0
+    // wherever an emitter can send light, and as near the exact unshadowed draw as
+    // the candidates allow, where a lamp drawn with a small P_i that lights the point
+    // strongly would be a firefly.
     float pmf = 0.0;
-    if (emitterCount > 0) {
+    float wSum = 0.0;
+    float pickedH = 0.0;
+    int candidates = emitterCount > 0 ? kRtgiEmitterCandidates : 0;  // 0: summed above
+    for (int i = 0; i < candidates; ++i) {
+      float p;
       float u = rand01();
-      pick = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, pmf);
+      int k = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, p);
+      float r = rand01();
+      if (k < 0 || !(p > 0.0)) continue;
+      vec3 spec;
+      float h = luminance(areaLightParts(emitters[k], s, spec));
+      if (!(h > 0.0)) continue;
+      float w = h / p;
+      wSum += w;
+      if (r * wSum < w) {
+        pick = k;
+        pickedH = h;
+        specular = spec;
+      }
     }
-    if (pick >= 0 && pmf > 0.0) {
-      areaLightParts(emitters[pick], s, specular);
+    if (pick >= 0) {
+      pmf = pickedH * float(kRtgiEmitterCandidates) / wSum;
       specular /= pmf;
     }
 #endif

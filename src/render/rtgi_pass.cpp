@@ -5,6 +5,7 @@
 
 #include "core/log.h"
 #include "interleave_shared.h"
+#include "light_tree_shared.h"
 #include "octree_shared.h"
 #include "render/pathtrace_scene.h"
 #include "render/raster_pass.h"
@@ -82,12 +83,29 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
   std::vector<std::string> defines = settings_.features.defines();
   if (raysHitTriangles() && settings_.features.shadows)
     for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
+  for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
+  return programs_.get({{"render/rtgi_direct.comp"}, defines});
+}
+
+// How direct light treats the scene's lights (rtgi_direct_light.glsl): punctual
+// lights each with its shadow ray (RTGI_LIGHTS) or, beyond exactLights, one drawn
+// per pixel (RTGI_LIGHTS_SAMPLED); emitters summed (RTGI_EMITTERS_EXACT) or drawn
+// from the light tree (RTGI_EMITTERS_SAMPLED).
+std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs) const {
+  std::vector<std::string> defines;
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
+  if (static_cast<int>(gs.lightCount()) > settings_.exactLights)
+    defines.emplace_back("RTGI_LIGHTS_SAMPLED");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
                              ? "RTGI_EMITTERS_EXACT"
                              : "RTGI_EMITTERS_SAMPLED");
-  return programs_.get({{"render/rtgi_direct.comp"}, defines});
+  // Where the tree draws among all its emitters at once, each with its own tight
+  // bound, resampling candidates gains nothing (dark_plane's 96 clusters: the same
+  // FLIP at twice the cost); where it walks nodes of emitters far apart, it does.
+  if (static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw)
+    defines.emplace_back("RTGI_EMITTER_CANDIDATES=1");
+  return defines;
 }
 
 // With cones for indirect light, glossy reflections are cones too.
@@ -111,11 +129,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   if (!tracesTriangles()) return *specular_;
   std::vector<std::string> defines = settings_.features.defines();
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
-  if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
-  if (gs.emitterCount() > 0)
-    defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters
-                             ? "RTGI_EMITTERS_EXACT"
-                             : "RTGI_EMITTERS_SAMPLED");
+  for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
   return programs_.get({{"render/rtgi_specular.comp"}, defines});
 }

@@ -54,6 +54,9 @@ class RtgiPass {
     // Up to this many emitters: their summed contribution x one shadow ray; more:
     // one drawn from the light tree (rtgi_direct_light.glsl).
     int exactEmitters = 4;
+    // Up to this many punctual lights: each its own shadow ray; more: one per pixel
+    // and frame, drawn in proportion to its unshadowed contribution.
+    int exactLights = 4;
     int interleave = 1;  // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     // Beyond the interleave pattern, which further pixels trace (frame budget):
     // none, those the work mask marks as noisy, or a uniform random share.
@@ -212,6 +215,7 @@ class RtgiPass {
   std::vector<std::string> bvhDefines(const GpuScene& gs) const;
   // {"RTGI_CONES"} with cone-traced indirect light (glossy reflections are cones too).
   std::vector<std::string> conesDefine() const;
+  std::vector<std::string> lightDefines(const GpuScene& gs) const;
   // The BVH's buffers, bound for the stages that trace it, or unbound (bvh_ set).
   void bindBvh(const GpuScene& gs) const;
   void unbindBvh() const;
