@@ -47,9 +47,10 @@ std::vector<float> render(const scene::Scene& s, render::Mode mode) {
   rs.width = rs.height = kSize;
   rs.voxels = 64;
   rs.jitter = false;
-  // rtgi: direct light from the hall's point lights and moon only (exact, no random
-  // draw), which nothing behind the wall can reach.
+  // rtgi: direct light only, from the hall's point lights and moon, each with its
+  // shadow ray (no random draw), which nothing behind the wall can reach.
   rs.effects = "-indirect,-specular";
+  rs.rtgi.exactLights = 64;
   gl::ProgramCache programs(sourceDir() + "/shaders");
   render::Renderer r(programs, s, rs);
   r.renderFrame();
