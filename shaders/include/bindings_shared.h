@@ -84,6 +84,9 @@ VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, whil
 VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
 VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
 VOXGI_CONST uint kOctreeMeanBinding = 18u;    // vec4 per node: the running mean of the radiance
+// vec4 per node: the running mean of the radiance less its direct light (the voxel
+// bounces alone), which rtgi reads behind a hit it lights exactly.
+VOXGI_CONST uint kOctreeBounceBinding = 25u;
 
 // rtgi (rtgi_shared.h), which reads the scene and the octree beside its own.
 VOXGI_CONST uint kPixelListBinding = 15u;      // PixelList
@@ -196,7 +199,7 @@ VOXGI_CONST uint kMaskKeyImage = 7u;  // rgba32ui: what the edges compare, per p
 // Reprojection: the reprojected mean (rgba32f) that accumulate then reads in place
 // of the target. It uses the mask key's unit, which accumulate and reproject do not
 // read (accumulate reads units 0 to 6 beside it); each binds it before its dispatch,
-// after the mask has run.
+// after the mask has run. The indirect stage reads its count of samples too.
 VOXGI_CONST uint kReprojectedImage = 7u;
 // Denoiser (rtgi_denoise.glsl), which filters two terms apart: the light straight
 // from the lights (the direct stage's) and the light by way of other surfaces

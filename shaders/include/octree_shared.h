@@ -39,7 +39,9 @@ struct OctreeParams {
   uvec4 pass;   // x level (build/filter), y first node of the level, z nodes in the level, w seed
   uvec4 light;  // x rays per voxel (inject / bounce), y light count, z emitter count, w bounce
   uvec4 slice;  // inject, bounce, average: the voxel list from x on (a refinement slice's)
-  vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp)
+  vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp);
+                // y: 1 when the estimate has voxel bounces beside its direct light;
+                // z: 1 to keep the bounces' mean apart (Settings::keepBounces)
 };
 
 // Written by the build passes; read back once per build.

@@ -41,6 +41,13 @@ VOXGI_CONST uint kRtgiGroupY = 8u;
 VOXGI_CONST uint kRtgiHasDirect = 1u;
 VOXGI_CONST uint kRtgiHasIndirect = 2u;
 VOXGI_CONST uint kRtgiHasSpecular = 4u;
+// The voxels hold every bounce (the default): the indirect stage's path may go on
+// past a hit whose voxel cannot stand for its side (rtgi_indirect.comp).
+VOXGI_CONST uint kRtgiAllBounces = 8u;
+// This frame starts from the reproject stage's mean (kReprojectedImage).
+VOXGI_CONST uint kRtgiReprojecting = 16u;
+// Vertices an indirect path visits on the triangles at most, the first hit included.
+VOXGI_CONST int kMaxIndirectVertices = 3;
 
 // Below this roughness a surface is a mirror: one reflected ray, and direct light
 // adds no highlight of its own (the ray sees the lights' voxels).

@@ -6,8 +6,20 @@
 // emitters reaches the pixel through the shadows stage (no double counting).
 // Cosine sampling: the Lambertian estimate is albedo x L.
 //
-// RTGI_BVH: the ray finds its hit on the exact triangles (rtgi_bvh.glsl), and the
-// voxels serve only as the light cache at that point (rtgi_voxel_light.glsl). Without it
+// RTGI_BVH: the ray finds its hit on the exact triangles (rtgi_bvh.glsl), which is
+// shaded as the path tracer would shade it: its exact direct light (the shadows
+// stage's estimators, rtgi_direct_light.glsl, with shadow rays through the BVH) plus
+// the voxel bounces alone at that point (the voxels' light less their direct light,
+// rtgi_voxel_light.glsl), so the voxels serve only as the light cache for the
+// bounces beyond the first. Their direct light would carry light through a wall
+// thinner than a voxel (its other side lit the same voxel) and blur shadows to the
+// voxels' size. A mirror hit keeps its diffuse part only (its highlight from a light
+// would be a firefly for a cosine ray; the path tracer reaches it by the mirror's
+// own reflection, which this ray does not follow). A pixel's first sample (none in
+// its mean yet: the first frame, a disocclusion, a sparse start) reads the voxels'
+// whole light at the hit instead, direct light included: cheap and smooth where one
+// exact sample's noise outweighs the voxels' bias, which then fades from the mean as
+// 1/samples. Without it
 // (--voxel-rays, or an animated scene) the ray marches the octree and the first leaf
 // it meets (unless seen from behind: seenFromBehind) both stops it and lights it;
 // voxels are fatter than the surfaces, so near a contact they stop rays that would
@@ -24,6 +36,22 @@
 #include "rtgi_common.glsl"
 #ifdef RTGI_BVH
 #include "rtgi_bvh.glsl"
+
+float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
+  return bvhVisible(o, l, dist, toEmitter, slack);
+}
+
+#include "rtgi_direct_light.glsl"
+#include "rtgi_hit.glsl"
+layout(std430, binding = kOctreeBounceBinding) readonly buffer Bounce { vec4 bounce[]; };
+layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
+layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
+
+// Samples in the pixel's mean before this frame's (accumulate's count).
+float samplesSoFar(ivec2 px) {
+  if ((rtgi.counts.z & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
+  return rtgi.frame.x > 0u ? imageLoad(accumIn, px).a : 0.0;
+}
 #endif
 
 layout(local_size_x = kRtgiTraceGroup) in;
@@ -34,6 +62,48 @@ layout(binding = kIndirectImage, rgba16f) uniform writeonly image2D indirectOut;
 
 #ifdef RTGI_BVH
 #include "rtgi_voxel_light.glsl"
+
+// Whether leaf `node` can stand for the light leaving the side of a surface whose
+// normal is ng: a leaf whose normal follows ng. Not one without a normal (the faces
+// in it cancel: a wall thinner than a voxel, lit on its other side too), nor one
+// turned away (the other side's faces outweigh this side's).
+bool voxelStandsFor(int node, vec3 ng) {
+  if (node < 0) return false;
+  vec3 n = unpackSnorm4x8(material[node].y).xyz;
+  float len2 = dot(n, n);
+  return len2 > 0.25 && dot(n, ng) > 0.5 * sqrt(len2);
+}
+
+// Radiance arriving at o from unit direction dir: the nearest triangle's exact direct
+// light plus the voxel bounces there (its emission comes through the shadows stage).
+// With every bounce in the voxels (kRtgiAllBounces), where the hit's voxel cannot
+// stand for its side (voxelStandsFor), the path goes on instead: one more cosine ray
+// from the hit, lit the same way, up to kMaxIndirectVertices hits; the voxel bounces
+// of the last one count whatever its voxel.
+vec3 hitRadiance(vec3 o, vec3 dir) {
+  loopBudget = kPtLoopBudget;
+  bool goOn = (rtgi.counts.z & kRtgiAllBounces) != 0u;
+  vec3 throughput = vec3(1.0);
+  vec3 result = vec3(0.0);
+  for (int k = 0; k < kMaxIndirectVertices; ++k) {
+    TriangleHit h;
+    if (!traceSurface(o, dir, h)) break;
+    int node = voxelAt(o, dir, h.t);
+    if (h.roughness < kMirrorRoughness) h.s.specular = 0.0;
+    vec3 from = h.s.p + h.ng * bvhEpsilon();
+    result += throughput * directLight(h.s, from, h.below);
+    if (!goOn || k + 1 == kMaxIndirectVertices || voxelStandsFor(node, h.ng)) {
+      if (node >= 0) result += throughput * max(bounce[node].rgb, vec3(0.0));
+      break;
+    }
+    if (!any(greaterThan(h.s.diffuse, vec3(0.0)))) break;
+    dir = cosineSample(h.s.n, vec2(rand01(), rand01()));
+    if (dot(dir, h.ng) <= 0.0 || dot(dir, h.below) < 0.0) break;
+    throughput *= h.s.diffuse;
+    o = from;
+  }
+  return result;
+}
 #endif
 #ifdef RTGI_CONES
 #include "rtgi_cones.glsl"
@@ -55,7 +125,8 @@ void main() {
     if (dot(dir, ng) >= 0.0) {
 #ifdef RTGI_BVH
       vec3 o = p.s.p + (ng != vec3(0.0) ? ng : p.s.n) * bvhEpsilon();
-      result = p.s.diffuse * voxelLightAlong(o, dir);
+      result =
+          p.s.diffuse * (samplesSoFar(px) < 1.0 ? voxelLightAlong(o, dir) : hitRadiance(o, dir));
 #else
       MarchHit h =
           octreeTrace(octreeWorldRay(surfaceRayOrigin(px, p.s), dir, 3.0e38), 0.0, kRaySteps);

@@ -49,6 +49,7 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 }
 
 #include "rtgi_direct_light.glsl"
+#include "rtgi_hit.glsl"
 #ifdef RTGI_BVH_RAYS
 #include "rtgi_voxel_light.glsl"
 #endif
@@ -62,80 +63,30 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
   vec3 throughput = vec3(1.0);
   vec3 result = vec3(0.0);
   for (int bounce = 0; bounce <= kMaxMirrorChain; ++bounce) {
-    float t;
-    uint tri;
-    vec2 bc;
-    if (!trace(o, dir, kInf, false, t, tri, bc)) break;
-    GpuPtTriangle T = loadTriangle(tri);
-    GpuPtShading S = shading[tri];
-    GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
-#ifdef RTGI_BVH_TEXTURES
-    if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
-                    kMaterialHasMetallicRoughnessTexture)) != 0u)
-      m = texturedMaterial(
-          m, triangleUv(tri, bc),
-          (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : triangleUv(tri, bc));
-#endif
-#ifdef RTGI_BVH_COLORS
-    m.baseColor *= triangleColor(tri, bc);
-#endif
-    vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
-    vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
-    bool front = dot(ng, dir) < 0.0;
-#ifndef VOXGI_NO_EMISSION
-    if (seeEmitters && (front || (m.flags & kMaterialDoubleSided) != 0u))
-      result += throughput * m.emission.rgb;
-#endif
-    vec3 ns = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
-    if (!front) {
-      ng = -ng;
-      ns = -ns;
-    }
-    if (dot(ns, -dir) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;
-    vec3 ngFlat = ns;
-#ifdef RTGI_BVH_TANGENTS
-    if ((m.flags & kMaterialHasNormalTexture) != 0u) {
-      // The normal map and the back-facing rule, as the path tracer does.
-      vec4 tangent = triangleTangent(tri, bc);
-      if (!front) tangent.w = -tangent.w;
-      vec2 uv = triangleUv(tri, bc);
-      vec2 uv2 = (m.flags & kMaterialNormalUv2) != 0u ? triangleUv2(tri, bc) : uv;
-      ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), -dir);
-    }
-#endif
-    float metallic = m.params.x;
-    float roughness = clamp(m.params.y, 0.0, 1.0);
-    vec3 base = m.baseColor.rgb;
-    vec3 f0 = metallicF0(base, metallic);
-    if (roughness < kMirrorRoughness) {
+    TriangleHit h;
+    if (!traceSurface(o, dir, h)) break;
+    if (seeEmitters) result += throughput * h.emission;
+    if (h.roughness < kMirrorRoughness) {
       // A mirror: on along the reflection, weighted as the first (Schlick).
       if (bounce == kMaxMirrorChain) break;
-      throughput *= schlickFresnel(f0, clamp(dot(ns, -dir), 0.0, 1.0));
-      dir = reflect(dir, ns);
-      if (dot(dir, ng) <= 0.0) break;
-      o = p + ng * eps;
+      throughput *= schlickFresnel(h.s.f0, clamp(dot(h.s.n, -dir), 0.0, 1.0));
+      dir = reflect(dir, h.s.n);
+      if (dot(dir, h.ng) <= 0.0) break;
+      o = h.s.p + h.ng * eps;
       continue;
     }
-    Surface s;
-    s.p = p;
-    s.n = ns;
-    s.v = -dir;
-    s.diffuse = base * (1.0 - metallic);
-    s.f0 = f0;
-    s.alpha = roughness * roughness;
-    s.specular = isLambertian(metallic, roughness) ? 0.0 : 1.0;
-    // The leak rule where a normal map tilts ns: nothing from below ng.
-    vec3 below = ns != ngFlat ? ng : vec3(0.0);
-    result += throughput * directLight(s, p + ng * eps, below);
-    if ((rtgi.counts.z & kRtgiHasIndirect) != 0u && any(greaterThan(s.diffuse, vec3(0.0)))) {
+    vec3 p = h.s.p, ng = h.ng, ns = h.s.n, below = h.below;
+    result += throughput * directLight(h.s, p + ng * eps, below);
+    if ((rtgi.counts.z & kRtgiHasIndirect) != 0u && any(greaterThan(h.s.diffuse, vec3(0.0)))) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
 #ifdef RTGI_BVH_RAYS
       // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
-      if (dot(d, below) >= 0.0) result += throughput * s.diffuse * voxelLightAlong(p + ng * eps, d);
+      if (dot(d, below) >= 0.0)
+        result += throughput * h.s.diffuse * voxelLightAlong(p + ng * eps, d);
 #else
-      MarchHit h = octreeTrace(octreeWorldRay(rayOrigin(s), d, 3.0e38), 0.0, kRaySteps);
-      if (h.hit && !seenFromBehind(material[h.node].y, d))
-        result += throughput * s.diffuse * unpackRgb9e5(radiance[h.node]);
+      MarchHit m = octreeTrace(octreeWorldRay(rayOrigin(h.s), d, 3.0e38), 0.0, kRaySteps);
+      if (m.hit && !seenFromBehind(material[m.node].y, d))
+        result += throughput * h.s.diffuse * unpackRgb9e5(radiance[m.node]);
 #endif
     }
     break;

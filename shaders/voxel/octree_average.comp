@@ -5,6 +5,10 @@
 // radiance the tracers read, in rgb9e5. octree.blend.x is this estimate's weight
 // over the weights of all so far (Octree::refine: they grow with the rays so far),
 // 1 for the first, so noise falls about as 1 / sqrt(estimates), as a pixel's does.
+// Beside it (octree.blend.z: Octree::Settings::keepBounces), the mean of the estimate
+// less its direct light (Bounce): the voxel bounces alone, for rtgi's rays that light
+// their hit exactly (rtgi_indirect.comp).
+// Not clamped at 0: the two rgb9e5 values round apart, and the mean averages that out.
 #include "voxel_shared.h"
 #include "octree.glsl"
 
@@ -13,6 +17,8 @@ layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]
 layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeScratchBinding) readonly buffer Estimate { uint estimate[]; };
 layout(std430, binding = kOctreeMeanBinding) buffer Mean { vec4 mean[]; };
+layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint direct[]; };
+layout(std430, binding = kOctreeBounceBinding) buffer Bounce { vec4 bounce[]; };
 
 void main() {
   uint i = octreeInvocation();
@@ -27,4 +33,7 @@ void main() {
   vec3 m = w >= 1.0 ? sampled : mean[node].rgb + (sampled - mean[node].rgb) * w;
   mean[node] = vec4(m, 0.0);
   radiance[node] = packRgb9e5(m);
+  if (octree.blend.z < 0.5) return;
+  vec3 b = octree.blend.y > 0.5 ? sampled - unpackRgb9e5(direct[node]) : vec3(0.0);
+  bounce[node] = vec4(w >= 1.0 ? b : bounce[node].rgb + (b - bounce[node].rgb) * w, 0.0);
 }

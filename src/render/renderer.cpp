@@ -141,12 +141,20 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
-  if (usesOctree(mode) && !octree_) {
+  // rtgi's indirect rays on the triangles (RtgiPass::raysHitTriangles) read the voxel
+  // bounces apart from the direct light: an octree made for another mode without
+  // them is made again.
+  const RtgiPass::Settings& rt = settings_.rtgi;
+  const bool keepBounces =
+      mode == Mode::kRtgi && plan_.has(scene::Effect::kIndirect) && rt.exactRays &&
+      rt.indirectMethod == RtgiPass::Settings::IndirectMethod::kRays && !scene_.meshesAnimated();
+  if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces))) {
     voxel::Octree::Settings os = settings_.octree;
     os.features = features;
     // Voxel bounces are indirect light too (mirrors see them): without the indirect
     // effect the voxels hold direct light only.
     if (!plan_.has(scene::Effect::kIndirect)) os.bounces = std::min(os.bounces, 1);
+    os.keepBounces = keepBounces;
     octree_ = std::make_unique<voxel::Octree>(programs_, os);
     octreeBuilt_ = false;
   }

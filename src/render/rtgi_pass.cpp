@@ -90,8 +90,9 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs) {
 // How direct light treats the scene's lights (rtgi_direct_light.glsl): punctual
 // lights each with its shadow ray (RTGI_LIGHTS) or, beyond exactLights, one drawn
 // per pixel (RTGI_LIGHTS_SAMPLED); emitters summed (RTGI_EMITTERS_EXACT) or drawn
-// from the light tree (RTGI_EMITTERS_SAMPLED).
-std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs) const {
+// from the light tree (RTGI_EMITTERS_SAMPLED), with candidates resampled
+// (RTGI_EMITTER_CANDIDATES).
+std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs, bool atHits) const {
   std::vector<std::string> defines;
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
   if (static_cast<int>(gs.lightCount()) > settings_.exactLights)
@@ -103,7 +104,10 @@ std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs) const {
   // Where the tree draws among all its emitters at once, each with its own tight
   // bound, resampling candidates gains nothing (dark_plane's 96 clusters: the same
   // FLIP at twice the cost); where it walks nodes of emitters far apart, it does.
-  if (static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw)
+  // `atHits` (the indirect rays' hits, whose light a cosine ray already scatters):
+  // one candidate; four there cost 2x the indirect stage for less gain than the
+  // frames that time buys (the hall at equal time).
+  if (atHits || static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw)
     defines.emplace_back("RTGI_EMITTER_CANDIDATES=1");
   return defines;
 }
@@ -114,13 +118,17 @@ std::vector<std::string> RtgiPass::conesDefine() const {
   return {};
 }
 
-// The indirect stage's variant: the voxel march, the triangles (RTGI_BVH), or cones
-// (RTGI_CONES).
+// The indirect stage's variant: the voxel march, the triangles (RTGI_BVH, their hits
+// lit exactly), or cones (RTGI_CONES).
 const gl::Program& RtgiPass::indirectProgram(const GpuScene& gs) {
   if (settings_.indirectMethod == Settings::IndirectMethod::kCones)
     return programs_.get({{"render/rtgi_indirect.comp"}, {"RTGI_CONES"}});
   if (!raysHitTriangles()) return *indirect_;
-  return programs_.get({{"render/rtgi_indirect.comp"}, bvhDefines(gs)});
+  // The hit's direct light as the direct stage's scene variants estimate it.
+  std::vector<std::string> defines = settings_.features.defines();
+  for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
+  for (std::string& d : lightDefines(gs, true)) defines.push_back(std::move(d));
+  return programs_.get({{"render/rtgi_indirect.comp"}, defines});
 }
 
 // The specular stage's variant: the voxel march, or with a BVH (RTGI_BVH) the
@@ -225,6 +233,7 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   buildOptionalStages();
   const FramePlan plan = planFrame(ctx, gs, frameIndex, previousViewProj != nullptr);
   gpu::RtgiParams p = frameParams(ctx, gs, cameraPosition, frameIndex, previousViewProj, plan);
+  if (octree && octree->allBounces()) p.counts.z |= gpu::kRtgiAllBounces;
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
   drawGBuffer(ctx, gs);
   bindFrameInputs(gs, octree, accum);
@@ -295,7 +304,8 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
                        static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
   const uint32_t flags = (plan.direct ? gpu::kRtgiHasDirect : 0u) |
                          (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
-                         (settings_.specular ? gpu::kRtgiHasSpecular : 0u);
+                         (settings_.specular ? gpu::kRtgiHasSpecular : 0u) |
+                         (plan.reprojecting ? gpu::kRtgiReprojecting : 0u);
   p.counts = glm::uvec4(
       static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
       static_cast<uint32_t>(std::clamp(settings_.exactEmitters, 0, gpu::kMaxExactEmitters)));
@@ -406,7 +416,14 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
   if (bvh_) bindBvh(gs);
   if (plan.direct)
     runStage(ctx, plan.shadows ? Stage::kShadows : Stage::kDirect, directProgram(gs), plan);
-  if (settings_.indirect) runStage(ctx, Stage::kIndirect, indirectProgram(gs), plan);
+  if (settings_.indirect) {
+    // The indirect stage reads each pixel's count of samples so far (a first sample
+    // reads the voxels): after a camera move, in the reprojected mean.
+    if (plan.reprojecting)
+      glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                         GL_RGBA32F);
+    runStage(ctx, Stage::kIndirect, indirectProgram(gs), plan);
+  }
   if (settings_.specular) runStage(ctx, Stage::kSpecular, specularProgram(gs), plan);
   if (bvh_) unbindBvh();
 }

@@ -215,7 +215,9 @@ class RtgiPass {
   std::vector<std::string> bvhDefines(const GpuScene& gs) const;
   // {"RTGI_CONES"} with cone-traced indirect light (glossy reflections are cones too).
   std::vector<std::string> conesDefine() const;
-  std::vector<std::string> lightDefines(const GpuScene& gs) const;
+  // The direct light's variant for gs's lights, at the pixels or (atHits) at the
+  // indirect rays' hits.
+  std::vector<std::string> lightDefines(const GpuScene& gs, bool atHits = false) const;
   // The BVH's buffers, bound for the stages that trace it, or unbound (bvh_ set).
   void bindBvh(const GpuScene& gs) const;
   void unbindBvh() const;

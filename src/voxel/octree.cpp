@@ -13,6 +13,7 @@ namespace {
 // std430 limits one SSBO to 128 MiB on llvmpipe: the node buffer's ceiling.
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
 constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4;  // radiance, material, emission
+constexpr uint64_t kBounceBytesPerNode = 16;       // Settings::keepBounces
 // The light's refinement: this estimate, its direct light, the previous bounce, the mean.
 constexpr uint64_t kRefineBytesPerNode = 4 + 4 + 4 + 16;
 // With all bounces, the first estimate's chain of bounces (pixel's included).
@@ -87,6 +88,7 @@ void Octree::bind() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeRadianceBinding, radiance_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMaterialBinding, material_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeEmissionBinding, emission_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeBounceBinding, bounceMean_.id());
   glBindTextureUnit(gpu::kOctreeNodeTexUnit, nodeTexture_.id());
 }
 
@@ -105,6 +107,9 @@ void Octree::allocate(uint32_t capacity) {
   radiance_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   material_ = gl::createBuffer(n * 8, nullptr, GL_DYNAMIC_STORAGE_BIT);
   emission_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  if (settings_.keepBounces)
+    bounceMean_ = gl::createBuffer(n * static_cast<GLsizeiptr>(kBounceBytesPerNode), nullptr,
+                                   GL_DYNAMIC_STORAGE_BIT);
   estimate_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   direct_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   previous_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -192,7 +197,8 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   for (int l = 0; l <= stats_.depth; ++l)
     stats_.levelNodes.push_back(levelStart_[static_cast<size_t>(l) + 1] -
                                 levelStart_[static_cast<size_t>(l)]);
-  stats_.bytes = uint64_t{capacity_} * (4 + kDataBytesPerNode);
+  stats_.bytes = uint64_t{capacity_} *
+                 (4 + kDataBytesPerNode + (settings_.keepBounces ? kBounceBytesPerNode : 0));
   stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode;
   const uint64_t nn = static_cast<uint64_t>(n);
   stats_.denseBytes = nn * nn * nn * (4 + 4 + 8);  // albedo rgba8, normal rgba8, emission rgba16f
@@ -206,8 +212,8 @@ void Octree::inject(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   // The first estimate: the finite chain of bounces, or with all bounces a chain of
   // kFirstChainBounces that refinement carries on.
   const uint32_t count = setSlice(-1);
-  estimate(scene, count, settings_.injectRays, settings_.bounceRays, false);
-  blend(count, 1.0f);
+  const bool bounced = estimate(scene, count, settings_.injectRays, settings_.bounceRays, false);
+  blend(count, 1.0f, bounced);
   raysSoFar_ = settings_.injectRays;
   weightSoFar_ = raysSoFar_ * raysSoFar_ * raysSoFar_ / 3.0;
   makeSlices();
@@ -268,8 +274,9 @@ void Octree::refine(gl::FrameContext& ctx, const scene::GpuScene& scene) {
   seed_ = settings_.seed + 0x9e3779b9u * static_cast<uint32_t>(refinements_ + 1);
   ++refinements_;
   const uint32_t count = setSlice(slice);
-  estimate(scene, count, settings_.refineRays, settings_.refineRays, allBounces());
-  blend(count, cycleWeight_);
+  const bool bounced =
+      estimate(scene, count, settings_.refineRays, settings_.refineRays, allBounces());
+  blend(count, cycleWeight_, bounced);
   filter(filterRadiance_);
 }
 
@@ -285,7 +292,7 @@ uint32_t Octree::setSlice(int slice) {
   return sliceStart_[static_cast<size_t>(slice) + 1] - first;
 }
 
-void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
+bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
                       bool feedback) {
   // A finite chain: bounces - 1 voxel bounces; feedback: one, from the running mean.
   // All bounces start from a chain of kFirstChainBounces, the ones after the first
@@ -321,14 +328,17 @@ void Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
     setPass(static_cast<uint32_t>(stats_.depth), 0, count, static_cast<uint32_t>(b));
     dispatch(bounce_, count);
   }
+  return voxelBounces > 0;
 }
 
-void Octree::blend(uint32_t count, float weight) {
+void Octree::blend(uint32_t count, float weight, bool bounced) {
   bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, estimate_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeMeanBinding, mean_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeDirectBinding, direct_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, passList_);
-  paramsData_.blend = glm::vec4(weight, 0.0f, 0.0f, 0.0f);
+  paramsData_.blend =
+      glm::vec4(weight, bounced ? 1.0f : 0.0f, settings_.keepBounces ? 1.0f : 0.0f, 0.0f);
   setPass(static_cast<uint32_t>(stats_.depth), 0, count);
   dispatch(average_, count);
 }

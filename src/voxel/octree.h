@@ -78,6 +78,10 @@ class Octree {
     int bounceRays = 4;       // rays per leaf per voxel bounce
     int refineRays = 1;       // per leaf and refinement, direct and bounce (0: no refinement)
     int refineLeaves = 4096;  // leaves refined per frame at most: the rest wait their turn
+    // Keep the voxel bounces apart from the direct light (bounceMean_, 16 bytes a
+    // node): rtgi's indirect rays on the triangles light their hit exactly and read
+    // only them.
+    bool keepBounces = false;
     uint32_t seed = 1;
     scene::ShaderFeatures features;  // effect-plan variant of octree_inject.comp
   };
@@ -135,10 +139,13 @@ class Octree {
   void makeSlices();
   // One estimate of the slice's radiance into estimate_: direct light with `rays`,
   // then the voxel bounces (`feedback`: one, gathered from the running mean).
-  void estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
+  // True when it has voxel bounces beside the direct light (in direct_).
+  bool estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
                 bool feedback);
-  // Blends the slice's estimate into the running mean with `weight` and publishes it.
-  void blend(uint32_t count, float weight);
+  // Blends the slice's estimate into the running mean with `weight` and publishes it,
+  // and its bounces alone (`bounced`: the estimate less direct_; else none) into
+  // bounceMean_.
+  void blend(uint32_t count, float weight, bool bounced);
   void filter(const gl::Program& program);
 
   Settings settings_;
@@ -151,7 +158,8 @@ class Octree {
   const gl::Program& average_;
   const gl::Program& filterRadiance_;
   gl::Buffer params_, counters_, nodes_, radiance_, material_, emission_;
-  gl::Buffer nonfinite_;  // uint: values replaced (kNonfiniteCountBinding)
+  gl::Buffer bounceMean_;  // vec4: the running mean of the radiance less its direct light
+  gl::Buffer nonfinite_;   // uint: values replaced (kNonfiniteCountBinding)
   // Refinement: this estimate, its direct light, the previous bounce, the mean.
   gl::Buffer estimate_, direct_, previous_, mean_;
   gl::Buffer sliceList_;              // the voxel codes slice by slice

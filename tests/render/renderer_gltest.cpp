@@ -85,6 +85,25 @@ TEST_F(RendererTest, AccumulationRestartsOnAnyChange) {
   EXPECT_EQ(r.accumulatedFrames(), 0);
 }
 
+// rtgi's indirect rays on the triangles read the voxel bounces apart from the direct
+// light, which an octree made for dvr does not keep: switching modes makes it again,
+// and the image is a fresh rtgi renderer's.
+TEST_F(RendererTest, SwitchingToRtgiGivesAFreshRtgiImage) {
+  render::RenderSettings s = settings(32, 32);
+  s.mode = render::Mode::kDvr;
+  s.voxels = 32;
+  render::Renderer switched(*programs_, scene_, s);
+  switched.renderFrame();
+  switched.setMode(render::Mode::kRtgi);
+  s.mode = render::Mode::kRtgi;
+  render::Renderer fresh(*programs_, scene_, s);
+  for (int f = 0; f < 3; ++f) {
+    switched.renderFrame();
+    fresh.renderFrame();
+  }
+  EXPECT_EQ(switched.readLinear(), fresh.readLinear());
+}
+
 TEST_F(RendererTest, KnobsDriveTheTonemap) {
   render::Renderer r(*programs_, scene_, settings(32, 32));
   auto knobs = r.knobs();

@@ -1,0 +1,77 @@
+// The surface a ray meets on the exact triangles, read as the path tracer reads it:
+// the material with its textures, vertex colours and normal map at the hit
+// (RTGI_BVH_TEXTURES, _COLORS, _TANGENTS), the normals turned towards the ray. Used
+// where rtgi shades a hit with exact direct light: the specular stage's reflected
+// rays and the indirect stage's cosine rays. Include after rtgi_bvh.glsl and
+// lighting.glsl.
+#ifndef VOXGI_RTGI_HIT_GLSL
+#define VOXGI_RTGI_HIT_GLSL
+
+struct TriangleHit {
+  float t;          // along the ray, world units
+  Surface s;        // s.v = -dir; s.n the shading normal (mapped), towards the ray
+  vec3 ng;          // the triangle's normal, towards the ray
+  vec3 below;       // ng where a normal map tilts s.n, else 0 (the leak rule)
+  vec3 emission;    // what the hit emits towards the ray (0 under VOXGI_NO_EMISSION)
+  float roughness;  // kMirrorRoughness and below: a mirror
+};
+
+// Traces the ray from o along unit dir; false where it leaves the scene. Set
+// loopBudget first.
+bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
+  uint tri;
+  vec2 bc;
+  if (!trace(o, dir, kInf, false, h.t, tri, bc)) return false;
+  GpuPtTriangle T = loadTriangle(tri);
+  GpuPtShading S = shading[tri];
+  GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+#ifdef RTGI_BVH_TEXTURES
+  if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
+                  kMaterialHasMetallicRoughnessTexture)) != 0u)
+    m = texturedMaterial(
+        m, triangleUv(tri, bc),
+        (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : triangleUv(tri, bc));
+#endif
+#ifdef RTGI_BVH_COLORS
+  m.baseColor *= triangleColor(tri, bc);
+#endif
+  vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
+  vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
+  bool front = dot(ng, dir) < 0.0;
+  h.emission = vec3(0.0);
+#ifndef VOXGI_NO_EMISSION
+  if (front || (m.flags & kMaterialDoubleSided) != 0u) h.emission = m.emission.rgb;
+#endif
+  vec3 ns = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
+  if (!front) {
+    ng = -ng;
+    ns = -ns;
+  }
+  if (dot(ns, -dir) <= 0.0 || !(dot(ns, ns) > 0.5)) ns = ng;
+  vec3 ngFlat = ns;
+#ifdef RTGI_BVH_TANGENTS
+  if ((m.flags & kMaterialHasNormalTexture) != 0u) {
+    // The normal map and the back-facing rule, as the path tracer does.
+    vec4 tangent = triangleTangent(tri, bc);
+    if (!front) tangent.w = -tangent.w;
+    vec2 uv = triangleUv(tri, bc);
+    vec2 uv2 = (m.flags & kMaterialNormalUv2) != 0u ? triangleUv2(tri, bc) : uv;
+    ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), -dir);
+  }
+#endif
+  float metallic = m.params.x;
+  h.roughness = clamp(m.params.y, 0.0, 1.0);
+  vec3 base = m.baseColor.rgb;
+  h.s.p = p;
+  h.s.n = ns;
+  h.s.v = -dir;
+  h.s.diffuse = base * (1.0 - metallic);
+  h.s.f0 = metallicF0(base, metallic);
+  h.s.alpha = h.roughness * h.roughness;
+  h.s.specular = isLambertian(metallic, h.roughness) ? 0.0 : 1.0;
+  h.ng = ng;
+  h.below = ns != ngFlat ? ng : vec3(0.0);
+  return true;
+}
+
+#endif  // VOXGI_RTGI_HIT_GLSL
