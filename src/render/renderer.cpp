@@ -141,13 +141,12 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
-  // rtgi's indirect rays on the triangles (RtgiPass::raysHitTriangles) read the voxel
-  // bounces apart from the direct light: an octree made for another mode without
-  // them is made again.
-  const RtgiPass::Settings& rt = settings_.rtgi;
+  // rtgi's indirect rays on the triangles read the voxel bounces apart from the
+  // direct light: an octree made for another mode without them is made again.
+  RtgiPass::Settings rt = settings_.rtgi;
+  rt.indirect = plan_.has(scene::Effect::kIndirect);
   const bool keepBounces =
-      mode == Mode::kRtgi && plan_.has(scene::Effect::kIndirect) && rt.exactRays &&
-      rt.indirectMethod == RtgiPass::Settings::IndirectMethod::kRays && !scene_.meshesAnimated();
+      mode == Mode::kRtgi && RtgiPass::readsVoxelBounces(rt, scene_.meshesAnimated());
   if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces))) {
     voxel::Octree::Settings os = settings_.octree;
     os.features = features;

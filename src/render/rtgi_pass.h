@@ -156,6 +156,14 @@ class RtgiPass {
   }
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
+  // Whether rtgi with settings `s` (s.indirect as the effect plan sets it) lights its
+  // indirect rays' hits exactly and reads the voxel bounces there apart from their
+  // direct light (voxel::Octree::Settings::keepBounces): its indirect rays are rays
+  // on the triangles, which a scene whose meshes move does not get.
+  static bool readsVoxelBounces(const Settings& s, bool meshesAnimated) {
+    return s.indirect && s.exactRays && s.indirectMethod == Settings::IndirectMethod::kRays &&
+           !meshesAnimated;
+  }
 
  private:
   // This frame's choices, from the settings, the scene and the frame (execute).
