@@ -58,6 +58,30 @@ uint octreeInvocation() {
          gl_LocalInvocationID.x;
 }
 
+// Two-sided leaves. A leaf whose normals cancel (both faces of a wall thinner than
+// a voxel) holds two surfaces facing apart. Its light is kept apart on the two sides
+// of the axis its normals lie along (the resolve's second moments: voxelMoments):
+// the + side in the light buffers' slot `node`, the - side in slot `node` +
+// octree.sides.x, past every node's slot (one more slot a leaf: Octree::allocateLight).
+// Every light buffer (radiance, estimate, direct, mean, bounces) has both. One light
+// for both sides would let a thin wall carry the light of one side to the other.
+// The axis is coded in the normal word's w: (axis + 1) / 4, 0 for an oriented leaf
+// and for inner nodes.
+int leafAxis(uint normalWord) { return int(round(unpackSnorm4x8(normalWord).w * 4.0)) - 1; }
+uint backSlot(uint node) { return node + octree.sides.x; }
+// The slot of a node's light as seen from unit direction `facing` (from the surface
+// towards whoever looks: -dir for a ray along dir, the normal at a triangle hit).
+uint lightSlot(uint node, uint normalWord, vec3 facing) {
+  int axis = leafAxis(normalWord);
+  return axis >= 0 && facing[axis] < 0.0 ? backSlot(node) : node;
+}
+// The unit normal of side `back` of a two-sided leaf's axis.
+vec3 sideNormal(int axis, bool back) {
+  vec3 n = vec3(0.0);
+  n[axis] = back ? -1.0 : 1.0;
+  return n;
+}
+
 int octreeDepth() { return int(octree.info.x); }
 int octreeRootSize() { return int(octree.info.y); }
 float octreeVoxelSize() { return octree.origin.w; }

@@ -15,6 +15,9 @@
 //   material: rgba8 albedo + opacity (coverage), rgba8 snorm normal (0 where two
 //             sides cancel);
 //   emission: rgb9e5 emitted radiance.
+// The light buffers (radiance, mean, and those of the refinement and the bounces)
+// have one slot a node and, past them, one a leaf for the - side of two-sided leaves
+// (octree.glsl, leafAxis).
 // Inner nodes hold their children filtered for cone tracing: opacity is the mean of
 // the 8 children's (an empty child counts 0) and colours are opacity-weighted means
 // (Crassin & Green, "Octree-Based Sparse Voxelization Using the GPU Hardware
@@ -42,6 +45,8 @@ struct OctreeParams {
   vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp);
                 // y: 1 when the estimate has voxel bounces beside its direct light;
                 // z: 1 to keep the bounces' mean apart (Settings::keepBounces)
+  uvec4 sides;  // x: where a two-sided leaf's - side lies in the light buffers, past
+                // the node's own slot (octree.glsl, lightSlot); yzw 0
 };
 
 // Written by the build passes; read back once per build.
@@ -62,7 +67,7 @@ struct OctreeRay {
 
 #ifdef __cplusplus
 static_assert(sizeof(OctreeRay) == 48);
-static_assert(sizeof(OctreeParams) == 96);
+static_assert(sizeof(OctreeParams) == 112);
 static_assert(sizeof(OctreeCounters) == 64);
 }  // namespace voxgi::gpu
 #endif

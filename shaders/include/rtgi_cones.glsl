@@ -53,7 +53,7 @@ vec4 coneNode(uint node, float size, vec3 dir) {
   float a = min(1.0, unpackUnorm4x8(m.x).a * size);
   vec3 n = unpackSnorm4x8(m.y).xyz;
   bool lights = size <= 1.0 || dot(n, n) > 0.25;
-  return vec4(lights ? unpackRgb9e5(radiance[node]) * a : vec3(0.0), a);
+  return vec4(lights ? unpackRgb9e5(radiance[lightSlot(node, m.y, -dir)]) * a : vec3(0.0), a);
 }
 
 // The octree at voxel v, at `level` and the level above (coarser): one descent

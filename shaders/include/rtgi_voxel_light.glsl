@@ -29,7 +29,8 @@ int voxelAt(vec3 o, vec3 dir, float t) {
 // The voxels' light at that point (voxelAt); none where no leaf stands for it.
 vec3 voxelLightAt(vec3 o, vec3 dir, float t) {
   int node = voxelAt(o, dir, t);
-  return node >= 0 ? unpackRgb9e5(radiance[node]) : vec3(0.0);
+  return node >= 0 ? unpackRgb9e5(radiance[lightSlot(uint(node), material[node].y, -dir)])
+                   : vec3(0.0);
 }
 
 // The voxels' light arriving at o from unit direction dir: where the ray meets a

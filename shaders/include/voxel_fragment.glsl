@@ -84,8 +84,10 @@ uint voxelSlot(ivec3 p) {
   return slot == kSlotFull - 1u ? kSlotFull : slot;
 }
 
-// Adds one fragment's weighted values to the sums of `slot`.
-void voxelAddToSlot(uint slot, uint weight, uvec3 a, uvec3 n, uvec3 e) {
+// Adds one fragment's weighted values to the sums of `slot`. `m`: the normal's
+// second moments along x and y (voxelMoments), kept in the free lanes of the normal
+// and emission sums.
+void voxelAddToSlot(uint slot, uint weight, uvec3 a, uvec3 n, uvec3 e, uvec2 m) {
   uint i = slot * 4u;
   ADD_SATURATING(sumsA, i + 0u, a.r);
   ADD_SATURATING(sumsA, i + 1u, a.g);
@@ -94,11 +96,21 @@ void voxelAddToSlot(uint slot, uint weight, uvec3 a, uvec3 n, uvec3 e) {
   ADD_SATURATING(sumsN, i + 0u, n.x);
   ADD_SATURATING(sumsN, i + 1u, n.y);
   ADD_SATURATING(sumsN, i + 2u, n.z);
+  ADD_SATURATING(sumsN, i + 3u, m.x);
+  ADD_SATURATING(sumsE, i + 3u, m.y);
   if (e != uvec3(0u)) {
     ADD_SATURATING(sumsE, i + 0u, e.r);
     ADD_SATURATING(sumsE, i + 1u, e.g);
     ADD_SATURATING(sumsE, i + 2u, e.b);
   }
+}
+
+// The unit normal's squares along x and y in kMomentOne steps (z's follows from
+// their sum): over a voxel's fragments, the axis its normals lie along even where
+// they cancel (both sides of a thin wall), which the resolve keeps for such voxels.
+uvec2 voxelMoments(vec3 n) {
+  return uvec2(uint(clamp(n.x * n.x, 0.0, 1.0) * float(kMomentOne) + 0.5),
+               uint(clamp(n.y * n.y, 0.0, 1.0) * float(kMomentOne) + 0.5));
 }
 
 uint voxelFixedPoint(float x) { return uint(clamp(x, 0.0, 1.0) * float(kFixedOne) + 0.5); }
@@ -126,6 +138,7 @@ void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo
   a *= weight;
   nf *= weight;
   ef *= weight;
+  uvec2 moments = voxelMoments(n) * weight;
   for (int k = k0; k <= k1; ++k) {
     ivec3 p = voxelUnswizzle(ivec3(pixel, k), axis);
 #ifdef VOXGI_DEFER_ALL  // tests: the deferred pass adds every fragment
@@ -139,10 +152,10 @@ void voxelAddFragment(ivec2 pixel, int axis, vec4 plane, vec2 depth, vec3 albedo
       // buffer and runs again.
       uint d = atomicAdd(stats.deferred, 1u);
       if (d < voxel.limits.w)
-        deferred[d] =
-            VoxelDeferred(uvec4(voxelPacked(p), weight, a.rg), uvec4(a.b, nf), uvec4(ef, 0u));
+        deferred[d] = VoxelDeferred(uvec4(voxelPacked(p), weight, a.rg), uvec4(a.b, nf),
+                                    uvec4(ef, moments.x | (moments.y << 16)));
       continue;
     }
-    voxelAddToSlot(slot, weight, a, nf, ef);
+    voxelAddToSlot(slot, weight, a, nf, ef, moments);
   }
 }

@@ -15,6 +15,7 @@ namespace voxgi::gpu {
 // (16384 fully covered fragments) of the largest value before any sum could
 // saturate.
 VOXGI_CONST uint kFixedOne = 65535u;
+VOXGI_CONST uint kMomentOne = 255u;  // a normal's squared component of 1 (voxelMoments)
 VOXGI_CONST uint kSumChannels = 10u;  // albedo rgb, normal xyz, emission rgb, weight
 VOXGI_CONST uint kSumAlbedo = 0u;
 VOXGI_CONST uint kSumNormal = 3u;
@@ -77,7 +78,7 @@ VOXGI_CONST uint kInitialDeferred = 4096u;
 struct VoxelDeferred {
   uvec4 voxel;     // x packed coordinates (10 bits per axis), y weight, zw albedo rg
   uvec4 albedoN;   // x albedo b, yzw normal xyz
-  uvec4 emission;  // xyz emission rgb, w 0
+  uvec4 emission;  // xyz emission rgb, w the normal's moments (x | y << 16, voxelMoments)
 };
 
 // SSBOs are limited to 128 MiB on llvmpipe: at most 2^23 - 1 voxel slots of 16

@@ -33,7 +33,8 @@ void main() {
       MarchHit h = octreeFirstHit(r, octreeDepth(), s, kRaySteps);
       if (!h.hit) break;
       float a = unpackUnorm4x8(material[h.node].x).a;
-      vec3 c = unpackRgb9e5(radiance[h.node]) + unpackRgb9e5(emission[h.node]);
+      vec3 c = unpackRgb9e5(radiance[lightSlot(h.node, material[h.node].y, -dir)]) +
+               unpackRgb9e5(emission[h.node]);
       color += (1.0 - alpha) * a * c;
       alpha += (1.0 - alpha) * a;
       if (!marchExitCell(r, 1, octreeRootSize(), s)) break;

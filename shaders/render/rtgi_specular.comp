@@ -85,8 +85,9 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
         result += throughput * h.s.diffuse * voxelLightAlong(p + ng * eps, d);
 #else
       MarchHit m = octreeTrace(octreeWorldRay(rayOrigin(h.s), d, 3.0e38), 0.0, kRaySteps);
-      if (m.hit && !seenFromBehind(material[m.node].y, d))
-        result += throughput * h.s.diffuse * unpackRgb9e5(radiance[m.node]);
+      uint word = m.hit ? material[m.node].y : 0u;
+      if (m.hit && !seenFromBehind(word, d))
+        result += throughput * h.s.diffuse * unpackRgb9e5(radiance[lightSlot(m.node, word, -d)]);
 #endif
     }
     break;
@@ -134,8 +135,9 @@ void main() {
 #else
       vec3 o = rayOrigin(s);
       MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
-      vec3 l = hit.hit && !seenFromBehind(material[hit.node].y, dir)
-                   ? unpackRgb9e5(radiance[hit.node])
+      uint word = hit.hit ? material[hit.node].y : 0u;
+      vec3 l = hit.hit && !seenFromBehind(word, dir)
+                   ? unpackRgb9e5(radiance[lightSlot(hit.node, word, -dir)])
                    : vec3(0.0);
       if (mirror) {
         // Lights seen in a mirror: the exact emitters, unless a voxel closer than

@@ -7,7 +7,8 @@
 // 1 for the first, so noise falls about as 1 / sqrt(estimates), as a pixel's does.
 // Beside it (octree.blend.z: Octree::Settings::keepBounces), the mean of the estimate
 // less its direct light (Bounce): the voxel bounces alone, for rtgi's rays that light
-// their hit exactly (rtgi_indirect.comp).
+// their hit exactly (rtgi_indirect.comp). A two-sided leaf (octree.glsl, leafAxis)
+// blends both its slots.
 // Not clamped at 0: the two rgb9e5 values round apart, and the mean averages that out.
 #include "voxel_shared.h"
 #include "octree.glsl"
@@ -19,6 +20,18 @@ layout(std430, binding = kOctreeScratchBinding) readonly buffer Estimate { uint 
 layout(std430, binding = kOctreeMeanBinding) buffer Mean { vec4 mean[]; };
 layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint direct[]; };
 layout(std430, binding = kOctreeBounceBinding) buffer Bounce { vec4 bounce[]; };
+layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
+
+void blendSlot(uint slot) {
+  vec3 sampled = unpackRgb9e5(estimate[slot]);
+  float w = octree.blend.x;
+  vec3 m = w >= 1.0 ? sampled : mean[slot].rgb + (sampled - mean[slot].rgb) * w;
+  mean[slot] = vec4(m, 0.0);
+  radiance[slot] = packRgb9e5(m);
+  if (octree.blend.z < 0.5) return;
+  vec3 b = octree.blend.y > 0.5 ? sampled - unpackRgb9e5(direct[slot]) : vec3(0.0);
+  bounce[slot] = vec4(w >= 1.0 ? b : bounce[slot].rgb + (b - bounce[slot].rgb) * w, 0.0);
+}
 
 void main() {
   uint i = octreeInvocation();
@@ -28,12 +41,6 @@ void main() {
   int depth = octreeDepth();
   uint node = 0u;
   for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
-  vec3 sampled = unpackRgb9e5(estimate[node]);
-  float w = octree.blend.x;
-  vec3 m = w >= 1.0 ? sampled : mean[node].rgb + (sampled - mean[node].rgb) * w;
-  mean[node] = vec4(m, 0.0);
-  radiance[node] = packRgb9e5(m);
-  if (octree.blend.z < 0.5) return;
-  vec3 b = octree.blend.y > 0.5 ? sampled - unpackRgb9e5(direct[node]) : vec3(0.0);
-  bounce[node] = vec4(w >= 1.0 ? b : bounce[node].rgb + (b - bounce[node].rgb) * w, 0.0);
+  blendSlot(node);
+  if (leafAxis(material[node].y) >= 0) blendSlot(backSlot(node));  // two-sided
 }

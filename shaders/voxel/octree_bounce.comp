@@ -4,7 +4,8 @@
 // where its normals cancel: averaged over orientations, E / pi is the sphere's mean
 // radiance too) pick up the radiance of the leaves they hit, as left by
 // the previous bounce (a separate buffer: the result does not depend on the order
-// threads run in). The leaf's radiance becomes its direct light plus albedo x the
+// threads run in). A two-sided leaf (octree.glsl, leafAxis) gathers once for each
+// side of its axis. The leaf's radiance becomes its direct light plus albedo x the
 // mean of what the rays brought (cosine sampling: E / pi = mean radiance). Rays that
 // leave the grid see no light (the background emits nothing).
 #include "scene_shared.h"
@@ -20,6 +21,34 @@ layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uin
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(std430, binding = kOctreeScratchBinding) readonly buffer Previous { uint previous[]; };
 layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint directIn[]; };
+
+// The mean radiance the rays bring to the voxel centre as seen by a surface of unit
+// normal n (over the sphere where !oriented); a two-sided leaf they hit shows the
+// side that faces them (lightSlot).
+vec3 gatheredAt(vec3 centre, vec3 n, bool oriented) {
+  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
+  float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
+
+  int rays = int(octree.light.x);
+  vec3 gathered = vec3(0.0);
+  for (int r = 0; r < rays; ++r) {
+    vec2 u = vec2(rand01(), rand01());
+    vec3 dir;
+    if (oriented) {
+      dir = cosineSample(n, u);
+    } else {
+      float z = 1.0 - 2.0 * u.x;
+      float s = sqrt(max(0.0, 1.0 - z * z));
+      dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
+    }
+    MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
+    if (!h.hit) continue;
+    uint word = material[h.node].y;
+    if (!seenFromBehind(word, dir))
+      gathered += unpackRgb9e5(previous[lightSlot(h.node, word, -dir)]);
+  }
+  return gathered / float(max(rays, 1));
+}
 
 void main() {
   uint i = octreeInvocation();
@@ -37,25 +66,12 @@ void main() {
   bool oriented = dot(n, n) > 0.25;
   n = oriented ? normalize(n) : vec3(0.0);
   vec3 centre = octreeToWorld(vec3(v) + 0.5);
-  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
-  float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
-
-  int rays = int(octree.light.x);
-  vec3 gathered = vec3(0.0);
-  for (int r = 0; r < rays; ++r) {
-    vec2 u = vec2(rand01(), rand01());
-    vec3 dir;
-    if (oriented) {
-      dir = cosineSample(n, u);
-    } else {
-      float z = 1.0 - 2.0 * u.x;
-      float s = sqrt(max(0.0, 1.0 - z * z));
-      dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
-    }
-    MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
-    if (h.hit && !seenFromBehind(material[h.node].y, dir))
-      gathered += unpackRgb9e5(previous[h.node]);
+  int axis = leafAxis(m.y);
+  for (int side = 0; side < (axis >= 0 ? 2 : 1); ++side) {
+    if (axis >= 0) n = sideNormal(axis, side == 1);
+    uint slot = side == 0 ? node : backSlot(node);
+    vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0);
+    vec3 direct = unpackRgb9e5(directIn[slot]);
+    radiance[slot] = packRgb9e5(direct + albedo.rgb * gathered);
   }
-  vec3 direct = unpackRgb9e5(directIn[node]);
-  radiance[node] = packRgb9e5(direct + albedo.rgb * gathered / float(max(rays, 1)));
 }

@@ -26,7 +26,10 @@ void main() {
     uvec2 m = material[first + c];
     vec4 a = unpackUnorm4x8(m.x);
     float w = a.a;
-    rad += unpackRgb9e5(radiance[first + c]) * w;
+    vec3 r = unpackRgb9e5(radiance[first + c]);
+    // A two-sided leaf's sides (octree.glsl, leafAxis): cones see both.
+    if (leafAxis(m.y) >= 0) r = 0.5 * (r + unpackRgb9e5(radiance[backSlot(first + c)]));
+    rad += r * w;
     opacity += w;
 #ifndef OCTREE_FILTER_RADIANCE
     alb += a.rgb * w;

@@ -5,8 +5,9 @@
 // (emitterFactor) times the visible fraction of sample points, every emitter
 // sampled in turn when there are few, else emitters drawn by power. The leaf's
 // radiance becomes albedo / pi x irradiance (Lambertian exitance over pi). A voxel
-// whose normals cancel (both sides of a thin wall) is lit as if it faced each
-// light: it cannot tell its sides apart, which is how a 1-voxel wall leaks.
+// whose normals cancel with no axis to keep apart is lit as if it faced each
+// light. A two-sided leaf (octree.glsl, leafAxis) is lit twice, once as each side of
+// its axis, into its two light slots.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS casts no shadow ray (every
 // sample point counts as visible); VOXGI_NO_EMISSION leaves emitters out.
 #include "scene_shared.h"
@@ -30,22 +31,9 @@ layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint di
 #define EMITTER_VISIBLE(e, p, start) emitterVisible(e, p, start)
 #endif
 
-void main() {
-  uint i = octreeInvocation();
-  if (i >= octree.pass.z) return;
-  uint code = voxels[octree.slice.x + i];
-  ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
-  int depth = octreeDepth();
-  uint node = 0u;
-  for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
-  rngState = pcgHash(pcgHash(octree.pass.w) ^ code);
-
-  uvec2 m = material[node];
-  vec4 albedo = unpackUnorm4x8(m.x);
-  vec3 n = unpackSnorm4x8(m.y).xyz;
-  bool oriented = dot(n, n) > 0.25;
-  n = oriented ? normalize(n) : vec3(0.0);
-  vec3 centre = octreeToWorld(vec3(v) + 0.5);
+// The irradiance at the voxel centre as seen by a surface of unit normal n (none
+// where !oriented).
+vec3 irradianceAt(vec3 centre, vec3 n, bool oriented) {
   // Rays start off the surface; an unoriented voxel starts at its centre and skips
   // its own cell and neighbours by distance instead.
   vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
@@ -104,8 +92,32 @@ void main() {
       }
     }
   }
-  vec3 direct = albedo.rgb / kPi * irradiance;
-  uint word = packRgb9e5(direct);
-  radiance[node] = word;
-  if (octree.light.w != 0u) directOut[node] = word;  // bounces follow
+  return irradiance;
+}
+
+void main() {
+  uint i = octreeInvocation();
+  if (i >= octree.pass.z) return;
+  uint code = voxels[octree.slice.x + i];
+  ivec3 v = ivec3(code & 1023u, (code >> 10) & 1023u, (code >> 20) & 1023u);
+  int depth = octreeDepth();
+  uint node = 0u;
+  for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
+  rngState = pcgHash(pcgHash(octree.pass.w) ^ code);
+
+  uvec2 m = material[node];
+  vec4 albedo = unpackUnorm4x8(m.x);
+  vec3 n = unpackSnorm4x8(m.y).xyz;
+  bool oriented = dot(n, n) > 0.25;
+  n = oriented ? normalize(n) : vec3(0.0);
+  vec3 centre = octreeToWorld(vec3(v) + 0.5);
+  int axis = leafAxis(m.y);
+  for (int side = 0; side < (axis >= 0 ? 2 : 1); ++side) {
+    if (axis >= 0) n = sideNormal(axis, side == 1);
+    vec3 direct = albedo.rgb / kPi * irradianceAt(centre, n, oriented || axis >= 0);
+    uint word = packRgb9e5(direct);
+    uint slot = side == 0 ? node : backSlot(node);
+    radiance[slot] = word;
+    if (octree.light.w != 0u) directOut[slot] = word;  // bounces follow
+  }
 }

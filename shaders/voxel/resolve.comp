@@ -47,12 +47,19 @@ void main() {
   vec3 albedo = vec3(sa.xyz) * inv;
   vec3 normal = vec3(sn.xyz) * inv * 2.0 - 1.0;
   vec3 emission = vec3(se.xyz) * inv * voxel.gridInfo.z;
-  // Opposite normals cancel (a voxel holding both sides of a thin wall): no normal.
+  // Opposite normals cancel (a voxel holding both sides of a thin wall): no normal,
+  // and the axis they lie along (the largest second moment) coded in w, so the
+  // octree keeps the light of the two sides apart (octree.glsl, leafAxis).
   float len = length(normal);
+  vec2 mxy = vec2(sn.w, se.w) / (float(w) * float(kMomentOne));
+  vec3 moments = vec3(mxy, 1.0 - mxy.x - mxy.y);
+  int axis =
+      moments.x >= moments.y ? (moments.x >= moments.z ? 0 : 2) : (moments.y >= moments.z ? 1 : 2);
+  float sided = len > 0.1 ? 0.0 : float(axis + 1) * 0.25;
   normal = len > 0.1 ? normal / len : vec3(0.0);
   // Coverage: one fully covered fragment makes a voxel opaque.
   float opacity = min(1.0, float(w) / float(kSamplesPerFragment));
-  uvec4 a = uvec4(packUnorm4x8(vec4(albedo, opacity)), packSnorm4x8(vec4(normal, 0.0)),
+  uvec4 a = uvec4(packUnorm4x8(vec4(albedo, opacity)), packSnorm4x8(vec4(normal, sided)),
                   packHalf2x16(emission.rg), packHalf2x16(vec2(emission.b, 0.0)));
   attributes[i] = a;
 

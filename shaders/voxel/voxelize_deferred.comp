@@ -29,5 +29,6 @@ void main() {
     atomicAdd(stats.deferredLost, 1u);  // never expected: the pass runs again
     return;
   }
-  voxelAddToSlot(slot, d.voxel.y, uvec3(d.voxel.zw, d.albedoN.x), d.albedoN.yzw, d.emission.xyz);
+  voxelAddToSlot(slot, d.voxel.y, uvec3(d.voxel.zw, d.albedoN.x), d.albedoN.yzw, d.emission.xyz,
+                 uvec2(d.emission.w & 0xFFFFu, d.emission.w >> 16));
 }

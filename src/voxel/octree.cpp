@@ -12,10 +12,12 @@ namespace {
 
 // std430 limits one SSBO to 128 MiB on llvmpipe: the node buffer's ceiling.
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
-constexpr uint64_t kDataBytesPerNode = 4 + 8 + 4;  // radiance, material, emission
-constexpr uint64_t kBounceBytesPerNode = 16;       // Settings::keepBounces
+// Per light slot (one a node, one more a leaf: allocateLight) and per node.
+constexpr uint64_t kRadianceBytes = 4;
+constexpr uint64_t kDataBytesPerNode = 8 + 4;  // material, emission
+constexpr uint64_t kBounceBytes = 16;          // Settings::keepBounces
 // The light's refinement: this estimate, its direct light, the previous bounce, the mean.
-constexpr uint64_t kRefineBytesPerNode = 4 + 4 + 4 + 16;
+constexpr uint64_t kRefineBytes = 4 + 4 + 4 + 16;
 // With all bounces, the first estimate's chain of bounces (pixel's included).
 constexpr int kFirstChainBounces = 6;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
@@ -104,11 +106,22 @@ void Octree::allocate(uint32_t capacity) {
   nodes_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   nodeTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
   glTextureBuffer(nodeTexture_.id(), GL_R32UI, nodes_.id());
-  radiance_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   material_ = gl::createBuffer(n * 8, nullptr, GL_DYNAMIC_STORAGE_BIT);
   emission_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  lightSlots_ = 0;  // allocateLight() follows, once the leaves are known
+}
+
+// The light buffers: a slot for every node (the + side of a two-sided leaf) and,
+// past them, `backSlots` for the leaves' - sides (octree.glsl, leafAxis). Leaves
+// come last in the node buffer (the build allocates level by level), so a leaf's
+// - side is at node + capacity - the leaf level's first node.
+void Octree::allocateLight(uint32_t backSlots) {
+  lightSlots_ = capacity_ + backSlots;
+  const auto n = static_cast<GLsizeiptr>(lightSlots_);
+  radiance_ = gl::createBuffer(n * static_cast<GLsizeiptr>(kRadianceBytes), nullptr,
+                               GL_DYNAMIC_STORAGE_BIT);
   if (settings_.keepBounces)
-    bounceMean_ = gl::createBuffer(n * static_cast<GLsizeiptr>(kBounceBytesPerNode), nullptr,
+    bounceMean_ = gl::createBuffer(n * static_cast<GLsizeiptr>(kBounceBytes), nullptr,
                                    GL_DYNAMIC_STORAGE_BIT);
   estimate_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   direct_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -179,7 +192,11 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
     paramsData_.info.w = capacity_;
   }
   const auto used = static_cast<GLsizeiptr>(stats_.nodes);
-  clearBuffer(radiance_.id(), used * 4);
+  const uint32_t leafStart = levelStart_[static_cast<size_t>(stats_.depth)];
+  const uint32_t backSlots = capacity_ - leafStart;
+  if (lightSlots_ < capacity_ + backSlots) allocateLight(backSlots);
+  paramsData_.sides = glm::uvec4(capacity_ - leafStart, 0u, 0u, 0u);
+  clearBuffer(radiance_.id(), static_cast<GLsizeiptr>(lightSlots_) * 4);
   clearBuffer(material_.id(), used * 8);
   clearBuffer(emission_.id(), used * 4);
   sliceStart_.clear();  // no light yet: nothing to refine until inject()
@@ -197,9 +214,10 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   for (int l = 0; l <= stats_.depth; ++l)
     stats_.levelNodes.push_back(levelStart_[static_cast<size_t>(l) + 1] -
                                 levelStart_[static_cast<size_t>(l)]);
-  stats_.bytes = uint64_t{capacity_} *
-                 (4 + kDataBytesPerNode + (settings_.keepBounces ? kBounceBytesPerNode : 0));
-  stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode;
+  stats_.bytes =
+      uint64_t{capacity_} * (4 + kDataBytesPerNode) +
+      uint64_t{lightSlots_} * (kRadianceBytes + (settings_.keepBounces ? kBounceBytes : 0));
+  stats_.refineBytes = uint64_t{lightSlots_} * kRefineBytes;
   const uint64_t nn = static_cast<uint64_t>(n);
   stats_.denseBytes = nn * nn * nn * (4 + 4 + 8);  // albedo rgba8, normal rgba8, emission rgba16f
   stats_.buildBytes = std::max(stats_.buildBytes, stats_.bytes + stats_.refineBytes);
@@ -247,7 +265,7 @@ void Octree::makeSlices() {
   for (size_t k = 1; k < sliceStart_.size(); ++k) sliceStart_[k] += sliceStart_[k - 1];
   sliceList_ = gl::createBuffer(static_cast<GLsizeiptr>(std::max<size_t>(codes.size(), 1) * 4),
                                 codes.empty() ? nullptr : codes.data());
-  stats_.refineBytes = uint64_t{capacity_} * kRefineBytesPerNode + uint64_t{stats_.leaves} * 4;
+  stats_.refineBytes = uint64_t{lightSlots_} * kRefineBytes + uint64_t{stats_.leaves} * 4;
 }
 
 bool Octree::refines() const {
@@ -315,11 +333,15 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   dispatch(inject_, count);
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
   const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
+  const auto backBytes =
+      static_cast<GLsizeiptr>(stats_.nodes - levelStart_[static_cast<size_t>(stats_.depth)]) * 4;
   for (int b = 1; b <= voxelBounces; ++b) {
     if (feedback) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, radiance_.id());
     } else {
       glCopyNamedBufferSubData(estimate_.id(), previous_.id(), 0, 0, bytes);
+      const GLintptr back = static_cast<GLintptr>(capacity_) * 4;  // the leaves' - sides
+      glCopyNamedBufferSubData(estimate_.id(), previous_.id(), back, back, backBytes);
       glMemoryBarrier(kBarrier);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous_.id());
     }
@@ -377,9 +399,12 @@ std::vector<uint32_t> Octree::readNodes() const {
   return out;
 }
 
-std::vector<uint32_t> Octree::readRadiance() const {
+std::vector<uint32_t> Octree::readRadiance(int slot) const {
+  VOXGI_CHECK(slot == 0 || slot == 1);
   std::vector<uint32_t> out(size_t{stats_.nodes});
-  glGetNamedBufferSubData(radiance_.id(), 0, static_cast<GLsizeiptr>(out.size() * 4), out.data());
+  glGetNamedBufferSubData(radiance_.id(),
+                          slot == 0 ? 0 : static_cast<GLintptr>(paramsData_.sides.x) * 4,
+                          static_cast<GLsizeiptr>(out.size() * 4), out.data());
   return out;
 }
 

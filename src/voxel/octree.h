@@ -124,12 +124,14 @@ class Octree {
 
   // Tests.
   std::vector<uint32_t> readNodes() const;
-  std::vector<uint32_t> readRadiance() const;  // rgb9e5 per node
+  // rgb9e5 per node; slot 1: the - side of two-sided leaves (octree.glsl, leafAxis).
+  std::vector<uint32_t> readRadiance(int slot = 0) const;
   std::vector<glm::vec4> readMean() const;     // the float running mean per node
   std::vector<uint32_t> readMaterial() const;  // two words per node (rgba8, snorm8x4)
 
  private:
   void allocate(uint32_t capacity);
+  void allocateLight(uint32_t backSlots);
   bool buildInto(gl::FrameContext& ctx, const VoxelizePass& grid, uint32_t listed);
   void setPass(uint32_t level, uint32_t first, uint32_t count, uint32_t bounce = 0);
   void dispatch(const gl::Program& p, uint32_t count);
@@ -173,7 +175,8 @@ class Octree {
   uint32_t seed_ = 0;         // this estimate's
   gl::Texture nodeTexture_;   // nodes_ as a buffer texture (r32ui)
   uint32_t capacity_ = 0;
-  GLuint listBuffer_ = 0;  // the grid's voxel list, read again by inject()
+  uint32_t lightSlots_ = 0;  // capacity_ + one a leaf (allocateLight)
+  GLuint listBuffer_ = 0;    // the grid's voxel list, read again by inject()
   gpu::OctreeParams paramsData_{};
   OctreeStats stats_;
   std::vector<uint32_t> levelStart_;

@@ -328,6 +328,60 @@ TEST_F(OctreeTest, InjectionCastsShadows) {
   EXPECT_GT(compared, 3000u);
 }
 
+// A wall thinner than a voxel, its two faces in one column of voxels (x = 32.3 facing
+// -x, x = 32.7 facing +x), a point light on its -x side. Its leaves' normals cancel,
+// so they are two-sided along x (the normal word's w: axis 0) and keep the light of
+// each side apart (octree.glsl, leafAxis): the - side's slot holds the light of a
+// surface facing -x (Lambert at the voxel centre, as in InjectionCastsShadows), the
+// + side's, which the light cannot reach, none. One light for both sides, lit as if
+// it faced the light, carried the outside light to the other side of such walls.
+TEST_F(OctreeTest, TwoSidedLeavesKeepTheirSidesApart) {
+  SceneBuilder b;
+  const int m = b.addMaterial(glm::vec3(0.5f));
+  for (const float x : {32.3f, 32.7f}) {
+    const glm::vec3 p00(x, 8.0f, 8.0f), p01(x, 8.0f, 56.0f), p10(x, 56.0f, 8.0f),
+        p11(x, 56.0f, 56.0f);
+    if (x < 32.5f)
+      b.addTriangles({p00, p01, p10, p01, p11, p10}, m);  // facing -x
+    else
+      b.addTriangles({p00, p10, p01, p01, p10, p11}, m);  // facing +x
+  }
+  scene::Scene s = b.finish();
+  s.scale.gridOrigin = glm::vec3(0.0f);
+  s.scale.gridSize = 64.0f;
+  scene::Light light;
+  light.type = scene::LightType::kPoint;
+  light.position = glm::vec3(10.0f, 32.0f, 32.0f);
+  light.intensity = 1000.0f;
+  s.lights = {light};
+  voxel::Octree::Settings settings;
+  settings.bounces = 1;
+  auto built = build(s, 64, true, settings);
+  const std::vector<uint32_t> nodes = built->octree->readNodes();
+  const std::vector<uint32_t> material = built->octree->readMaterial();
+  const std::vector<uint32_t> plus = built->octree->readRadiance(0);
+  const std::vector<uint32_t> minus = built->octree->readRadiance(1);
+  const int depth = built->octree->depth();
+  int checked = 0;
+  for (const glm::ivec2 yz : {glm::ivec2(20, 20), glm::ivec2(32, 32), glm::ivec2(44, 30)}) {
+    int reached = 0;
+    const uint32_t node = gpu::octreeLookup(nodes.data(), depth, {32, yz.x, yz.y}, depth, reached);
+    ASSERT_EQ(reached, depth);
+    ASSERT_NE(nodes[node], 0u) << yz.x << "," << yz.y;
+    const glm::vec4 n = glm::unpackSnorm4x8(material[2 * node + 1]);
+    EXPECT_EQ(glm::length(glm::vec3(n)), 0.0f) << "the faces cancel";
+    EXPECT_EQ(std::lround(n.w * 4.0f) - 1, 0) << "two-sided along x";
+    const glm::vec3 c(32.5f, static_cast<float>(yz.x) + 0.5f, static_cast<float>(yz.y) + 0.5f);
+    const glm::vec3 toLight = light.position - c;
+    const float d2 = glm::dot(toLight, toLight);
+    const float expected = 0.5f / 3.14159265f * 1000.0f * (-toLight.x / std::sqrt(d2)) / d2;
+    EXPECT_NEAR(glm::unpackF3x9_E1x5(minus[node]).x, expected, expected * 0.01f);
+    EXPECT_EQ(glm::unpackF3x9_E1x5(plus[node]), glm::vec3(0.0f)) << "the unlit side";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+}
+
 // Energy: a closed sphere of albedo a, radius 1, with a point light of I candela at
 // its centre. The direct irradiance on the wall is I everywhere, and the wall sees
 // only itself, so every bounce is uniform too: E = I + a E, and the radiance the wall
