@@ -15,7 +15,7 @@ namespace voxgi::gpu {
 // (16384 fully covered fragments) of the largest value before any sum could
 // saturate.
 VOXGI_CONST uint kFixedOne = 65535u;
-VOXGI_CONST uint kMomentOne = 255u;  // a normal's squared component of 1 (voxelMoments)
+VOXGI_CONST uint kMomentOne = 255u;   // a normal's squared component of 1 (voxelMoments)
 VOXGI_CONST uint kSumChannels = 10u;  // albedo rgb, normal xyz, emission rgb, weight
 VOXGI_CONST uint kSumAlbedo = 0u;
 VOXGI_CONST uint kSumNormal = 3u;
