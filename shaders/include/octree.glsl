@@ -40,6 +40,28 @@ float surfaceRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 2.0 * voxelSup
 // The same from a voxel's centre, which may lie up to one support off the surface.
 float leafRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 3.0 * voxelSupport(n) + 0.1); }
 
+// Two-sided leaves. A leaf whose normals cancel (both faces of a wall thinner than
+// a voxel) holds two surfaces facing apart. Its light is kept apart on the two sides
+// of the axis its normals lie along (the resolve's second moments: voxelMoments):
+// the + side in the light buffers' slot `node`, the - side in a slot of its own past
+// every node's (octree.sides.x + an index octree_fill.comp gives it). Every light
+// buffer (radiance, estimate, direct, mean, bounces) has both. One light for both
+// sides would let a thin wall carry the light of one side to the other. The normal
+// word's w codes the axis, (axis + 1) / 4 (0 for an oriented leaf and for inner
+// nodes); its other 24 bits, where an oriented leaf keeps its normal, hold the index.
+int leafAxis(uint normalWord) { return int(round(unpackSnorm4x8(normalWord).w * 4.0)) - 1; }
+// A leaf's (or inner node's) normal: 0 for a two-sided leaf, whose faces cancel.
+vec3 leafNormal(uint normalWord) {
+  return leafAxis(normalWord) >= 0 ? vec3(0.0) : unpackSnorm4x8(normalWord).xyz;
+}
+uint backSlot(uint normalWord) { return octree.sides.x + (normalWord & 0xFFFFFFu); }
+// The slot of a node's light as seen from unit direction `facing` (from the surface
+// towards whoever looks: -dir for a ray along dir, the normal at a triangle hit).
+uint lightSlot(uint node, uint normalWord, vec3 facing) {
+  int axis = leafAxis(normalWord);
+  return axis >= 0 && facing[axis] < 0.0 ? backSlot(normalWord) : node;
+}
+
 // A ray that meets an oriented leaf from behind (its normal, where the sides do not
 // cancel, points along the ray) sees the inside of a closed surface, which no light
 // reaches: the voxel occludes but shows no light. Without this, a ray that starts
@@ -47,7 +69,7 @@ float leafRayOffset(vec3 n) { return max(kSurfaceOffsetVoxels, 3.0 * voxelSuppor
 // that neighbour's far side through its inside (a bright ring under a sphere).
 // `normalWord` is the leaf's packed snorm normal (the material buffer's .y).
 bool seenFromBehind(uint normalWord, vec3 dir) {
-  vec3 n = unpackSnorm4x8(normalWord).xyz;
+  vec3 n = leafNormal(normalWord);
   float len2 = dot(n, n);
   return len2 > 0.25 && dot(n, dir) > 0.25 * sqrt(len2);
 }
@@ -58,23 +80,6 @@ uint octreeInvocation() {
          gl_LocalInvocationID.x;
 }
 
-// Two-sided leaves. A leaf whose normals cancel (both faces of a wall thinner than
-// a voxel) holds two surfaces facing apart. Its light is kept apart on the two sides
-// of the axis its normals lie along (the resolve's second moments: voxelMoments):
-// the + side in the light buffers' slot `node`, the - side in slot `node` +
-// octree.sides.x, past every node's slot (one more slot a leaf: Octree::allocateLight).
-// Every light buffer (radiance, estimate, direct, mean, bounces) has both. One light
-// for both sides would let a thin wall carry the light of one side to the other.
-// The axis is coded in the normal word's w: (axis + 1) / 4, 0 for an oriented leaf
-// and for inner nodes.
-int leafAxis(uint normalWord) { return int(round(unpackSnorm4x8(normalWord).w * 4.0)) - 1; }
-uint backSlot(uint node) { return node + octree.sides.x; }
-// The slot of a node's light as seen from unit direction `facing` (from the surface
-// towards whoever looks: -dir for a ray along dir, the normal at a triangle hit).
-uint lightSlot(uint node, uint normalWord, vec3 facing) {
-  int axis = leafAxis(normalWord);
-  return axis >= 0 && facing[axis] < 0.0 ? backSlot(node) : node;
-}
 // The unit normal of side `back` of a two-sided leaf's axis.
 vec3 sideNormal(int axis, bool back) {
   vec3 n = vec3(0.0);

@@ -16,8 +16,9 @@
 //             sides cancel);
 //   emission: rgb9e5 emitted radiance.
 // The light buffers (radiance, mean, and those of the refinement and the bounces)
-// have one slot a node and, past them, one a leaf for the - side of two-sided leaves
-// (octree.glsl, leafAxis).
+// have one slot a node and, past them, one for the - side of each two-sided leaf
+// (octree.glsl, leafAxis), whose normal word holds that slot's index in place of
+// its normal.
 // Inner nodes hold their children filtered for cone tracing: opacity is the mean of
 // the 8 children's (an empty child counts 0) and colours are opacity-weighted means
 // (Crassin & Green, "Octree-Based Sparse Voxelization Using the GPU Hardware
@@ -45,15 +46,15 @@ struct OctreeParams {
   vec4 blend;   // x: weight of this estimate in the running mean (octree_average.comp);
                 // y: 1 when the estimate has voxel bounces beside its direct light;
                 // z: 1 to keep the bounces' mean apart (Settings::keepBounces)
-  uvec4 sides;  // x: where a two-sided leaf's - side lies in the light buffers, past
-                // the node's own slot (octree.glsl, lightSlot); yzw 0
+  uvec4 sides;  // x: the first of the two-sided leaves' - side slots in the light
+                // buffers (octree.glsl, backSlot); yzw 0
 };
 
 // Written by the build passes; read back once per build.
 struct OctreeCounters {
   uint nodeCount;  // nodes allocated (root included)
   uint overflow;   // allocations refused for lack of capacity
-  uint pad0;
+  uint twoSided;   // two-sided leaves (octree_fill.comp): their second light slots
   uint pad1;
   uint levelStart[12];  // first node of each level; levelStart[depth + 1] = nodeCount
 };

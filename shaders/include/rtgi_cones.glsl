@@ -51,7 +51,7 @@ vec4 coneNode(uint node, float size, vec3 dir) {
   uvec2 m = material[node];
   if (seenFromBehind(m.y, dir)) return vec4(0.0);
   float a = min(1.0, unpackUnorm4x8(m.x).a * size);
-  vec3 n = unpackSnorm4x8(m.y).xyz;
+  vec3 n = leafNormal(m.y);
   bool lights = size <= 1.0 || dot(n, n) > 0.25;
   return vec4(lights ? unpackRgb9e5(radiance[lightSlot(node, m.y, -dir)]) * a : vec3(0.0), a);
 }

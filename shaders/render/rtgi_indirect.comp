@@ -71,7 +71,7 @@ layout(binding = kIndirectImage, rgba16f) uniform writeonly image2D indirectOut;
 // side's faces outweigh this side's).
 bool voxelStandsFor(int node, vec3 ng) {
   if (node < 0) return false;
-  vec3 n = unpackSnorm4x8(material[node].y).xyz;
+  vec3 n = leafNormal(material[node].y);
   float len2 = dot(n, n);
   return len2 > 0.25 && dot(n, ng) > 0.5 * sqrt(len2);
 }

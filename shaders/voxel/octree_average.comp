@@ -42,5 +42,6 @@ void main() {
   uint node = 0u;
   for (int l = 0; l < depth; ++l) node = octreeNodes[node] + childIndex(v, depth, l);
   blendSlot(node);
-  if (leafAxis(material[node].y) >= 0) blendSlot(backSlot(node));  // two-sided
+  uint word = material[node].y;
+  if (leafAxis(word) >= 0) blendSlot(backSlot(word));  // two-sided
 }

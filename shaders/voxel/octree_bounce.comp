@@ -62,14 +62,14 @@ void main() {
 
   uvec2 m = material[node];
   vec4 albedo = unpackUnorm4x8(m.x);
-  vec3 n = unpackSnorm4x8(m.y).xyz;
+  vec3 n = leafNormal(m.y);
   bool oriented = dot(n, n) > 0.25;
   n = oriented ? normalize(n) : vec3(0.0);
   vec3 centre = octreeToWorld(vec3(v) + 0.5);
   int axis = leafAxis(m.y);
   for (int side = 0; side < (axis >= 0 ? 2 : 1); ++side) {
     if (axis >= 0) n = sideNormal(axis, side == 1);
-    uint slot = side == 0 ? node : backSlot(node);
+    uint slot = side == 0 ? node : backSlot(m.y);
     vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0);
     vec3 direct = unpackRgb9e5(directIn[slot]);
     radiance[slot] = packRgb9e5(direct + albedo.rgb * gathered);

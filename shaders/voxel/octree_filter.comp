@@ -28,13 +28,13 @@ void main() {
     float w = a.a;
     vec3 r = unpackRgb9e5(radiance[first + c]);
     // A two-sided leaf's sides (octree.glsl, leafAxis): cones see both.
-    if (leafAxis(m.y) >= 0) r = 0.5 * (r + unpackRgb9e5(radiance[backSlot(first + c)]));
+    if (leafAxis(m.y) >= 0) r = 0.5 * (r + unpackRgb9e5(radiance[backSlot(m.y)]));
     rad += r * w;
     opacity += w;
 #ifndef OCTREE_FILTER_RADIANCE
     alb += a.rgb * w;
     em += unpackRgb9e5(emission[first + c]) * w;
-    nrm += unpackSnorm4x8(m.y).xyz * w;
+    nrm += leafNormal(m.y) * w;
 #endif
   }
   float inv = opacity > 0.0 ? 1.0 / opacity : 0.0;

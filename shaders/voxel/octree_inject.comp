@@ -107,7 +107,7 @@ void main() {
 
   uvec2 m = material[node];
   vec4 albedo = unpackUnorm4x8(m.x);
-  vec3 n = unpackSnorm4x8(m.y).xyz;
+  vec3 n = leafNormal(m.y);
   bool oriented = dot(n, n) > 0.25;
   n = oriented ? normalize(n) : vec3(0.0);
   vec3 centre = octreeToWorld(vec3(v) + 0.5);
@@ -116,7 +116,7 @@ void main() {
     if (axis >= 0) n = sideNormal(axis, side == 1);
     vec3 direct = albedo.rgb / kPi * irradianceAt(centre, n, oriented || axis >= 0);
     uint word = packRgb9e5(direct);
-    uint slot = side == 0 ? node : backSlot(node);
+    uint slot = side == 0 ? node : backSlot(m.y);
     radiance[slot] = word;
     if (octree.light.w != 0u) directOut[slot] = word;  // bounces follow
   }

@@ -259,6 +259,7 @@ void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
     const voxel::OctreeStats& os = tree->stats();
     stats["octree"] = {{"nodes", os.nodes},
                        {"leaves", os.leaves},
+                       {"two_sided_leaves", os.twoSidedLeaves},
                        {"depth", os.depth},
                        {"bytes", os.bytes},
                        {"refine_bytes", os.refineBytes},

@@ -1,7 +1,9 @@
 #include "voxel/octree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 #include "core/log.h"
 #include "scene_shared.h"
@@ -12,6 +14,8 @@ namespace {
 
 // std430 limits one SSBO to 128 MiB on llvmpipe: the node buffer's ceiling.
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
+// Two-sided leaves with a second light slot: the index has 24 bits (octree_fill.comp).
+constexpr uint32_t kMaxTwoSided = 0xFFFFFFu;
 // Per light slot (one a node, one more a leaf: allocateLight) and per node.
 constexpr uint64_t kRadianceBytes = 4;
 constexpr uint64_t kDataBytesPerNode = 8 + 4;  // material, emission
@@ -112,9 +116,7 @@ void Octree::allocate(uint32_t capacity) {
 }
 
 // The light buffers: a slot for every node (the + side of a two-sided leaf) and,
-// past them, `backSlots` for the leaves' - sides (octree.glsl, leafAxis). Leaves
-// come last in the node buffer (the build allocates level by level), so a leaf's
-// - side is at node + capacity - the leaf level's first node.
+// past them, `backSlots` for the two-sided leaves' - sides (octree.glsl, leafAxis).
 void Octree::allocateLight(uint32_t backSlots) {
   lightSlots_ = capacity_ + backSlots;
   const auto n = static_cast<GLsizeiptr>(lightSlots_);
@@ -192,11 +194,6 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
     paramsData_.info.w = capacity_;
   }
   const auto used = static_cast<GLsizeiptr>(stats_.nodes);
-  const uint32_t leafStart = levelStart_[static_cast<size_t>(stats_.depth)];
-  const uint32_t backSlots = capacity_ - leafStart;
-  if (lightSlots_ < capacity_ + backSlots) allocateLight(backSlots);
-  paramsData_.sides = glm::uvec4(capacity_ - leafStart, 0u, 0u, 0u);
-  clearBuffer(radiance_.id(), static_cast<GLsizeiptr>(lightSlots_) * 4);
   clearBuffer(material_.id(), used * 8);
   clearBuffer(emission_.id(), used * 4);
   sliceStart_.clear();  // no light yet: nothing to refine until inject()
@@ -205,8 +202,19 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
   bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, grid.list());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelAttribBinding, grid.attributes());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeCounterBinding, counters_.id());
   setPass(static_cast<uint32_t>(stats_.depth), 0, listed);
   dispatch(fill_, listed);
+  // The two-sided leaves took their second light slots; room for them, and for
+  // re-builds that have a few more.
+  uint32_t twoSided = 0;
+  glGetNamedBufferSubData(counters_.id(), offsetof(gpu::OctreeCounters, twoSided), sizeof(twoSided),
+                          &twoSided);
+  stats_.twoSidedLeaves = std::min(twoSided, kMaxTwoSided);
+  if (lightSlots_ < capacity_ + stats_.twoSidedLeaves)
+    allocateLight(stats_.twoSidedLeaves + stats_.twoSidedLeaves / 16 + 64);
+  paramsData_.sides = glm::uvec4(capacity_, 0u, 0u, 0u);
+  clearBuffer(radiance_.id(), static_cast<GLsizeiptr>(lightSlots_) * 4);
 
   stats_.leaves = listed;
   listBuffer_ = grid.list();
@@ -333,15 +341,15 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   dispatch(inject_, count);
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
   const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
-  const auto backBytes =
-      static_cast<GLsizeiptr>(stats_.nodes - levelStart_[static_cast<size_t>(stats_.depth)]) * 4;
+  const auto backBytes = static_cast<GLsizeiptr>(stats_.twoSidedLeaves) * 4;
   for (int b = 1; b <= voxelBounces; ++b) {
     if (feedback) {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, radiance_.id());
     } else {
       glCopyNamedBufferSubData(estimate_.id(), previous_.id(), 0, 0, bytes);
-      const GLintptr back = static_cast<GLintptr>(capacity_) * 4;  // the leaves' - sides
-      glCopyNamedBufferSubData(estimate_.id(), previous_.id(), back, back, backBytes);
+      const GLintptr back = static_cast<GLintptr>(capacity_) * 4;  // the - sides
+      if (backBytes > 0)
+        glCopyNamedBufferSubData(estimate_.id(), previous_.id(), back, back, backBytes);
       glMemoryBarrier(kBarrier);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous_.id());
     }
@@ -402,9 +410,22 @@ std::vector<uint32_t> Octree::readNodes() const {
 std::vector<uint32_t> Octree::readRadiance(int slot) const {
   VOXGI_CHECK(slot == 0 || slot == 1);
   std::vector<uint32_t> out(size_t{stats_.nodes});
-  glGetNamedBufferSubData(radiance_.id(),
-                          slot == 0 ? 0 : static_cast<GLintptr>(paramsData_.sides.x) * 4,
-                          static_cast<GLsizeiptr>(out.size() * 4), out.data());
+  if (slot == 0) {
+    glGetNamedBufferSubData(radiance_.id(), 0, static_cast<GLsizeiptr>(out.size() * 4), out.data());
+    return out;
+  }
+  // The - sides: where a two-sided leaf's normal word points (octree.glsl, backSlot).
+  std::vector<uint32_t> back(size_t{stats_.twoSidedLeaves});
+  if (!back.empty())
+    glGetNamedBufferSubData(radiance_.id(), static_cast<GLintptr>(capacity_) * 4,
+                            static_cast<GLsizeiptr>(back.size() * 4), back.data());
+  const std::vector<uint32_t> material = readMaterial();
+  for (size_t node = 0; node < out.size(); ++node) {
+    const uint32_t word = material[2 * node + 1];
+    const int axis =
+        static_cast<int>(std::lround(static_cast<int8_t>(word >> 24) / 127.0 * 4.0)) - 1;
+    if (axis >= 0 && (word & 0xFFFFFFu) < back.size()) out[node] = back[word & 0xFFFFFFu];
+  }
   return out;
 }
 

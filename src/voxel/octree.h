@@ -58,6 +58,7 @@ namespace voxgi::voxel {
 struct OctreeStats {
   int depth = 0;
   uint32_t nodes = 0;                // allocated, root included
+  uint32_t twoSidedLeaves = 0;       // leaves whose normals cancel, with two light slots
   uint32_t leaves = 0;               // occupied leaves (= occupied voxels)
   uint64_t bytes = 0;                // resident: nodes and per-node data at the buffers' capacity
   uint64_t refineBytes = 0;          // resident beside them: the light's refinement buffers
@@ -124,7 +125,8 @@ class Octree {
 
   // Tests.
   std::vector<uint32_t> readNodes() const;
-  // rgb9e5 per node; slot 1: the - side of two-sided leaves (octree.glsl, leafAxis).
+  // rgb9e5 per node; slot 1: the - side of two-sided leaves (octree.glsl, leafAxis),
+  // 0 for the other nodes.
   std::vector<uint32_t> readRadiance(int slot = 0) const;
   std::vector<glm::vec4> readMean() const;     // the float running mean per node
   std::vector<uint32_t> readMaterial() const;  // two words per node (rgba8, snorm8x4)

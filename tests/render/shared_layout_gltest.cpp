@@ -85,7 +85,7 @@ TEST_F(SharedLayoutTest, OctreeCountersMatchCpp) {
   expectOffsets(p, GL_BUFFER_VARIABLE,
                 {VOXGI_MEMBER("counters.", OctreeCounters, nodeCount, ""),
                  VOXGI_MEMBER("counters.", OctreeCounters, overflow, ""),
-                 VOXGI_MEMBER("counters.", OctreeCounters, pad0, ""),
+                 VOXGI_MEMBER("counters.", OctreeCounters, twoSided, ""),
                  VOXGI_MEMBER("counters.", OctreeCounters, pad1, ""),
                  VOXGI_MEMBER("counters.", OctreeCounters, levelStart, "[0]")});
   EXPECT_EQ(query(p, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
