@@ -124,6 +124,26 @@ std::vector<gpu::OctreeRay> testRays(int rootSize, size_t count) {
   return rays;
 }
 
+// The scene of `b` on a 64^3 grid over [0, 64]^3, lit by one point light of 1000 cd.
+scene::Scene pointLit(SceneBuilder& b, glm::vec3 position) {
+  scene::Scene s = b.finish();
+  s.scale.gridOrigin = glm::vec3(0.0f);
+  s.scale.gridSize = 64.0f;
+  scene::Light light;
+  light.type = scene::LightType::kPoint;
+  light.position = position;
+  light.intensity = 1000.0f;
+  s.lights = {light};
+  return s;
+}
+
+// Its octree with the voxels' direct light only (one bounce: the pixel's own).
+std::unique_ptr<Built> buildDirect(const scene::Scene& s) {
+  voxel::Octree::Settings settings;
+  settings.bounces = 1;
+  return build(s, 64, true, settings);
+}
+
 class OctreeTest : public GlTest {};
 
 // On 12,000 rays, the octree (its C++ twin and the GLSL shader) finds the same first
@@ -278,17 +298,9 @@ TEST_F(OctreeTest, InjectionCastsShadows) {
                   {63.5f, 0.5f, 63.5f}},
                  m);  // facing up
   b.addBox({24.0f, 10.0f, 24.0f}, {40.0f, 14.0f, 40.0f}, m);
-  scene::Scene s = b.finish();
-  s.scale.gridOrigin = glm::vec3(0.0f);
-  s.scale.gridSize = 64.0f;
-  scene::Light light;
-  light.type = scene::LightType::kPoint;
-  light.position = glm::vec3(32.0f, 40.0f, 32.0f);
-  light.intensity = 1000.0f;
-  s.lights = {light};
-  voxel::Octree::Settings settings;
-  settings.bounces = 1;
-  auto built = build(s, 64, true, settings);
+  const scene::Scene s = pointLit(b, {32.0f, 40.0f, 32.0f});
+  const scene::Light& light = s.lights[0];
+  auto built = buildDirect(s);
   const std::vector<uint32_t> nodes = built->octree->readNodes();
   const std::vector<uint32_t> rad = built->octree->readRadiance();
   const int depth = built->octree->depth();
@@ -311,7 +323,7 @@ TEST_F(OctreeTest, InjectionCastsShadows) {
     EXPECT_NEAR(floorRadiance(xz.x, xz.y), expected, expected * 0.01f) << xz.x << "," << xz.y;
   }
   // Node order follows thread timing; the light of each voxel does not.
-  auto again = build(s, 64, true, settings);
+  auto again = buildDirect(s);
   const std::vector<uint32_t> nodes2 = again->octree->readNodes();
   const std::vector<uint32_t> rad2 = again->octree->readRadiance();
   size_t compared = 0;
@@ -346,17 +358,9 @@ TEST_F(OctreeTest, TwoSidedLeavesKeepTheirSidesApart) {
     else
       b.addTriangles({p00, p10, p01, p01, p10, p11}, m);  // facing +x
   }
-  scene::Scene s = b.finish();
-  s.scale.gridOrigin = glm::vec3(0.0f);
-  s.scale.gridSize = 64.0f;
-  scene::Light light;
-  light.type = scene::LightType::kPoint;
-  light.position = glm::vec3(10.0f, 32.0f, 32.0f);
-  light.intensity = 1000.0f;
-  s.lights = {light};
-  voxel::Octree::Settings settings;
-  settings.bounces = 1;
-  auto built = build(s, 64, true, settings);
+  const scene::Scene s = pointLit(b, {10.0f, 32.0f, 32.0f});
+  const scene::Light& light = s.lights[0];
+  auto built = buildDirect(s);
   const std::vector<uint32_t> nodes = built->octree->readNodes();
   const std::vector<uint32_t> material = built->octree->readMaterial();
   const std::vector<uint32_t> plus = built->octree->readRadiance(0);
