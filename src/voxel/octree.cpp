@@ -16,7 +16,7 @@ namespace {
 constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
 // Two-sided leaves with a second light slot: the index has 24 bits (octree_fill.comp).
 constexpr uint32_t kMaxTwoSided = 0xFFFFFFu;
-// Per light slot (one a node, one more a leaf: allocateLight) and per node.
+// Per light slot (one a node, one more a two-sided leaf: allocateLight) and per node.
 constexpr uint64_t kRadianceBytes = 4;
 constexpr uint64_t kDataBytesPerNode = 8 + 4;  // material, emission
 constexpr uint64_t kBounceBytes = 16;          // Settings::keepBounces
