@@ -1,9 +1,14 @@
 #include "render/bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
-#include <numeric>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/log.h"
 
@@ -11,22 +16,45 @@ namespace voxgi::render {
 namespace {
 
 constexpr int kMedianSplitDepth = 24;  // below this depth, split at the median: depth stays bounded
+// Ranges above this many triangles bin in parallel chunks, and the build hands the
+// subtrees below its frontier (ranges of at most 1/kFrontierShare of the triangles,
+// and no fewer than kMinJob) to the worker threads.
+constexpr uint32_t kParallelBinning = 1u << 16;
+constexpr uint32_t kFrontierShare = 32;
+constexpr uint32_t kMinJob = 1u << 12;
+// Ranges of at most this many triangles find their split without bins (sweepSmall).
+constexpr uint32_t kSmallRange = 16;
+
+// Four floats in one register (GCC and Clang vector extensions, on every target);
+// the builder's boxes keep x, y, z in the first three and 0 in the last.
+using F4 = float __attribute__((vector_size(16)));
+using I4 = int32_t __attribute__((vector_size(16)));
+// The operand order of glm::min/max, so that signed zeros come out as they did.
+inline F4 vmin(F4 acc, F4 v) {
+  return v < acc ? v : acc;
+}
+inline F4 vmax(F4 acc, F4 v) {
+  return acc < v ? v : acc;
+}
+inline glm::vec3 xyz(F4 v) {
+  return {v[0], v[1], v[2]};
+}
 
 struct Box {
-  glm::vec3 lo{1e30f}, hi{-1e30f};
-  void extend(const glm::vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+  F4 lo = {1e30f, 1e30f, 1e30f, 0.0f}, hi = {-1e30f, -1e30f, -1e30f, 0.0f};
+  void extend(F4 p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
   }
   void extend(const Box& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
   }
-  bool empty() const { return lo.x > hi.x; }
+  bool empty() const { return lo[0] > hi[0]; }
   float area() const {
     if (empty()) return 0.0f;
-    const glm::vec3 d = hi - lo;
-    return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+    const F4 d = hi - lo;
+    return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
   }
 };
 
@@ -34,138 +62,431 @@ float bitsToFloat(uint32_t u) {
   return std::bit_cast<float>(u);
 }
 
-struct Builder {
-  const std::vector<BvhTriangle>& tris;
-  const Bvh::Options& options;
-  std::vector<Box> boxes;
-  std::vector<glm::vec3> centroids;
-  std::vector<uint32_t> refs;
-  std::vector<gpu::GpuBvhNode> nodes;
-  int depth = 0;
-  double sah = 0.0;  // un-normalised: sum of area x cost
-  struct ChildRef {
-    Box box;
-    uint32_t index = 0, count = 0;
+// One triangle as the build moves it, 32 bytes, so that every pass over a range
+// reads memory in order: its bounds, and its input index in the bits of lo's last
+// lane (masked off before any arithmetic).
+struct Prim {
+  F4 lo, hi;
+  F4 low() const { return std::bit_cast<F4>(std::bit_cast<I4>(lo) & I4{-1, -1, -1, 0}); }
+  uint32_t index() const { return std::bit_cast<uint32_t>(lo[3]); }
+  F4 centroid() const { return 0.5f * (low() + hi); }
+  Box box() const { return {low(), hi}; }
+};
+
+// Per axis and bin: the union of the boxes and the number of triangles whose
+// centroid falls in it. Only the first nb bins of each axis are set, so that a
+// small range doesn't pay for clearing kMax (no initialisers for that reason).
+struct Bins {
+  static constexpr int kMax = 64;
+  F4 lo[3][kMax], hi[3][kMax];
+  uint32_t count[3][kMax];
+  explicit Bins(int nb) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < nb; ++b) {
+        lo[a][b] = Box{}.lo;
+        hi[a][b] = Box{}.hi;
+        count[a][b] = 0;
+      }
+  }
+  Box box(int a, int b) const { return {lo[a][b], hi[a][b]}; }
+  void add(int a, int b, F4 plo, F4 phi) {
+    lo[a][b] = vmin(lo[a][b], plo);
+    hi[a][b] = vmax(hi[a][b], phi);
+    ++count[a][b];
+  }
+  void merge(const Bins& o, int nb) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < nb; ++b) {
+        lo[a][b] = vmin(lo[a][b], o.lo[a][b]);
+        hi[a][b] = vmax(hi[a][b], o.hi[a][b]);
+        count[a][b] += o.count[a][b];
+      }
+  }
+};
+
+// A range of prims with its bounds and the bounds of its centroids.
+struct Range {
+  uint32_t begin = 0, end = 0;
+  Box box, cbox;
+  uint32_t count() const { return end - begin; }
+};
+
+// A child while the build runs: its bounds and what it is: the first of `count`
+// prims (a leaf), a node, or above the frontier a job (a subtree built by a worker).
+struct ChildRef {
+  enum Kind : uint8_t { kLeaf, kInterior, kJob };
+  Box box;
+  uint32_t index = 0, count = 0;
+  Kind kind = kLeaf;
+};
+// A node above the frontier.
+struct TopNode {
+  ChildRef left, right;
+};
+
+class Builder {
+ public:
+  Builder(const Bvh::Options& options, std::vector<Prim>* prims)
+      : options_(options), prims_(*prims) {}
+
+  // Builds the whole tree into nodes in depth-first order, parent first, as a
+  // single-threaded recursive build allocates them; *root is the root's reference
+  // (interior: node 0; or a leaf when the range is one).
+  std::vector<gpu::GpuBvhNode> build(const Range& range, ChildRef* root) {
+    frontier_ = std::max(kMinJob, range.count() / kFrontierShare);
+    const ChildRef top = recurseTop(range, 1);
+    tbb::parallel_for(
+        size_t{0}, jobs_.size(),
+        [&](size_t j) {
+          Job& job = jobs_[j];
+          job.nodes.reserve(job.range.count());  // an upper bound
+          job.root = recurseJob(job.range, job.level, &job.nodes);
+        },
+        tbb::simple_partitioner());
+    size_t total = topNodes_.size();
+    for (const Job& j : jobs_) total += j.nodes.size();
+    std::vector<gpu::GpuBvhNode> out(total);
+    uint32_t next = 0;
+    *root = top;
+    root->index = place(top, &out, &next, root);
+    tbb::parallel_for(size_t{0}, jobs_.size(), [&](size_t j) {
+      Job& job = jobs_[j];
+      for (size_t i = 0; i < job.nodes.size(); ++i) {
+        gpu::GpuBvhNode n = job.nodes[i];
+        for (glm::vec4* min : {&n.leftMin, &n.rightMin}) {  // interior children move by base
+          glm::vec4& max = min == &n.leftMin ? n.leftMax : n.rightMax;
+          if (std::bit_cast<uint32_t>(max.w) == 0)
+            min->w = bitsToFloat(std::bit_cast<uint32_t>(min->w) + job.base);
+        }
+        out[job.base + i] = n;
+      }
+      std::vector<gpu::GpuBvhNode>().swap(job.nodes);
+    });
+    return out;
+  }
+
+ private:
+  struct Job {
+    Range range;
+    int level = 0;
+    std::vector<gpu::GpuBvhNode> nodes;  // child indices local to them
+    ChildRef root;
+    uint32_t base = 0;  // of its nodes in the output
   };
 
-  Box boundsOf(uint32_t begin, uint32_t end) const {
-    Box b;
-    for (uint32_t i = begin; i < end; ++i) b.extend(boxes[refs[i]]);
-    return b;
-  }
-
-  // Returns the split position in [begin, end), or `end` for a leaf.
-  uint32_t split(uint32_t begin, uint32_t end, const Box& box, int level) {
-    const uint32_t count = end - begin;
-    if (count <= 1) return end;
-    Box cb;
-    for (uint32_t i = begin; i < end; ++i) cb.extend(centroids[refs[i]]);
-    const glm::vec3 extent = cb.hi - cb.lo;
-    int axis = 0;
-    if (extent.y > extent[axis]) axis = 1;
-    if (extent.z > extent[axis]) axis = 2;
-    auto median = [&]() {
-      const uint32_t mid = begin + count / 2;
-      std::nth_element(
-          refs.begin() + begin, refs.begin() + mid, refs.begin() + end,
-          [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-      return mid;
-    };
-    if (!(extent[axis] > 0.0f)) {  // every centroid in one point: only size forces a split
-      return count > static_cast<uint32_t>(options.maxLeafSize) ? begin + count / 2 : end;
-    }
-    if (level >= kMedianSplitDepth)
-      return count > static_cast<uint32_t>(options.maxLeafSize) ? median() : end;
-
-    const int nb = options.bins;
-    float bestCost = 1e30f;
-    int bestAxis = -1, bestBin = -1;
-    std::vector<Box> binBox(static_cast<size_t>(nb));
-    std::vector<uint32_t> binCount(static_cast<size_t>(nb));
-    std::vector<float> rightArea(static_cast<size_t>(nb));
-    std::vector<uint32_t> rightCount(static_cast<size_t>(nb));
-    for (int a = 0; a < 3; ++a) {
-      if (!(extent[a] > 0.0f)) continue;
-      std::fill(binBox.begin(), binBox.end(), Box{});
-      std::fill(binCount.begin(), binCount.end(), 0u);
-      const float scale = static_cast<float>(nb) / extent[a];
-      for (uint32_t i = begin; i < end; ++i) {
-        const uint32_t t = refs[i];
-        const int b = std::min(nb - 1, static_cast<int>((centroids[t][a] - cb.lo[a]) * scale));
-        binBox[static_cast<size_t>(b)].extend(boxes[t]);
-        ++binCount[static_cast<size_t>(b)];
-      }
-      Box r;
-      uint32_t rc = 0;
-      for (int b = nb - 1; b > 0; --b) {
-        r.extend(binBox[static_cast<size_t>(b)]);
-        rc += binCount[static_cast<size_t>(b)];
-        rightArea[static_cast<size_t>(b)] = r.area();
-        rightCount[static_cast<size_t>(b)] = rc;
-      }
-      Box l;
-      uint32_t lc = 0;
-      for (int b = 1; b < nb; ++b) {  // split between bin b-1 and b
-        l.extend(binBox[static_cast<size_t>(b - 1)]);
-        lc += binCount[static_cast<size_t>(b - 1)];
-        if (lc == 0 || rightCount[static_cast<size_t>(b)] == 0) continue;
-        const float cost = l.area() * static_cast<float>(lc) +
-                           rightArea[static_cast<size_t>(b)] *
-                               static_cast<float>(rightCount[static_cast<size_t>(b)]);
-        if (cost < bestCost) {
-          bestCost = cost;
-          bestAxis = a;
-          bestBin = b;
-        }
-      }
-    }
-    const float leafCost = static_cast<float>(count);
-    const float area = std::max(box.area(), 1e-30f);
-    const float splitCost = options.traversalCost + bestCost / area;
-    if (bestAxis < 0) return count > static_cast<uint32_t>(options.maxLeafSize) ? median() : end;
-    if (count <= static_cast<uint32_t>(options.maxLeafSize) && leafCost <= splitCost) return end;
-    const float scale = static_cast<float>(nb) / extent[bestAxis];
-    const float lo = cb.lo[bestAxis];
-    auto mid = std::partition(refs.begin() + begin, refs.begin() + end, [&](uint32_t t) {
-      const int b = std::min(nb - 1, static_cast<int>((centroids[t][bestAxis] - lo) * scale));
-      return b < bestBin;
-    });
-    const auto m = static_cast<uint32_t>(mid - refs.begin());
-    if (m == begin || m == end) return median();  // float rounding put everything on one side
-    return m;
-  }
-
-  ChildRef build(uint32_t begin, uint32_t end, int level) {
-    depth = std::max(depth, level);
+  // Above the frontier: ranges at most frontier_ large become jobs.
+  ChildRef recurseTop(const Range& r, int level) {
     ChildRef ref;
-    ref.box = boundsOf(begin, end);
-    const uint32_t m = split(begin, end, ref.box, level);
-    if (m == end) {
-      ref.index = begin;
-      ref.count = end - begin;
-      sah += static_cast<double>(ref.box.area()) * ref.count;
+    ref.box = r.box;
+    if (r.count() <= frontier_) {
+      ref.kind = ChildRef::kJob;
+      ref.index = static_cast<uint32_t>(jobs_.size());
+      jobs_.push_back({r, level, {}, {}, 0});
       return ref;
     }
-    const auto node = static_cast<uint32_t>(nodes.size());
-    nodes.emplace_back();
-    sah += static_cast<double>(ref.box.area()) * options.traversalCost;
-    const ChildRef l = build(begin, m, level + 1);
-    const ChildRef r = build(m, end, level + 1);
-    nodes[node] = makeNode(l, r);
+    Range left, right;
+    if (!split(r, level, true, &left, &right)) {
+      ref.index = r.begin;
+      ref.count = r.count();
+      return ref;
+    }
+    const auto node = static_cast<uint32_t>(topNodes_.size());
+    topNodes_.emplace_back();
+    const ChildRef l = recurseTop(left, level + 1);
+    const ChildRef rr = recurseTop(right, level + 1);
+    topNodes_[node] = {l, rr};
+    ref.kind = ChildRef::kInterior;
     ref.index = node;
-    ref.count = 0;
     return ref;
   }
 
-  static gpu::GpuBvhNode makeNode(const ChildRef& l, const ChildRef& r) {
+  // A job's subtree, into its own nodes with indices local to them.
+  ChildRef recurseJob(const Range& r, int level, std::vector<gpu::GpuBvhNode>* nodes) {
+    ChildRef ref;
+    ref.box = r.box;
+    Range left, right;
+    if (!split(r, level, false, &left, &right)) {
+      ref.index = r.begin;
+      ref.count = r.count();
+      return ref;
+    }
+    const auto node = static_cast<uint32_t>(nodes->size());
+    nodes->emplace_back();
+    const ChildRef l = recurseJob(left, level + 1, nodes);
+    const ChildRef rr = recurseJob(right, level + 1, nodes);
+    (*nodes)[node] = makeNode(l, l.index, rr, rr.index);
+    ref.kind = ChildRef::kInterior;
+    ref.index = node;
+    return ref;
+  }
+
+  // Splits r into two ranges; false for a leaf.
+  bool split(const Range& r, int level, bool parallel, Range* left, Range* right) {
+    const uint32_t count = r.count();
+    if (count <= 1) return false;
+    const Box& cb = r.cbox;
+    const F4 extent = cb.hi - cb.lo;
+    int axis = 0;
+    if (extent[1] > extent[axis]) axis = 1;
+    if (extent[2] > extent[axis]) axis = 2;
+    const bool big = count > static_cast<uint32_t>(options_.maxLeafSize);
+    if (!(extent[axis] > 0.0f)) {  // every centroid in one point: only size forces a split
+      if (!big) return false;
+      return finish(r, r.begin + count / 2, left, right);
+    }
+    if (level >= kMedianSplitDepth) return big && median(r, axis, left, right);
+
+    const int nb = std::min(options_.bins, Bins::kMax);
+    F4 scale = {};
+    for (int a = 0; a < 3; ++a)
+      if (extent[a] > 0.0f) scale[a] = static_cast<float>(nb) / extent[a];
+    const Best best = count <= kSmallRange ? sweepSmall(r, extent, scale, nb)
+                                           : sweepBins(r, extent, scale, nb, parallel);
+    if (best.axis < 0) return big && median(r, axis, left, right);
+    const float leafCost = static_cast<float>(count);
+    const float splitCost = options_.traversalCost + best.cost / std::max(r.box.area(), 1e-30f);
+    if (!big && leafCost <= splitCost) return false;
+    const float lo = cb.lo[best.axis], s = scale[best.axis];
+    const uint32_t m = partition(
+        r, [&](const Prim& p) { return binOf(p, best.axis, lo, s, nb) < best.bin; }, left, right);
+    // Float rounding put everything on one side.
+    if (m == r.begin || m == r.end) return median(r, axis, left, right);
+    return true;
+  }
+
+  // Moves the prims of r for which goesLeft holds before the others (the swaps of
+  // std::partition), and bounds the two sides on the way. Returns where the right
+  // side starts.
+  template <typename Pred>
+  uint32_t partition(const Range& r, Pred goesLeft, Range* left, Range* right) {
+    Range lr{r.begin, r.begin, {}, {}}, rr{r.end, r.end, {}, {}};
+    auto take = [](Range* side, const Prim& p) {
+      side->box.extend(p.box());
+      side->cbox.extend(p.centroid());
+    };
+    uint32_t first = r.begin, last = r.end;
+    for (;;) {
+      while (first < last && goesLeft(prims_[first])) take(&lr, prims_[first++]);
+      while (first < last && !goesLeft(prims_[last - 1])) take(&rr, prims_[--last]);
+      if (first == last) break;
+      std::swap(prims_[first], prims_[last - 1]);
+      take(&lr, prims_[first++]);
+      take(&rr, prims_[--last]);
+    }
+    lr.end = first;
+    rr.begin = first;
+    *left = lr;
+    *right = rr;
+    return first;
+  }
+
+  // The cheapest split between bins: its SAH cost (un-normalised) and where.
+  struct Best {
+    float cost = 1e30f;
+    int axis = -1, bin = -1;  // left: the triangles whose centroid bin < bin
+  };
+  static int binOf(const Prim& p, int a, float lo, float scale, int nb) {
+    return std::min(nb - 1, static_cast<int>((p.centroid()[a] - lo) * scale));
+  }
+
+  // Sweeps the bins of every axis, splitting between bin b-1 and b, first axis and
+  // bin on ties.
+  Best sweepBins(const Range& r, F4 extent, F4 scale, int nb, bool parallel) const {
+    const F4 lo = r.cbox.lo;
+    const Bins bins =
+        parallel && r.count() > kParallelBinning
+            ? tbb::parallel_reduce(
+                  tbb::blocked_range<uint32_t>(r.begin, r.end, kParallelBinning / 4), Bins(nb),
+                  [&](const tbb::blocked_range<uint32_t>& sub, Bins acc) {
+                    bin(sub.begin(), sub.end(), lo, scale, extent, nb, &acc);
+                    return acc;
+                  },
+                  [nb](Bins x, const Bins& y) {
+                    x.merge(y, nb);
+                    return x;
+                  })
+            : binRange(r.begin, r.end, lo, scale, extent, nb);
+    Best best;
+    float rightArea[Bins::kMax];
+    uint32_t rightCount[Bins::kMax];
+    for (int a = 0; a < 3; ++a) {
+      if (!(extent[a] > 0.0f)) continue;
+      Box rb;
+      uint32_t rc = 0;
+      for (int b = nb - 1; b > 0; --b) {
+        rb.extend(bins.box(a, b));
+        rc += bins.count[a][b];
+        rightArea[b] = rb.area();
+        rightCount[b] = rc;
+      }
+      Box lb;
+      uint32_t lc = 0;
+      for (int b = 1; b < nb; ++b) {
+        lb.extend(bins.box(a, b - 1));
+        lc += bins.count[a][b - 1];
+        if (lc == 0 || rightCount[b] == 0) continue;
+        const float cost =
+            lb.area() * static_cast<float>(lc) + rightArea[b] * static_cast<float>(rightCount[b]);
+        if (cost < best.cost) best = {cost, a, b};
+      }
+    }
+    return best;
+  }
+
+  // The same choice as sweepBins for a few triangles, without the bins: sorted by
+  // bin, a split can only change between two occupied bins, and the first bin after
+  // an occupied one is where sweepBins meets that split first. The boxes are unions
+  // of the same boxes, so the costs are the same floats.
+  Best sweepSmall(const Range& r, F4 extent, F4 scale, int nb) const {
+    const uint32_t n = r.count();
+    Best best;
+    // Sort keys: bin x kSmallRange + position in r.
+    static_assert(kSmallRange <= 32);
+    std::array<uint32_t, kSmallRange> order;
+    std::array<Box, kSmallRange> right;  // right[i]: the prims order[i..] hold
+    for (int a = 0; a < 3; ++a) {
+      if (!(extent[a] > 0.0f)) continue;
+      for (uint32_t i = 0; i < n; ++i) {
+        const auto b =
+            static_cast<uint32_t>(binOf(prims_[r.begin + i], a, r.cbox.lo[a], scale[a], nb));
+        order[i] = b * 32u + i;
+      }
+      std::sort(order.begin(), order.begin() + n);
+      auto prim = [&](uint32_t i) -> const Prim& { return prims_[r.begin + (order[i] & 31u)]; };
+      Box rb;
+      for (uint32_t i = n; i-- > 0;) {
+        rb.extend(prim(i).box());
+        right[i] = rb;
+      }
+      Box lb;
+      for (uint32_t i = 0; i + 1 < n; ++i) {
+        lb.extend(prim(i).box());
+        const uint32_t bin = order[i] >> 5u;
+        if (bin == order[i + 1] >> 5u) continue;
+        const float cost = lb.area() * static_cast<float>(i + 1) +
+                           right[i + 1].area() * static_cast<float>(n - i - 1);
+        if (cost < best.cost) best = {cost, a, static_cast<int>(bin) + 1};
+      }
+    }
+    return best;
+  }
+
+  void bin(uint32_t begin, uint32_t end, F4 lo, F4 scale, F4 extent, int nb, Bins* bins) const {
+    const bool axes[3] = {extent[0] > 0.0f, extent[1] > 0.0f, extent[2] > 0.0f};
+    const I4 last = {nb - 1, nb - 1, nb - 1, nb - 1};
+    for (uint32_t i = begin; i < end; ++i) {
+      const Prim& p = prims_[i];
+      const F4 plo = p.low(), phi = p.hi;
+      I4 b = __builtin_convertvector((0.5f * (plo + phi) - lo) * scale, I4);  // binOf, 3 lanes
+      b = b < last ? b : last;
+      for (int a = 0; a < 3; ++a)
+        if (axes[a]) bins->add(a, b[a], plo, phi);
+    }
+  }
+  Bins binRange(uint32_t begin, uint32_t end, F4 lo, F4 scale, F4 extent, int nb) const {
+    Bins b(nb);
+    bin(begin, end, lo, scale, extent, nb, &b);
+    return b;
+  }
+
+  bool median(const Range& r, int axis, Range* left, Range* right) {
+    const uint32_t mid = r.begin + r.count() / 2;
+    std::nth_element(
+        prims_.begin() + r.begin, prims_.begin() + mid, prims_.begin() + r.end,
+        [axis](const Prim& a, const Prim& b) { return a.centroid()[axis] < b.centroid()[axis]; });
+    return finish(r, mid, left, right);
+  }
+
+  // The two halves of r split at m, with their bounds.
+  bool finish(const Range& r, uint32_t m, Range* left, Range* right) const {
+    *left = bounded(r.begin, m);
+    *right = bounded(m, r.end);
+    return true;
+  }
+  Range bounded(uint32_t begin, uint32_t end) const {
+    auto extend = [this](uint32_t b, uint32_t e, Range acc) {
+      for (uint32_t i = b; i < e; ++i) {
+        acc.box.extend(prims_[i].box());
+        acc.cbox.extend(prims_[i].centroid());
+      }
+      return acc;
+    };
+    if (end - begin <= kParallelBinning) return extend(begin, end, {begin, end, {}, {}});
+    return tbb::parallel_reduce(
+        tbb::blocked_range<uint32_t>(begin, end, kParallelBinning / 4), Range{begin, end, {}, {}},
+        [&](const tbb::blocked_range<uint32_t>& sub, Range acc) {
+          return extend(sub.begin(), sub.end(), acc);
+        },
+        [](Range x, const Range& y) {
+          x.box.extend(y.box);
+          x.cbox.extend(y.cbox);
+          return x;
+        });
+  }
+
+  // Lays out the subtree under c in depth-first order from *next: writes the top
+  // nodes and sets each job's base (its nodes are copied afterwards, in parallel).
+  // Returns the index c's parent stores (a node's, or a leaf's first prim) and, in
+  // *resolved, c with a job replaced by the reference to its subtree.
+  uint32_t place(const ChildRef& c, std::vector<gpu::GpuBvhNode>* out, uint32_t* next,
+                 ChildRef* resolved) {
+    *resolved = c;
+    if (c.kind == ChildRef::kLeaf) return c.index;
+    if (c.kind == ChildRef::kJob) {
+      Job& job = jobs_[c.index];
+      *resolved = job.root;
+      if (job.root.kind == ChildRef::kLeaf) return job.root.index;
+      job.base = *next;
+      *next += static_cast<uint32_t>(job.nodes.size());
+      return job.root.index + job.base;
+    }
+    const uint32_t index = (*next)++;
+    const TopNode n = topNodes_[c.index];
+    ChildRef l, r;
+    const uint32_t li = place(n.left, out, next, &l);
+    const uint32_t ri = place(n.right, out, next, &r);
+    (*out)[index] = makeNode(l, li, r, ri);
+    return index;
+  }
+
+ public:
+  static gpu::GpuBvhNode makeNode(const ChildRef& l, uint32_t li, const ChildRef& r, uint32_t ri) {
     gpu::GpuBvhNode n{};
-    n.leftMin = glm::vec4(l.box.lo, bitsToFloat(l.index));
-    n.leftMax = glm::vec4(l.box.hi, bitsToFloat(l.count));
-    n.rightMin = glm::vec4(r.box.lo, bitsToFloat(r.index));
-    n.rightMax = glm::vec4(r.box.hi, bitsToFloat(r.count));
+    n.leftMin = glm::vec4(xyz(l.box.lo), bitsToFloat(li));
+    n.leftMax = glm::vec4(xyz(l.box.hi), bitsToFloat(l.kind == ChildRef::kLeaf ? l.count : 0u));
+    n.rightMin = glm::vec4(xyz(r.box.lo), bitsToFloat(ri));
+    n.rightMax = glm::vec4(xyz(r.box.hi), bitsToFloat(r.kind == ChildRef::kLeaf ? r.count : 0u));
     return n;
   }
+
+ private:
+  const Bvh::Options& options_;
+  std::vector<Prim>& prims_;
+  uint32_t frontier_ = 0;
+  std::vector<TopNode> topNodes_;
+  std::vector<Job> jobs_;
 };
+
+// The depth (root = 1, leaves count) and the un-normalised SAH cost (sum of area x
+// cost) of the subtree under interior node i at `level`, depth first, parent first.
+void measure(const std::vector<gpu::GpuBvhNode>& nodes, uint32_t i, int level, float traversalCost,
+             int* depth, double* sah) {
+  *depth = std::max(*depth, level);
+  const gpu::GpuBvhNode& n = nodes[i];
+  for (int side = 0; side < 2; ++side) {
+    const glm::vec4& lo = side ? n.rightMin : n.leftMin;
+    const glm::vec4& hi = side ? n.rightMax : n.leftMax;
+    const uint32_t count = std::bit_cast<uint32_t>(hi.w);
+    const float area = Box{F4{lo.x, lo.y, lo.z, 0.0f}, F4{hi.x, hi.y, hi.z, 0.0f}}.area();
+    if (count > 0) {
+      *depth = std::max(*depth, level + 1);
+      *sah += static_cast<double>(area) * count;
+    } else {
+      *sah += static_cast<double>(area) * traversalCost;
+      measure(nodes, std::bit_cast<uint32_t>(lo.w), level + 1, traversalCost, depth, sah);
+    }
+  }
+}
 
 }  // namespace
 
@@ -189,46 +510,71 @@ bool intersectTriangle(const BvhRay& ray, const glm::vec3& v0, const glm::vec3& 
 }
 
 Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
-  Builder b{triangles, options, {}, {}, {}, {}, 0, 0.0};
   const size_t n = triangles.size();
-  b.boxes.resize(n);
-  b.centroids.resize(n);
-  b.refs.resize(n);
-  std::iota(b.refs.begin(), b.refs.end(), 0u);
-  for (size_t i = 0; i < n; ++i) {
-    Box box;
-    box.extend(triangles[i].v0);
-    box.extend(triangles[i].v1);
-    box.extend(triangles[i].v2);
-    b.boxes[i] = box;
-    b.centroids[i] = 0.5f * (box.lo + box.hi);
-  }
-  Builder::ChildRef root;
+  if (n > size_t{std::numeric_limits<uint32_t>::max()} / 2)
+    throw Error(strf("BVH of %zu triangles: more than a 32-bit index can address", n));
+  std::vector<Prim> prims(n);
+  Range all{0, static_cast<uint32_t>(n), {}, {}};
+  // Bounds of each triangle, and of them all, in parallel chunks.
+  struct Bounds {
+    Box box, cbox;
+  };
+  const Bounds b = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 1u << 14), Bounds{},
+      [&](const tbb::blocked_range<size_t>& r, Bounds acc) {
+        for (size_t i = r.begin(); i < r.end(); ++i) {
+          const BvhTriangle& t = triangles[i];
+          Prim& p = prims[i];
+          const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
+          const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
+          p.lo = F4{lo.x, lo.y, lo.z, std::bit_cast<float>(static_cast<uint32_t>(i))};
+          p.hi = F4{hi.x, hi.y, hi.z, 0.0f};
+          acc.box.extend(p.box());
+          acc.cbox.extend(p.centroid());
+        }
+        return acc;
+      },
+      [](Bounds x, const Bounds& y) {
+        x.box.extend(y.box);
+        x.cbox.extend(y.cbox);
+        return x;
+      });
+  all.box = b.box;
+  all.cbox = b.cbox;
+  ChildRef root;
   if (n > 0) {
-    root = b.build(0, static_cast<uint32_t>(n), 1);
+    Builder builder(options, &prims);
+    nodes_ = builder.build(all, &root);
   }
-  // An interior root was allocated first, as node 0.
-  if (n == 0 || root.count > 0) {
+  if (n == 0 || root.kind == ChildRef::kLeaf) {
     // A single leaf (or nothing): wrap it so traversal always starts at node 0.
-    b.nodes.insert(b.nodes.begin(), Builder::makeNode(root, Builder::ChildRef{}));
-    b.depth = 2;
+    nodes_.insert(nodes_.begin(), Builder::makeNode(root, root.index, ChildRef{}, 0));
+    depth_ = 2;
+  } else {
+    depth_ = 0;
   }
-  if (b.depth > static_cast<int>(gpu::kPtStackSize))
+  double sah = static_cast<double>(all.box.area()) * options.traversalCost;
+  if (n > 0 && root.kind != ChildRef::kLeaf) {
+    measure(nodes_, 0, 1, options.traversalCost, &depth_, &sah);
+  } else {
+    sah = static_cast<double>(all.box.area()) * static_cast<double>(n);
+  }
+  if (depth_ > static_cast<int>(gpu::kPtStackSize))
     throw Error(strf("BVH of %zu triangles is %d levels deep, more than the traversal stack (%u)",
-                     n, b.depth, gpu::kPtStackSize));
-  nodes_ = std::move(b.nodes);
-  order_ = std::move(b.refs);
-  depth_ = b.depth;
-  Box all;
-  for (const Box& box : b.boxes) all.extend(box);
-  sah_ = all.area() > 0.0f ? b.sah / all.area() : 0.0;
+                     n, depth_, gpu::kPtStackSize));
+  sah_ = all.box.area() > 0.0f ? sah / all.box.area() : 0.0;
+  order_.resize(n);
   triangles_.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const BvhTriangle& t = triangles[order_[i]];
-    triangles_[i].v0 = glm::vec4(t.v0, 0.0f);
-    triangles_[i].e1 = glm::vec4(t.v1 - t.v0, 0.0f);
-    triangles_[i].e2 = glm::vec4(t.v2 - t.v0, 0.0f);
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1u << 14),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i < r.end(); ++i) {
+                        order_[i] = prims[i].index();
+                        const BvhTriangle& t = triangles[order_[i]];
+                        triangles_[i].v0 = glm::vec4(t.v0, 0.0f);
+                        triangles_[i].e1 = glm::vec4(t.v1 - t.v0, 0.0f);
+                        triangles_[i].e2 = glm::vec4(t.v2 - t.v0, 0.0f);
+                      }
+                    });
 }
 
 template <bool kAnyHit>

@@ -83,7 +83,7 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
   const std::vector<gpu::GpuPtEmissive>& emitters = pt.emitters;
   emissiveCount_ = static_cast<int>(emitters.size());
 
-  const auto triangles = bvh_.gpuTriangles();
+  const auto& triangles = bvh_.gpuTriangles();
   const auto& nodes = bvh_.nodes();
   GLint maxTexels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);

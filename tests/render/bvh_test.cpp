@@ -2,9 +2,14 @@
 // Cornell room give the same closest hit and the same occlusion answer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdio>
+#include <cstring>
+#include <numeric>
 #include <random>
+
+#include <tbb/global_control.h>
 
 #include "render/bvh.h"
 #include "scene/gltf_loader.h"
@@ -66,6 +71,150 @@ void checkRandomRays(const std::vector<BvhTriangle>& tris, const Bvh& bvh, std::
   }
   if (tris.size() >= 1000) {
     EXPECT_GT(hits, rays / 10);
+  }
+}
+
+// The builder's specification, written plainly: one thread, recursive, 16 bins per
+// axis over the centroid bounds, the cheapest split by the surface area heuristic,
+// the median below depth 24 or when no split exists, nodes in depth-first order
+// (parent, left subtree, right subtree). The parallel builder must give the same
+// nodes and the same triangle order, bit for bit, whatever the thread count.
+struct ReferenceBuilder {
+  struct Box {
+    glm::vec3 lo{1e30f}, hi{-1e30f};
+    void extend(const glm::vec3& p) { lo = glm::min(lo, p), hi = glm::max(hi, p); }
+    void extend(const Box& b) { lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi); }
+    float area() const {
+      if (lo.x > hi.x) return 0.0f;
+      const glm::vec3 d = hi - lo;
+      return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+    }
+  };
+  struct Child {
+    Box box;
+    uint32_t index = 0, count = 0;
+  };
+  std::vector<Box> boxes;
+  std::vector<glm::vec3> centroids;
+  std::vector<uint32_t> refs;
+  std::vector<gpu::GpuBvhNode> nodes;
+
+  explicit ReferenceBuilder(const std::vector<BvhTriangle>& tris) {
+    for (const BvhTriangle& t : tris) {
+      Box b;
+      b.extend(t.v0), b.extend(t.v1), b.extend(t.v2);
+      boxes.push_back(b);
+      centroids.push_back(0.5f * (b.lo + b.hi));
+    }
+    refs.resize(tris.size());
+    std::iota(refs.begin(), refs.end(), 0u);
+    const Child root = build(0, static_cast<uint32_t>(tris.size()), 1);
+    if (root.count > 0 || tris.empty()) nodes.insert(nodes.begin(), node(root, Child{}));
+  }
+  static gpu::GpuBvhNode node(const Child& l, const Child& r) {
+    gpu::GpuBvhNode n{};
+    n.leftMin = glm::vec4(l.box.lo, std::bit_cast<float>(l.index));
+    n.leftMax = glm::vec4(l.box.hi, std::bit_cast<float>(l.count));
+    n.rightMin = glm::vec4(r.box.lo, std::bit_cast<float>(r.index));
+    n.rightMax = glm::vec4(r.box.hi, std::bit_cast<float>(r.count));
+    return n;
+  }
+  uint32_t split(uint32_t begin, uint32_t end, const Box& box, int level) {
+    const uint32_t count = end - begin;
+    if (count <= 1) return end;
+    Box cb;
+    for (uint32_t i = begin; i < end; ++i) cb.extend(centroids[refs[i]]);
+    const glm::vec3 extent = cb.hi - cb.lo;
+    int axis = 0;
+    if (extent.y > extent[axis]) axis = 1;
+    if (extent.z > extent[axis]) axis = 2;
+    auto median = [&] {
+      const uint32_t mid = begin + count / 2;
+      std::nth_element(
+          refs.begin() + begin, refs.begin() + mid, refs.begin() + end,
+          [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+      return mid;
+    };
+    const uint32_t maxLeaf = gpu::kPtMaxLeafSize;
+    if (!(extent[axis] > 0.0f)) return count > maxLeaf ? begin + count / 2 : end;
+    if (level >= 24) return count > maxLeaf ? median() : end;
+    const int nb = 16;
+    float best = 1e30f;
+    int bestAxis = -1, bestBin = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (!(extent[a] > 0.0f)) continue;
+      std::vector<Box> bin(nb);
+      std::vector<uint32_t> n(nb);
+      for (uint32_t i = begin; i < end; ++i) {
+        const int b = std::min(
+            nb - 1, static_cast<int>((centroids[refs[i]][a] - cb.lo[a]) * (nb / extent[a])));
+        bin[static_cast<size_t>(b)].extend(boxes[refs[i]]);
+        ++n[static_cast<size_t>(b)];
+      }
+      for (int b = 1; b < nb; ++b) {
+        Box l, r;
+        uint32_t lc = 0, rc = 0;
+        for (int k = 0; k < nb; ++k) {
+          (k < b ? l : r).extend(bin[static_cast<size_t>(k)]);
+          (k < b ? lc : rc) += n[static_cast<size_t>(k)];
+        }
+        if (lc == 0 || rc == 0) continue;
+        const float cost = l.area() * static_cast<float>(lc) + r.area() * static_cast<float>(rc);
+        if (cost < best) best = cost, bestAxis = a, bestBin = b;
+      }
+    }
+    if (bestAxis < 0) return count > maxLeaf ? median() : end;
+    if (count <= maxLeaf && static_cast<float>(count) <= 1.0f + best / std::max(box.area(), 1e-30f))
+      return end;
+    const float scale = nb / extent[bestAxis];
+    auto mid = std::partition(refs.begin() + begin, refs.begin() + end, [&](uint32_t t) {
+      return std::min(nb - 1, static_cast<int>((centroids[t][bestAxis] - cb.lo[bestAxis]) *
+                                               scale)) < bestBin;
+    });
+    const auto m = static_cast<uint32_t>(mid - refs.begin());
+    return m == begin || m == end ? median() : m;
+  }
+  Child build(uint32_t begin, uint32_t end, int level) {
+    Child c;
+    for (uint32_t i = begin; i < end; ++i) c.box.extend(boxes[refs[i]]);
+    const uint32_t m = split(begin, end, c.box, level);
+    if (m == end) {
+      c.index = begin, c.count = end - begin;
+      return c;
+    }
+    const auto at = static_cast<uint32_t>(nodes.size());
+    nodes.emplace_back();
+    const Child l = build(begin, m, level + 1);
+    const Child r = build(m, end, level + 1);
+    nodes[at] = node(l, r);
+    c.index = at;
+    return c;
+  }
+};
+
+void expectSameTree(const Bvh& bvh, const ReferenceBuilder& ref, const char* what) {
+  ASSERT_EQ(bvh.nodes().size(), ref.nodes.size()) << what;
+  EXPECT_EQ(bvh.order(), ref.refs) << what;
+  size_t differ = 0;
+  for (size_t i = 0; i < ref.nodes.size(); ++i)
+    differ += std::memcmp(&bvh.nodes()[i], &ref.nodes[i], sizeof(gpu::GpuBvhNode)) != 0;
+  EXPECT_EQ(differ, 0u) << what << ": nodes that differ from the reference build";
+}
+
+// Soups large enough that the builder bins in parallel and hands subtrees to
+// worker threads (ranges over 64k triangles), built with one thread and with all.
+TEST(Bvh, ParallelBuildIsTheSerialBinnedSahBuild) {
+  std::mt19937 rng(5);
+  for (int count : {1, 2, 17, 5000, 200000}) {
+    // Clustered: many triangles share bins, some ranges have centroids in one point.
+    auto tris = randomSoup(rng, count, 0.01f);
+    for (size_t i = 0; i + 1 < tris.size(); i += 97) tris[i + 1] = tris[i];
+    const ReferenceBuilder ref(tris);
+    {
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      expectSameTree(Bvh(tris), ref, "one thread");
+    }
+    expectSameTree(Bvh(tris), ref, "all threads");
   }
 }
 
