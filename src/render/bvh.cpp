@@ -563,6 +563,7 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
     throw Error(strf("BVH of %zu triangles is %d levels deep, more than the traversal stack (%u)",
                      n, depth_, gpu::kPtStackSize));
   sah_ = all.box.area() > 0.0f ? sah / all.box.area() : 0.0;
+  count_ = n;
   order_.resize(n);
   triangles_.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1u << 14),
@@ -575,6 +576,14 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
                         triangles_[i].e2 = glm::vec4(t.v2 - t.v0, 0.0f);
                       }
                     });
+}
+
+Bvh::Arrays Bvh::release() {
+  Arrays a{std::move(nodes_), std::move(order_), std::move(triangles_)};
+  nodes_.clear();
+  order_.clear();
+  triangles_.clear();
+  return a;
 }
 
 template <bool kAnyHit>

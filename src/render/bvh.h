@@ -69,7 +69,16 @@ class Bvh {
 
   int depth() const { return depth_; }     // deepest node, root = 1
   double sahCost() const { return sah_; }  // expected cost of a random ray, in triangle tests
-  size_t triangleCount() const { return order_.size(); }
+  size_t triangleCount() const { return count_; }
+
+  // The flattened arrays, moved out for an upload that keeps no CPU copy. Only the
+  // counts, depth and SAH cost are left: no ray may be traced afterwards.
+  struct Arrays {
+    std::vector<gpu::GpuBvhNode> nodes;
+    std::vector<uint32_t> order;
+    std::vector<gpu::GpuPtTriangle> triangles;
+  };
+  Arrays release();
 
  private:
   struct Child {
@@ -82,6 +91,7 @@ class Bvh {
   std::vector<gpu::GpuBvhNode> nodes_;
   std::vector<uint32_t> order_;
   std::vector<gpu::GpuPtTriangle> triangles_;  // BVH order
+  size_t count_ = 0;
   int depth_ = 0;
   double sah_ = 0.0;
 };

@@ -11,10 +11,9 @@
 namespace voxgi::render {
 namespace {
 
-// Per-triangle shading data in BVH order: vertex normals, material, emitter pdf.
-std::vector<gpu::GpuPtShading> shadingInOrder(const scene::Scene& s, const PtScene& pt,
-                                              const std::vector<uint32_t>& order) {
-  std::vector<gpu::GpuPtShading> shade(order.size());
+// Per triangle slot in BVH order: its vertex normals, material and emitter pdf.
+void shadingInOrder(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
+                    gpu::GpuPtShading* shade) {
   for (size_t slot = 0; slot < order.size(); ++slot) {
     const uint32_t t = order[slot];
     const uint32_t i = pt.firstIndex[t];
@@ -24,19 +23,20 @@ std::vector<gpu::GpuPtShading> shadingInOrder(const scene::Scene& s, const PtSce
     g.n1 = glm::vec4(s.vertices[s.indices[i + 1]].normal, pt.emitterAreaPdf[t]);
     g.n2 = glm::vec4(s.vertices[s.indices[i + 2]].normal, 0.0f);
   }
-  return shade;
 }
 
-// Corner UVs in BVH order: (uv0, uv1) and (uv2, 0, 0) a triangle, texture
-// coordinate channel 0 (scene::Vertex::uv); then, where a drawn material reads
-// channel 1 (scene::Material::hasUv2), the same for channel 1 (bvh_trace.glsl).
-std::vector<glm::vec4> cornerUvs(const scene::Scene& s, const PtScene& pt,
-                                 const std::vector<uint32_t>& order) {
+// Whether some drawn material reads texture coordinates channel 1.
+int uvChannels(const scene::Scene& s) {
   bool second = false;
   for (const scene::Draw& d : s.draws)
     second = second || s.materials[static_cast<size_t>(d.material)].hasUv2;
-  const int channels = second ? 2 : 1;
-  std::vector<glm::vec4> uvs(2 * order.size() * static_cast<size_t>(channels));
+  return second ? 2 : 1;
+}
+
+// The corner UVs of each triangle slot, two vec4 a triangle (a.xy b.xy, c.xy 0 0),
+// one block per channel.
+void cornerUvs(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
+               int channels, glm::vec4* uvs) {
   for (int ch = 0; ch < channels; ++ch) {
     const size_t first = 2 * order.size() * static_cast<size_t>(ch);
     for (size_t slot = 0; slot < order.size(); ++slot) {
@@ -48,64 +48,88 @@ std::vector<glm::vec4> cornerUvs(const scene::Scene& s, const PtScene& pt,
       uvs[first + 2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
     }
   }
-  return uvs;
 }
 
-// A per-vertex attribute (colours, tangents) at each triangle's three corners, in
-// BVH order.
-std::vector<glm::vec4> cornerValues(const std::vector<glm::vec4>& perVertex, const scene::Scene& s,
-                                    const PtScene& pt, const std::vector<uint32_t>& order) {
-  std::vector<glm::vec4> values(3 * order.size());
+// A per-vertex attribute at each triangle corner, three a triangle, BVH order.
+void cornerValues(const std::vector<glm::vec4>& perVertex, const scene::Scene& s, const PtScene& pt,
+                  const std::vector<uint32_t>& order, glm::vec4* values) {
   for (size_t slot = 0; slot < order.size(); ++slot) {
     const uint32_t i = pt.firstIndex[order[slot]];
     for (uint32_t k = 0; k < 3; ++k) values[3 * slot + k] = perVertex[s.indices[i + k]];
   }
-  return values;
+}
+
+template <typename T>
+void freeVector(std::vector<T>* v) {
+  std::vector<T>().swap(*v);
 }
 
 }  // namespace
 
+template <typename T, typename Fill>
+gl::Buffer GpuBvh::uploadFilled(size_t count, Fill fill) {
+  const size_t bytes = count * sizeof(T);
+  gpuBytes_ += bytes;
+  gl::Buffer b = gl::createBuffer(static_cast<GLsizeiptr>(bytes), nullptr, GL_MAP_WRITE_BIT);
+  if (bytes == 0) return b;
+  void* p = glMapNamedBufferRange(b.id(), 0, static_cast<GLsizeiptr>(bytes),
+                                  GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+  if (!p) throw Error(strf("bvh: could not map a buffer of %zu bytes for writing", bytes));
+  fill(static_cast<T*>(p));
+  if (!glUnmapNamedBuffer(b.id()))
+    throw Error(strf("bvh: a buffer of %zu bytes was lost while being written", bytes));
+  return b;
+}
+
 GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures(s, textures)) {
   const auto start = std::chrono::steady_clock::now();
-  const PtScene pt = buildPtScene(s, textured_);
+  PtScene pt = buildPtScene(s, textured_);
   Bvh::Options options;
   options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
-  bvh_ = Bvh(pt.triangles, options);
-  for (const gpu::GpuBvhNode& n : bvh_.nodes()) {
+  Bvh bvh(pt.triangles, options);
+  freeVector(&pt.triangles);  // the BVH's own copy, in its order, is what goes up
+  triangleCount_ = bvh.triangleCount();
+  depth_ = bvh.depth();
+  sah_ = bvh.sahCost();
+  Bvh::Arrays a = bvh.release();
+  nodeCount_ = a.nodes.size();
+  for (const gpu::GpuBvhNode& n : a.nodes) {
     VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.leftMax.w), gpu::kPtMaxLeafSize);
     VOXGI_CHECK_LE(std::bit_cast<uint32_t>(n.rightMax.w), gpu::kPtMaxLeafSize);
   }
   buildMs_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
-  const std::vector<uint32_t>& order = bvh_.order();
-  const std::vector<gpu::GpuPtShading> shade = shadingInOrder(s, pt, order);
-  const std::vector<gpu::GpuPtEmissive>& emitters = pt.emitters;
-  emissiveCount_ = static_cast<int>(emitters.size());
-
-  const auto& triangles = bvh_.gpuTriangles();
-  const auto& nodes = bvh_.nodes();
+  // Each array goes up and its CPU copy is dropped before the next is made, and the
+  // per-slot arrays are written straight into their buffers: on a software GL the
+  // GPU's copies are host memory too, and the start-up peak is what is held at once.
   GLint maxTexels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-  nodes_ = upload(nodes.data(), nodes.size() * sizeof(gpu::GpuBvhNode));
-  triangles_ = upload(triangles.data(), triangles.size() * sizeof(gpu::GpuPtTriangle));
-  nodeTexels_ = bufferTexels(nodes_, nodes.size() * sizeof(gpu::GpuBvhNode), maxTexels);
-  triangleTexels_ =
-      bufferTexels(triangles_, triangles.size() * sizeof(gpu::GpuPtTriangle), maxTexels);
-  shading_ = upload(shade.data(), shade.size() * sizeof(gpu::GpuPtShading));
-  if (textured_) uploadTextures(s, pt, maxTexels);
+  const size_t nodeBytes = a.nodes.size() * sizeof(gpu::GpuBvhNode);
+  nodes_ = upload(a.nodes.data(), nodeBytes);
+  nodeTexels_ = bufferTexels(nodes_, nodeBytes, maxTexels);
+  freeVector(&a.nodes);
+  const size_t triangleBytes = a.triangles.size() * sizeof(gpu::GpuPtTriangle);
+  triangles_ = upload(a.triangles.data(), triangleBytes);
+  triangleTexels_ = bufferTexels(triangles_, triangleBytes, maxTexels);
+  freeVector(&a.triangles);
+
+  const std::vector<uint32_t>& order = a.order;
+  shading_ = uploadFilled<gpu::GpuPtShading>(
+      order.size(), [&](gpu::GpuPtShading* out) { shadingInOrder(s, pt, order, out); });
+  if (textured_) uploadTextures(s, pt, order, maxTexels);
   if (s.hasVertexColors()) {
-    const std::vector<glm::vec4> colors = cornerValues(s.colors, s, pt, order);
-    colors_ = upload(colors.data(), colors.size() * sizeof(glm::vec4));
+    colors_ = uploadFilled<glm::vec4>(
+        3 * order.size(), [&](glm::vec4* out) { cornerValues(s.colors, s, pt, order, out); });
   }
   if (s.hasNormalMaps()) {
-    const std::vector<glm::vec4> tangents = cornerValues(s.tangents, s, pt, order);
-    tangents_ = upload(tangents.data(), tangents.size() * sizeof(glm::vec4));
+    tangents_ = uploadFilled<glm::vec4>(
+        3 * order.size(), [&](glm::vec4* out) { cornerValues(s.tangents, s, pt, order, out); });
   }
-  emissive_ = upload(emitters.data(), emitters.size() * sizeof(gpu::GpuPtEmissive));
+  emissiveCount_ = static_cast<int>(pt.emitters.size());
+  emissive_ = upload(pt.emitters.data(), pt.emitters.size() * sizeof(gpu::GpuPtEmissive));
   logDebug(strf("bvh: %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d emissive triangles",
-                bvh_.triangleCount(), nodes.size(), bvh_.depth(), bvh_.sahCost(), buildMs_,
-                emissiveCount_));
+                triangleCount_, nodeCount_, depth_, sah_, buildMs_, emissiveCount_));
 }
 
 gl::Buffer GpuBvh::upload(const void* data, size_t bytes) {
@@ -118,16 +142,16 @@ gl::Texture GpuBvh::bufferTexels(const gl::Buffer& buffer, size_t bytes, GLint m
     throw Error(
         strf("bvh: %zu triangles need a BVH of %zu texels, more than this GL's "
              "buffer texture limit of %d",
-             bvh_.triangleCount(), bytes / 16, maxTexels));
+             triangleCount_, bytes / 16, maxTexels));
   gl::Texture t = gl::createTexture(GL_TEXTURE_BUFFER);
   if (bytes) glTextureBuffer(t.id(), GL_RGBA32UI, buffer.id());
   return t;
 }
 
-void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt, GLint maxTexels) {
+void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt,
+                            const std::vector<uint32_t>& order, GLint maxTexels) {
   // Corner UVs in BVH order, then every texture's texels in one buffer and where
   // each starts.
-  const std::vector<glm::vec4> uvs = cornerUvs(s, pt, bvh_.order());
   std::vector<glm::uvec4> table;
   std::vector<uint32_t> pixels;
   buildPtTextures(s, &table, &pixels);
@@ -136,8 +160,11 @@ void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt, GLint maxT
         strf("bvh: the scene's textures hold %zu texels, more than this GL's "
              "buffer texture limit of %d",
              pixels.size(), maxTexels));
-  uvs_ = upload(uvs.data(), uvs.size() * sizeof(glm::vec4));
-  uvTexels_ = bufferTexels(uvs_, uvs.size() * sizeof(glm::vec4), maxTexels);
+  const int channels = uvChannels(s);
+  const size_t uvCount = 2 * order.size() * static_cast<size_t>(channels);
+  uvs_ = uploadFilled<glm::vec4>(uvCount,
+                                 [&](glm::vec4* out) { cornerUvs(s, pt, order, channels, out); });
+  uvTexels_ = bufferTexels(uvs_, uvCount * sizeof(glm::vec4), maxTexels);
   texels_ = upload(pixels.data(), pixels.size() * 4);
   textureTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
   glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());

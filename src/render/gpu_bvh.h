@@ -31,7 +31,11 @@ class GpuBvh {
   // BVH is textured() when so and some drawn material has a texture.
   GpuBvh(const scene::Scene& scene, bool textures);
 
-  const Bvh& bvh() const { return bvh_; }
+  // The BVH's shape (render::Bvh's; no CPU copy of its arrays is kept).
+  size_t triangleCount() const { return triangleCount_; }
+  size_t nodeCount() const { return nodeCount_; }
+  int depth() const { return depth_; }
+  double sahCost() const { return sah_; }
   double buildMs() const { return buildMs_; }
   bool textured() const { return textured_; }
   // The scene has vertex colours: colors() holds them (vec4 per triangle corner,
@@ -62,12 +66,19 @@ class GpuBvh {
  private:
   // A buffer of `bytes` (counted in gpuBytes_).
   gl::Buffer upload(const void* data, size_t bytes);
+  // A buffer of `count` T that fill(T*) writes in place through a mapping, so that
+  // no CPU copy of it is ever made (counted in gpuBytes_).
+  template <typename T, typename Fill>
+  gl::Buffer uploadFilled(size_t count, Fill fill);
   // `buffer` as RGBA32UI texels; throws beyond this GL's buffer texture limit.
   gl::Texture bufferTexels(const gl::Buffer& buffer, size_t bytes, GLint maxTexels) const;
   // Corner UVs, every texture's texels and the table of where each starts.
-  void uploadTextures(const scene::Scene& s, const PtScene& pt, GLint maxTexels);
+  void uploadTextures(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
+                      GLint maxTexels);
 
-  Bvh bvh_;
+  size_t triangleCount_ = 0, nodeCount_ = 0;
+  int depth_ = 0;
+  double sah_ = 0.0;
   double buildMs_ = 0.0;
   bool textured_ = false;
   int emissiveCount_ = 0;

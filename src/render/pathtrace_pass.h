@@ -66,9 +66,8 @@ class PathtracePass final : public Pathtracer {
   uint64_t truncatedPaths() const override;
   int emissiveTriangles() const override { return gpuBvh_->emissiveTriangles(); }
   double bvhBuildMs() const override { return gpuBvh_->buildMs(); }
-  size_t bvhNodes() const override { return gpuBvh_->bvh().nodes().size(); }
+  size_t bvhNodes() const override { return gpuBvh_->nodeCount(); }
   PathtraceDevice device() const override { return PathtraceDevice::kGl; }
-  const Bvh& bvh() const { return gpuBvh_->bvh(); }
   Settings& settings() { return settings_; }
 
  private:

@@ -246,7 +246,7 @@ TEST_F(ReflectionTest, OnlyAPlanWithMirrorsReflectsTheBvh) {
     render::Renderer r(*programs_, mirror, rs);
     r.renderFrame();
     ASSERT_NE(r.bvh(), nullptr);
-    EXPECT_EQ(r.bvh()->bvh().triangleCount(), mirror.triangleCount());
+    EXPECT_EQ(r.bvh()->triangleCount(), mirror.triangleCount());
     ASSERT_NE(r.rtgi(), nullptr);
     EXPECT_TRUE(r.rtgi()->tracesTriangles());
   }
