@@ -132,36 +132,30 @@ class Builder {
   // Builds the whole tree into nodes in depth-first order, parent first, as a
   // single-threaded recursive build allocates them; *root is the root's reference
   // (interior: node 0; or a leaf when the range is one).
-  std::vector<gpu::GpuBvhNode> build(const Range& range, ChildRef* root) {
+  BvhNodes build(const Range& range, ChildRef* root) {
     frontier_ = std::max(kMinJob, range.count() / kFrontierShare);
     const ChildRef top = recurseTop(range, 1);
+    // Depth-first layout: the top nodes, and for each job a region of count - 1
+    // nodes (as many as a subtree of count triangles can have), which its worker
+    // fills in place. The output is not initialised: nothing is written twice.
+    topIndex_.resize(topNodes_.size());
+    uint32_t next = 0;
+    layout(top, &next);
+    BvhNodes out;
+    out.resize(next);
     tbb::parallel_for(
         size_t{0}, jobs_.size(),
         [&](size_t j) {
           Job& job = jobs_[j];
-          job.nodes.reserve(job.range.count());  // an upper bound
-          job.root = recurseJob(job.range, job.level, &job.nodes);
+          job.root = recurseJob(job.range, job.level, out.data(), job.base, &job.used);
         },
         tbb::simple_partitioner());
-    size_t total = topNodes_.size();
-    for (const Job& j : jobs_) total += j.nodes.size();
-    std::vector<gpu::GpuBvhNode> out(total);
-    uint32_t next = 0;
-    *root = top;
-    root->index = place(top, &out, &next, root);
-    tbb::parallel_for(size_t{0}, jobs_.size(), [&](size_t j) {
-      Job& job = jobs_[j];
-      for (size_t i = 0; i < job.nodes.size(); ++i) {
-        gpu::GpuBvhNode n = job.nodes[i];
-        for (glm::vec4* min : {&n.leftMin, &n.rightMin}) {  // interior children move by base
-          glm::vec4& max = min == &n.leftMin ? n.leftMax : n.rightMax;
-          if (std::bit_cast<uint32_t>(max.w) == 0)
-            min->w = bitsToFloat(std::bit_cast<uint32_t>(min->w) + job.base);
-        }
-        out[job.base + i] = n;
-      }
-      std::vector<gpu::GpuBvhNode>().swap(job.nodes);
-    });
+    for (size_t i = 0; i < topNodes_.size(); ++i) {
+      const ChildRef l = resolve(topNodes_[i].left), r = resolve(topNodes_[i].right);
+      out[topIndex_[i]] = makeNode(l, l.index, r, r.index);
+    }
+    *root = resolve(top);
+    compact(&out);
     return out;
   }
 
@@ -169,9 +163,9 @@ class Builder {
   struct Job {
     Range range;
     int level = 0;
-    std::vector<gpu::GpuBvhNode> nodes;  // child indices local to them
+    uint32_t base = 0, used = 0;  // its region of the output, and how much it filled
     ChildRef root;
-    uint32_t base = 0;  // of its nodes in the output
+    uint32_t reserved() const { return std::max(range.count(), 1u) - 1; }
   };
 
   // Above the frontier: ranges at most frontier_ large become jobs.
@@ -181,7 +175,7 @@ class Builder {
     if (r.count() <= frontier_) {
       ref.kind = ChildRef::kJob;
       ref.index = static_cast<uint32_t>(jobs_.size());
-      jobs_.push_back({r, level, {}, {}, 0});
+      jobs_.push_back({r, level, 0, 0, {}});
       return ref;
     }
     Range left, right;
@@ -200,8 +194,9 @@ class Builder {
     return ref;
   }
 
-  // A job's subtree, into its own nodes with indices local to them.
-  ChildRef recurseJob(const Range& r, int level, std::vector<gpu::GpuBvhNode>* nodes) {
+  // A job's subtree, into out from base on, depth first.
+  ChildRef recurseJob(const Range& r, int level, gpu::GpuBvhNode* out, uint32_t base,
+                      uint32_t* used) {
     ChildRef ref;
     ref.box = r.box;
     Range left, right;
@@ -210,11 +205,10 @@ class Builder {
       ref.count = r.count();
       return ref;
     }
-    const auto node = static_cast<uint32_t>(nodes->size());
-    nodes->emplace_back();
-    const ChildRef l = recurseJob(left, level + 1, nodes);
-    const ChildRef rr = recurseJob(right, level + 1, nodes);
-    (*nodes)[node] = makeNode(l, l.index, rr, rr.index);
+    const uint32_t node = base + (*used)++;
+    const ChildRef l = recurseJob(left, level + 1, out, base, used);
+    const ChildRef rr = recurseJob(right, level + 1, out, base, used);
+    out[node] = makeNode(l, l.index, rr, rr.index);
     ref.kind = ChildRef::kInterior;
     ref.index = node;
     return ref;
@@ -424,29 +418,61 @@ class Builder {
         });
   }
 
-  // Lays out the subtree under c in depth-first order from *next: writes the top
-  // nodes and sets each job's base (its nodes are copied afterwards, in parallel).
-  // Returns the index c's parent stores (a node's, or a leaf's first prim) and, in
-  // *resolved, c with a job replaced by the reference to its subtree.
-  uint32_t place(const ChildRef& c, std::vector<gpu::GpuBvhNode>* out, uint32_t* next,
-                 ChildRef* resolved) {
-    *resolved = c;
-    if (c.kind == ChildRef::kLeaf) return c.index;
+  // Numbers the top nodes under c depth first from *next, with each job's region
+  // where its subtree goes.
+  void layout(const ChildRef& c, uint32_t* next) {
     if (c.kind == ChildRef::kJob) {
-      Job& job = jobs_[c.index];
-      *resolved = job.root;
-      if (job.root.kind == ChildRef::kLeaf) return job.root.index;
-      job.base = *next;
-      *next += static_cast<uint32_t>(job.nodes.size());
-      return job.root.index + job.base;
+      jobs_[c.index].base = *next;
+      *next += jobs_[c.index].reserved();
+    } else if (c.kind == ChildRef::kInterior) {
+      topIndex_[c.index] = (*next)++;
+      layout(topNodes_[c.index].left, next);
+      layout(topNodes_[c.index].right, next);
     }
-    const uint32_t index = (*next)++;
-    const TopNode n = topNodes_[c.index];
-    ChildRef l, r;
-    const uint32_t li = place(n.left, out, next, &l);
-    const uint32_t ri = place(n.right, out, next, &r);
-    (*out)[index] = makeNode(l, li, r, ri);
-    return index;
+  }
+
+  // c as its parent stores it: a job replaced by its subtree's root, a top node by
+  // its index in the output.
+  ChildRef resolve(const ChildRef& c) const {
+    if (c.kind == ChildRef::kJob) return jobs_[c.index].root;
+    ChildRef r = c;
+    if (c.kind == ChildRef::kInterior) r.index = topIndex_[c.index];
+    return r;
+  }
+
+  // Closes the gaps jobs left in their regions (leaves of more than one triangle:
+  // fewer nodes than reserved), keeping the order; none with one-triangle leaves.
+  void compact(BvhNodes* out) const {
+    std::vector<uint32_t> start, end,
+        shift;  // a gap [start, end); indices past end move down by shift
+    uint32_t total = 0;
+    for (const Job& j : jobs_) {
+      if (j.used == j.reserved()) continue;
+      total += j.reserved() - j.used;
+      start.push_back(j.base + j.used);
+      end.push_back(j.base + j.reserved());
+      shift.push_back(total);
+    }
+    if (total == 0) return;
+    auto moved = [&](uint32_t i) {
+      const auto k = std::upper_bound(end.begin(), end.end(), i) - end.begin();
+      return k == 0 ? i : i - shift[static_cast<size_t>(k - 1)];
+    };
+    size_t gap = 0;
+    for (uint32_t i = 0; i < out->size();) {
+      if (gap < start.size() && i == start[gap]) {
+        i = end[gap++];
+        continue;
+      }
+      gpu::GpuBvhNode n = (*out)[i];
+      if (std::bit_cast<uint32_t>(n.leftMax.w) == 0)
+        n.leftMin.w = bitsToFloat(moved(std::bit_cast<uint32_t>(n.leftMin.w)));
+      if (std::bit_cast<uint32_t>(n.rightMax.w) == 0)
+        n.rightMin.w = bitsToFloat(moved(std::bit_cast<uint32_t>(n.rightMin.w)));
+      (*out)[moved(i)] = n;
+      ++i;
+    }
+    out->resize(out->size() - total);
   }
 
  public:
@@ -464,13 +490,14 @@ class Builder {
   std::vector<Prim>& prims_;
   uint32_t frontier_ = 0;
   std::vector<TopNode> topNodes_;
+  std::vector<uint32_t> topIndex_;  // of each top node in the output
   std::vector<Job> jobs_;
 };
 
 // The depth (root = 1, leaves count) and the un-normalised SAH cost (sum of area x
 // cost) of the subtree under interior node i at `level`, depth first, parent first.
-void measure(const std::vector<gpu::GpuBvhNode>& nodes, uint32_t i, int level, float traversalCost,
-             int* depth, double* sah) {
+void measure(const BvhNodes& nodes, uint32_t i, int level, float traversalCost, int* depth,
+             double* sah) {
   *depth = std::max(*depth, level);
   const gpu::GpuBvhNode& n = nodes[i];
   for (int side = 0; side < 2; ++side) {
@@ -565,15 +592,13 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
   sah_ = all.box.area() > 0.0f ? sah / all.box.area() : 0.0;
   count_ = n;
   order_.resize(n);
-  triangles_.resize(n);
+  if (options.keepTriangles) triangles_.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1u << 14),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i < r.end(); ++i) {
                         order_[i] = prims[i].index();
-                        const BvhTriangle& t = triangles[order_[i]];
-                        triangles_[i].v0 = glm::vec4(t.v0, 0.0f);
-                        triangles_[i].e1 = glm::vec4(t.v1 - t.v0, 0.0f);
-                        triangles_[i].e2 = glm::vec4(t.v2 - t.v0, 0.0f);
+                        if (options.keepTriangles)
+                          triangles_[i] = gpuTriangle(triangles[order_[i]]);
                       }
                     });
 }

@@ -14,6 +14,9 @@
 #define VOXGI_RENDER_BVH_H
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -22,6 +25,28 @@
 #include "pathtrace_shared.h"
 
 namespace voxgi::render {
+
+// Leaves new elements uninitialised: resize() writes nothing, so that memory is
+// first touched by what fills it.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <typename U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+using BvhNodes = std::vector<gpu::GpuBvhNode, UninitializedAllocator<gpu::GpuBvhNode>>;
 
 struct BvhTriangle {
   glm::vec3 v0, v1, v2;
@@ -51,18 +76,26 @@ class Bvh {
     int maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);
     float traversalCost = 1.0f;  // SAH cost of visiting a node, relative to one triangle test
     int bins = 16;
+    // false: the build makes the nodes and the order only, not gpuTriangles(), and
+    // no ray may be traced (GpuBvh writes the triangles into its buffer itself).
+    bool keepTriangles = true;
   };
 
   Bvh() = default;
   explicit Bvh(const std::vector<BvhTriangle>& triangles, const Options& options);
   explicit Bvh(const std::vector<BvhTriangle>& triangles) : Bvh(triangles, Options{}) {}
 
+  // A triangle as the GPU reads it: v0 and two edges.
+  static gpu::GpuPtTriangle gpuTriangle(const BvhTriangle& t) {
+    return {glm::vec4(t.v0, 0.0f), glm::vec4(t.v1 - t.v0, 0.0f), glm::vec4(t.v2 - t.v0, 0.0f)};
+  }
+
   // Closest hit in (tMin, tMax); false when nothing is hit.
   bool intersect(const BvhRay& ray, BvhHit* hit) const;
   // Any hit in (tMin, tMax).
   bool occluded(const BvhRay& ray) const;
 
-  const std::vector<gpu::GpuBvhNode>& nodes() const { return nodes_; }
+  const BvhNodes& nodes() const { return nodes_; }
   const std::vector<uint32_t>& order() const { return order_; }
   // BVH-ordered triangles as the GPU reads them.
   const std::vector<gpu::GpuPtTriangle>& gpuTriangles() const { return triangles_; }
@@ -74,7 +107,7 @@ class Bvh {
   // The flattened arrays, moved out for an upload that keeps no CPU copy. Only the
   // counts, depth and SAH cost are left: no ray may be traced afterwards.
   struct Arrays {
-    std::vector<gpu::GpuBvhNode> nodes;
+    BvhNodes nodes;
     std::vector<uint32_t> order;
     std::vector<gpu::GpuPtTriangle> triangles;
   };
@@ -88,7 +121,7 @@ class Bvh {
   template <bool kAnyHit>
   bool traverse(const BvhRay& ray, BvhHit* hit) const;
 
-  std::vector<gpu::GpuBvhNode> nodes_;
+  BvhNodes nodes_;
   std::vector<uint32_t> order_;
   std::vector<gpu::GpuPtTriangle> triangles_;  // BVH order
   size_t count_ = 0;

@@ -59,9 +59,9 @@ void cornerValues(const std::vector<glm::vec4>& perVertex, const scene::Scene& s
   }
 }
 
-template <typename T>
-void freeVector(std::vector<T>* v) {
-  std::vector<T>().swap(*v);
+template <typename Vector>
+void freeVector(Vector* v) {
+  Vector().swap(*v);
 }
 
 }  // namespace
@@ -86,8 +86,8 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
   PtScene pt = buildPtScene(s, textured_);
   Bvh::Options options;
   options.maxLeafSize = static_cast<int>(gpu::kPtMaxLeafSize);  // what the kernel tests
+  options.keepTriangles = false;  // written into their buffer below, in BVH order
   Bvh bvh(pt.triangles, options);
-  freeVector(&pt.triangles);  // the BVH's own copy, in its order, is what goes up
   triangleCount_ = bvh.triangleCount();
   depth_ = bvh.depth();
   sah_ = bvh.sahCost();
@@ -109,12 +109,14 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
   nodes_ = upload(a.nodes.data(), nodeBytes);
   nodeTexels_ = bufferTexels(nodes_, nodeBytes, maxTexels);
   freeVector(&a.nodes);
-  const size_t triangleBytes = a.triangles.size() * sizeof(gpu::GpuPtTriangle);
-  triangles_ = upload(a.triangles.data(), triangleBytes);
-  triangleTexels_ = bufferTexels(triangles_, triangleBytes, maxTexels);
-  freeVector(&a.triangles);
-
   const std::vector<uint32_t>& order = a.order;
+  triangles_ = uploadFilled<gpu::GpuPtTriangle>(order.size(), [&](gpu::GpuPtTriangle* out) {
+    for (size_t slot = 0; slot < order.size(); ++slot)
+      out[slot] = Bvh::gpuTriangle(pt.triangles[order[slot]]);
+  });
+  triangleTexels_ = bufferTexels(triangles_, order.size() * sizeof(gpu::GpuPtTriangle), maxTexels);
+  freeVector(&pt.triangles);
+
   shading_ = uploadFilled<gpu::GpuPtShading>(
       order.size(), [&](gpu::GpuPtShading* out) { shadingInOrder(s, pt, order, out); });
   if (textured_) uploadTextures(s, pt, order, maxTexels);

@@ -99,7 +99,11 @@ struct ReferenceBuilder {
   std::vector<uint32_t> refs;
   std::vector<gpu::GpuBvhNode> nodes;
 
-  explicit ReferenceBuilder(const std::vector<BvhTriangle>& tris) {
+  uint32_t maxLeaf;
+
+  explicit ReferenceBuilder(const std::vector<BvhTriangle>& tris,
+                            uint32_t leafSize = gpu::kPtMaxLeafSize)
+      : maxLeaf(leafSize) {
     for (const BvhTriangle& t : tris) {
       Box b;
       b.extend(t.v0), b.extend(t.v1), b.extend(t.v2);
@@ -135,7 +139,6 @@ struct ReferenceBuilder {
           [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
       return mid;
     };
-    const uint32_t maxLeaf = gpu::kPtMaxLeafSize;
     if (!(extent[axis] > 0.0f)) return count > maxLeaf ? begin + count / 2 : end;
     if (level >= 24) return count > maxLeaf ? median() : end;
     const int nb = 16;
@@ -216,6 +219,21 @@ TEST(Bvh, ParallelBuildIsTheSerialBinnedSahBuild) {
     }
     expectSameTree(Bvh(tris), ref, "all threads");
   }
+}
+
+// Leaves of up to 4 triangles: the subtrees built by workers have fewer nodes than
+// the room reserved for them, and the gaps are closed afterwards.
+TEST(Bvh, ParallelBuildWithLargerLeavesIsTheSerialBuild) {
+  std::mt19937 rng(9);
+  // Each triangle three times: a range of copies can only be a leaf.
+  std::vector<BvhTriangle> tris;
+  for (const BvhTriangle& t : randomSoup(rng, 50000, 0.01f)) tris.insert(tris.end(), 3, t);
+  const ReferenceBuilder ref(tris, 4);
+  Bvh::Options options;
+  options.maxLeafSize = 4;
+  const Bvh bvh(tris, options);
+  EXPECT_LT(bvh.nodes().size(), tris.size() / 2);  // N - 1 were reserved
+  expectSameTree(bvh, ref, "leaves of 4");
 }
 
 TEST(Bvh, MatchesBruteForceOnRandomSoups) {

@@ -21,8 +21,8 @@ struct TwinInput {
   size_t bytes;
 };
 
-template <typename T>
-TwinInput twinInput(const std::vector<T>& v) {
+template <typename T, typename Allocator>
+TwinInput twinInput(const std::vector<T, Allocator>& v) {
   return {v.data(), v.size() * sizeof(T)};
 }
 
