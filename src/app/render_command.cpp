@@ -10,6 +10,7 @@
 
 #include "app/cli.h"
 #include "app/stage_report.h"
+#include "core/memory.h"
 #include "core/statistics.h"
 #include "gl/debug.h"
 #include "image/image.h"
@@ -239,7 +240,9 @@ void addSceneStats(nlohmann::ordered_json& stats, const RenderOptions& o, const 
 
 void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
                     const render::Renderer& renderer) {
+  stats["peak_rss_bytes"] = peakResidentBytes();
   stats["gpu_scene_bytes"] = renderer.gpuScene().bytes();
+  if (const render::GpuBvh* bvh = renderer.bvh()) stats["gpu_bvh_bytes"] = bvh->gpuBytes();
   const render::Renderer::TextureMemory tm = renderer.textureMemory();
   stats["texture_bytes"] = {
       {"gpu", tm.gpu()}, {"gl_textures", tm.glTextures},   {"bvh_texels", tm.bvhTexels},
@@ -353,7 +356,7 @@ void printSummary(const RenderOptions& o, const gl::Context& context, const scen
   std::printf("  load %.1f ms, start-up %.1f ms", record.loadMs, record.startupMs);
   for (const gl::StageTime& st : renderer.startupStages())
     std::printf(" (%s %.1f ms)", stageName(st.stage), st.cpuMs);
-  std::printf("\n");
+  std::printf(", peak RSS %.0f MiB\n", static_cast<double>(peakResidentBytes()) / (1 << 20));
   if (o.render.targetFps > 0.0)
     std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",
                 1000.0 / o.render.targetFps, record.times.frameMedian(), record.tracedMedian());

@@ -21,6 +21,7 @@
 #include "app/imgui_layer.h"
 #include "app/screenshot.h"
 #include "app/stage_report.h"
+#include "core/memory.h"
 #include "gl/debug.h"
 #include "image/image.h"
 #include "scene/gltf_loader.h"
@@ -516,7 +517,11 @@ void Viewer::drawSceneFacts() {
 }
 
 void Viewer::drawMemory() {
+  ImGui::Text("process peak resident: %s", mib(peakResidentBytes()).c_str());
   ImGui::Text("GPU scene: %s", mib(renderer_->gpuScene().bytes()).c_str());
+  if (const render::GpuBvh* bvh = renderer_->bvh())
+    ImGui::Text("GPU BVH and hit shading: %s (%zu triangles)", mib(bvh->gpuBytes()).c_str(),
+                bvh->triangleCount());
   const render::Renderer::TextureMemory tm = renderer_->textureMemory();
   ImGui::Text("textures: %s on the GPU, %s on the CPU", mib(tm.gpu()).c_str(),
               mib(tm.cpu()).c_str());
@@ -628,7 +633,9 @@ void Viewer::writeStats(const std::string& endedBy) {
   for (const auto& [effect, reason] : renderer_->effects().skipped)
     skipped[scene::effectName(effect)] = reason;
   stats["effects"] = {{"enabled", renderer_->effects().enabledNames()}, {"skipped", skipped}};
+  stats["peak_rss_bytes"] = peakResidentBytes();
   stats["gpu_scene_bytes"] = renderer_->gpuScene().bytes();
+  if (const render::GpuBvh* bvh = renderer_->bvh()) stats["gpu_bvh_bytes"] = bvh->gpuBytes();
   stats["texture_bytes"] = {{"gpu", renderer_->textureMemory().gpu()},
                             {"cpu", renderer_->textureMemory().cpu()}};
   stats["animated"] = scene_->animated();
