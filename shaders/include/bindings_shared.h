@@ -9,8 +9,8 @@
 // draw (the scene's buffers and textures included), so what an earlier pass left
 // on a number is replaced before a program that reads that number runs. A program
 // reads the names its shader sources (with their includes) mention; the test
-// tests/render/bindings_test.cpp checks this for every shader under shaders/, and
-// that image units stay below kMinImageUnits.
+// tests/render/bindings_test.cpp checks this for every shader under shaders/, that
+// image units stay below kMinImageUnits, and the SSBO needs stated below.
 //
 // A pass that reads another layer's data (rtgi and dvr read the octree; the
 // octree reads the voxel list; every scene pass reads the scene's buffers) uses
@@ -26,6 +26,16 @@ namespace voxgi::gpu {
 
 // GL 4.5's minimum of GL_MAX_IMAGE_UNITS: image units 0 to 7 exist on every driver.
 VOXGI_CONST uint kMinImageUnits = 8u;
+
+// What the shaders ask of SSBOs, beyond GL 4.5's minimum of 8 for each: the highest
+// SSBO binding + 1 (GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS), and the most SSBOs one
+// compute program (GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS) or one program with a
+// fragment shader (GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS) reads. The context
+// refuses a driver that offers less (gl/context.cpp); the bindings test keeps these
+// equal to what the shaders use.
+VOXGI_CONST uint kRequiredSsboBindings = 26u;
+VOXGI_CONST uint kRequiredComputeSsboBlocks = 15u;
+VOXGI_CONST uint kRequiredFragmentSsboBlocks = 9u;
 
 // ---------------------------------------------------------------------------
 // Uniform blocks. One number per block: a program may read several.

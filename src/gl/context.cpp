@@ -5,6 +5,8 @@
 #include "gl/gl.h"
 #include "gl/workarounds.h"
 
+#include "bindings_shared.h"
+
 namespace voxgi::gl {
 
 const char* backendName(Backend b) {
@@ -53,9 +55,31 @@ void Context::initGl(void* (*load)(const char*), bool debug) {
     throw Error(strf("%s: OpenGL 4.5 core is required, the driver gives %s (%s)",
                      backendName(backend_), version_.c_str(), renderer_.c_str()));
   }
+  checkLimits();
   if (debug) installDebugOutput();
   applyDriverWorkarounds(renderer_, version_);
   logDebug(strf("%s context: %s / %s", backendName(backend_), version_.c_str(), renderer_.c_str()));
+}
+
+void Context::checkLimits() const {
+  struct Limit {
+    GLenum name;
+    const char* text;
+    GLuint needed;
+  };
+  for (const Limit& l :
+       {Limit{GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, "GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS",
+              gpu::kRequiredSsboBindings},
+        Limit{GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, "GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS",
+              gpu::kRequiredComputeSsboBlocks},
+        Limit{GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS, "GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS",
+              gpu::kRequiredFragmentSsboBlocks}}) {
+    GLint value = 0;
+    glGetIntegerv(l.name, &value);
+    if (value < static_cast<GLint>(l.needed))
+      throw Error(strf("%s: voxgi's shaders need %s >= %u, the driver gives %d (%s)",
+                       backendName(backend_), l.text, l.needed, value, renderer_.c_str()));
+  }
 }
 
 }  // namespace voxgi::gl

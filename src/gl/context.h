@@ -55,6 +55,9 @@ class Context {
   explicit Context(Backend b) : backend_(b) {}
   // Loads the glad table with `load`, reads the strings and checks the version.
   void initGl(void* (*load)(const char*), bool debug);
+  // Throws, naming the limit, when the driver offers fewer SSBO bindings or blocks
+  // than the shaders use (bindings_shared.h's kRequired*).
+  void checkLimits() const;
 
  private:
   Backend backend_;

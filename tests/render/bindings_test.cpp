@@ -3,6 +3,7 @@
 // units stay within what every GL 4.5 driver has.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -250,7 +251,7 @@ TEST(Bindings, RegistryListsEveryNameTheHeaderDeclares) {
   for (auto it = std::sregex_iterator(text.begin(), text.end(), declRe);
        it != std::sregex_iterator(); ++it) {
     const std::string name = (*it)[1].str();
-    if (name == "kMinImageUnits") continue;
+    if (name == "kMinImageUnits" || name.starts_with("kRequired")) continue;
     declared.insert(name);
     ASSERT_TRUE(registry().count(name)) << name << " has no kind in this test's registry";
     EXPECT_EQ(registry().at(name).number, static_cast<uint>(std::stoul((*it)[2].str()))) << name;
@@ -277,6 +278,27 @@ TEST(Bindings, EveryNameIsReadBySomeProgram) {
     used.insert(u.begin(), u.end());
   }
   for (const auto& [name, entry] : registry()) EXPECT_TRUE(used.count(name)) << name;
+}
+
+// The SSBO needs bindings_shared.h states (and the context checks against the
+// driver) are what the shaders use: the highest binding + 1, and the most SSBOs in
+// one compute program and in one program with a fragment shader.
+TEST(Bindings, SsboNeedsAreWhatTheShadersUse) {
+  uint bindings = 0, compute = 0, fragment = 0;
+  for (const auto& files : programs()) {
+    uint count = 0;
+    for (const std::string& name : namesUsed(files)) {
+      const Entry& e = registry().at(name);
+      if (e.kind != Kind::Ssbo) continue;
+      ++count;
+      bindings = std::max(bindings, e.number + 1);
+    }
+    const bool isCompute = files.size() == 1 && files[0].ends_with(".comp");
+    (isCompute ? compute : fragment) = std::max(isCompute ? compute : fragment, count);
+  }
+  EXPECT_EQ(bindings, kRequiredSsboBindings);
+  EXPECT_EQ(compute, kRequiredComputeSsboBlocks);
+  EXPECT_EQ(fragment, kRequiredFragmentSsboBlocks);
 }
 
 TEST(Bindings, ImageUnitsAreWithinTheMinimumEveryDriverHas) {
