@@ -2,7 +2,8 @@
 //
 // Built on the CPU by binned SAH (Wald 2007, "On fast construction of SAH-based
 // bounding volume hierarchies": 16 bins per axis over the centroid bounds, leaf when
-// no split is cheaper than the leaf), then flattened into the layout of
+// no split is cheaper than the leaf) on every core, the same tree bit for bit as a
+// one-thread recursive build (bvh.cpp says how), flattened into the layout of
 // shaders/include/pathtrace_shared.h: each node holds both children's bounds, so the
 // GPU tests two boxes per fetch and visits the nearer child first. Triangles are
 // reordered so every leaf is a contiguous run; order()[i] is the input index of the
