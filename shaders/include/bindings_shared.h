@@ -39,11 +39,12 @@ VOXGI_CONST uint kRequiredFragmentSsboBlocks = 9u;
 
 // ---------------------------------------------------------------------------
 // Uniform blocks. One number per block: a program may read several.
-VOXGI_CONST uint kFrameBinding = 0u;         // scene passes: GpuFrame
-VOXGI_CONST uint kVoxelParamsBinding = 1u;   // voxelize, resolve, voxel points: VoxelParams
-VOXGI_CONST uint kPtParamsBinding = 1u;      // path tracer: GpuPtParams (never with voxels)
-VOXGI_CONST uint kOctreeParamsBinding = 2u;  // octree passes, rtgi, dvr: OctreeParams
-VOXGI_CONST uint kRtgiParamsBinding = 3u;    // rtgi, dvr: RtgiParams
+VOXGI_CONST uint kFrameBinding = 0u;           // scene passes: GpuFrame
+VOXGI_CONST uint kVoxelParamsBinding = 1u;     // voxelize, resolve, voxel points: VoxelParams
+VOXGI_CONST uint kPtParamsBinding = 1u;        // path tracer: GpuPtParams (never with voxels)
+VOXGI_CONST uint kOctreeParamsBinding = 2u;    // octree passes, rtgi, dvr: OctreeParams
+VOXGI_CONST uint kRtgiParamsBinding = 3u;      // rtgi, dvr: RtgiParams
+VOXGI_CONST uint kUpsampleParamsBinding = 4u;  // rtgi's temporal upsampler: UpsampleParams
 
 // ---------------------------------------------------------------------------
 // SSBOs.
@@ -191,6 +192,13 @@ VOXGI_CONST uint kHistoryMomentsUnit = 13u;  // the denoiser's moments before th
 VOXGI_CONST uint kHistoryDirectUnit = 14u;
 VOXGI_CONST uint kReprojectedMomentsUnit = 14u;
 VOXGI_CONST uint kReprojectedDirectUnit = 15u;
+// rtgi's temporal upsampler (a render scale below 1): the output's history before
+// this frame (rgba32f at the output size, linear filter: the sum of the samples that
+// landed in the pixel, and their count), rtgi's image as shown at the internal size
+// (linear filter) and its running mean (the count of samples in alpha).
+VOXGI_CONST uint kUpsampleHistoryUnit = 9u;
+VOXGI_CONST uint kUpsampleShownUnit = 10u;
+VOXGI_CONST uint kUpsampleMeanUnit = 11u;
 
 // ---------------------------------------------------------------------------
 // Image units.
@@ -231,6 +239,11 @@ VOXGI_CONST uint kDenoiseOutImage = 1u;
 VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
 VOXGI_CONST uint kDenoiseInImage2 = 3u;  // the second term's
 VOXGI_CONST uint kDenoiseOutImage2 = 4u;
+// The temporal upsampler writes the output's history and the image shown (rgba32f,
+// the output size) on units the rtgi stages' images leave free (it reads the
+// direct, indirect and specular images and the traced pixels beside them).
+VOXGI_CONST uint kUpsampleHistoryImage = 3u;
+VOXGI_CONST uint kUpsampleOutImage = 4u;
 
 // The path tracer: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;

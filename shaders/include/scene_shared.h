@@ -16,6 +16,9 @@ namespace voxgi::gpu {
 VOXGI_CONST int kMaterialIndexLocation = 0;
 VOXGI_CONST int kExposureLocation = 1;
 VOXGI_CONST int kTonemapLocation = 2;
+// The mask view: the mask's size over the image's (an rtgi render scale below 1 makes
+// the mask smaller than the image it is shown in).
+VOXGI_CONST int kTonemapInputScaleLocation = 3;
 VOXGI_CONST int kAmbientLocation = 3;  // raster.frag: the uniform ambient radiance
 
 // Vertex attribute locations (scene::GpuScene's vertex array): position, normal

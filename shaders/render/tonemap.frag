@@ -6,6 +6,7 @@
 layout(binding = kHdrInputUnit) uniform sampler2D hdr;
 layout(location = kExposureLocation) uniform float exposure;
 layout(location = kTonemapLocation) uniform int op;
+layout(location = kTonemapInputScaleLocation) uniform vec2 inputScale;  // the mask view's
 
 layout(location = 0) out vec4 outColor;
 
@@ -20,7 +21,8 @@ vec3 srgbEncode(vec3 c) {
 
 void main() {
   if (op == kTonemapMask) {
-    outColor = vec4(srgbEncode(vec3(texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).r)), 1.0);
+    outColor =
+        vec4(srgbEncode(vec3(texelFetch(hdr, ivec2(gl_FragCoord.xy * inputScale), 0).r)), 1.0);
     return;
   }
   vec3 c = texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb * exposure;

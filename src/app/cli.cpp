@@ -163,6 +163,11 @@ std::string renderHelpRtgi() {
          "                    1/16, an interleave of 16); the extra pixels are those the\n"
          "                    work mask finds noisy (edges of the noisy image, blurred);\n"
          "                    off (the default) traces as --interleave says\n"
+         "  --render-scale S  rtgi renders at S times the output's width and height\n"
+         "                    (0.25 to 1, default 1): G-buffer, rays, accumulation and\n"
+         "                    denoiser cost about S^2 as much, and a temporal upsampler\n"
+         "                    rebuilds the output from the jittered frames; a still\n"
+         "                    image converges to the full-resolution one\n"
          "  --sparse-start    with interleaving or a frame budget, the first frame traces\n"
          "                    its share only, like the others; pixels that have not traced\n"
          "                    yet show their traced neighbours' light (as the viewer does)\n"
@@ -278,6 +283,9 @@ std::string viewHelp() {
          "                    frame). A camera move keeps each pixel's history where its\n"
          "                    surface stays in view (--reproject); pixels that lost it and\n"
          "                    have not traced since show their traced neighbours' light\n"
+         "  --render-scale S  rtgi renders at S times the window's size and upsamples\n"
+         "                    over time (see voxgi render --help): default 0.5 on a\n"
+         "                    software GL (llvmpipe), 1 on a hardware one\n"
          "  --no-panel        start with the panel hidden\n"
          "  --verbose         log GL debug output and loader details\n"
          "  --quiet           print errors only\n"
@@ -411,6 +419,11 @@ bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& 
     rs->targetFps = v == "off" ? 0.0 : parseFloat("--target-fps", v);
     if (v != "off" && !(rs->targetFps > 0.0 && rs->targetFps <= 1000.0))
       throw UsageError("--target-fps: must be in (0, 1000], or off");
+  } else if (a == "--render-scale") {
+    const double scale = parseFloat("--render-scale", value());
+    if (!(scale >= render::kMinRenderScale && scale <= render::kMaxRenderScale))
+      throw UsageError("--render-scale: must be in [0.25, 1]");
+    rs->renderScale = static_cast<float>(scale);
   } else if (a == "--sparse-start") {
     rs->rtgi.sparseStart = true;
   } else if (a == "--voxel-reflections") {
@@ -476,6 +489,7 @@ Invocation parseView(const std::vector<std::string>& args) {
       return inv;
     } else if (parseRenderSetting(a, value, &o.render)) {
       if (a == "--denoise") o.denoiseChosen = true;
+      if (a == "--render-scale") o.renderScaleChosen = true;
     } else if (a == "--frames") {
       o.frames = parseInt("--frames", value(), 1, 10000000);
     } else if (a == "--screenshot") {

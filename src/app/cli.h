@@ -21,6 +21,8 @@ class UsageError : public Error {
 
 // The frame rate `voxgi view` holds in rtgi unless told otherwise (--target-fps).
 constexpr double kViewTargetFps = 30.0;
+// The render scale `voxgi view` starts rtgi at on a software GL (--render-scale).
+constexpr float kSoftwareRenderScale = 0.5f;
 
 struct RenderOptions {
   std::string scene;  // empty: the built-in Cornell room

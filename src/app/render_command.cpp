@@ -206,6 +206,10 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
                          : rt.tracesTriangles()  ? "triangles"
                                                  : "voxels";
   stats["traced_fraction"] = record.tracedMedian();
+  const glm::ivec2 internal =
+      render::scaledSize(o.render.width, o.render.height, o.render.renderScale);
+  stats["render_scale"] = o.render.renderScale;
+  stats["internal_size"] = {internal.x, internal.y};
   if (o.render.targetFps > 0.0)
     stats["budget"] = {
         {"target_fps", o.render.targetFps},

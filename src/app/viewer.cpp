@@ -552,6 +552,11 @@ void Viewer::drawRunControls() {
     ImGui::Text("animation %.2f s of %.2f s",
                 std::fmod(animationTime_, std::max(scene_->animationDuration, 1e-9)),
                 scene_->animationDuration);
+  if (renderer_->settings().mode == render::Mode::kRtgi) {
+    const glm::ivec2 internal = renderer_->internalSize();
+    ImGui::Text("render scale %.2f: %dx%d", static_cast<double>(renderer_->settings().renderScale),
+                internal.x, internal.y);
+  }
   if (renderer_->settings().targetFps > 0.0 && renderer_->rtgi()) {
     ImGui::Text("budget %.1f fps: tracing %.1f%% of pixels", renderer_->settings().targetFps,
                 100.0 * renderer_->rtgi()->lastTracedFraction());
@@ -705,6 +710,9 @@ void Viewer::startRenderer() {
   const bool denoiseOff = !options_.denoiseChosen && settings.rtgi.denoise &&
                           render::isSoftwareRenderer(glRenderer ? glRenderer : "");
   if (denoiseOff) settings.rtgi.denoise = false;
+  if (!options_.renderScaleChosen)
+    settings.renderScale =
+        render::isSoftwareRenderer(glRenderer ? glRenderer : "") ? kSoftwareRenderScale : 1.0f;
   programs_ = std::make_unique<gl::ProgramCache>(shaderRoot());
   renderer_ = std::make_unique<render::Renderer>(*programs_, *scene_, settings);
   logInfo("effects: " + renderer_->effects().summary());

@@ -31,6 +31,10 @@ struct ViewOptions {
   // --denoise given: otherwise the denoiser starts on only on a hardware GL (on a
   // software one it costs more than the frame budget: docs/rtgi.md, "Denoiser").
   bool denoiseChosen = false;
+  // --render-scale given: otherwise rtgi renders at half the window's size on a
+  // software GL, where the per-pixel stages alone outlast the frame budget
+  // (docs/rtgi.md, "Render scale"), and at its full size on a hardware one.
+  bool renderScaleChosen = false;
   bool verbose = false;
   bool quiet = false;
 };

@@ -28,6 +28,7 @@ enum class Stage {
   kReproject,
   kDenoise,
   kMask,
+  kUpsample,   // render/rtgi_pass with a render scale below 1
   kRaster,     // render/raster_pass
   kPoints,     // render/points_pass
   kDvr,        // render/dvr_pass
@@ -35,19 +36,20 @@ enum class Stage {
   kTonemap,    // render/tonemap_pass
 };
 
-inline constexpr std::array<Stage, 20> kStages = {
-    Stage::kVoxelize, Stage::kOctree,     Stage::kInject,    Stage::kRefine,    Stage::kBvh,
-    Stage::kGbuffer,  Stage::kSelect,     Stage::kShadows,   Stage::kDirect,    Stage::kIndirect,
-    Stage::kSpecular, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise,   Stage::kMask,
-    Stage::kRaster,   Stage::kPoints,     Stage::kDvr,       Stage::kPathtrace, Stage::kTonemap};
+inline constexpr std::array<Stage, 21> kStages = {
+    Stage::kVoxelize, Stage::kOctree,     Stage::kInject,    Stage::kRefine,  Stage::kBvh,
+    Stage::kGbuffer,  Stage::kSelect,     Stage::kShadows,   Stage::kDirect,  Stage::kIndirect,
+    Stage::kSpecular, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise, Stage::kMask,
+    Stage::kUpsample, Stage::kRaster,     Stage::kPoints,    Stage::kDvr,     Stage::kPathtrace,
+    Stage::kTonemap};
 
 // The stage's name in stats, tables and debug groups ("gbuffer" for kGbuffer).
 inline const char* stageName(Stage s) {
   // Indexed by Stage.
   static constexpr std::array<const char*, kStages.size()> kNames = {
-      "voxelize", "octree", "inject",   "refine",   "bvh",        "gbuffer",   "select",
-      "shadows",  "direct", "indirect", "specular", "accumulate", "reproject", "denoise",
-      "mask",     "raster", "points",   "dvr",      "pathtrace",  "tonemap"};
+      "voxelize", "octree",   "inject",   "refine",   "bvh",        "gbuffer",   "select",
+      "shadows",  "direct",   "indirect", "specular", "accumulate", "reproject", "denoise",
+      "mask",     "upsample", "raster",   "points",   "dvr",        "pathtrace", "tonemap"};
   return kNames[static_cast<std::size_t>(s)];
 }
 

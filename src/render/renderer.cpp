@@ -69,6 +69,12 @@ glm::vec2 subpixelJitter(int k) {
                    static_cast<float>(std::fmod(0.5 + a2 * n, 1.0) - 0.5));
 }
 
+glm::ivec2 scaledSize(int width, int height, float scale) {
+  return glm::ivec2(
+      std::max(1, static_cast<int>(std::lround(static_cast<double>(width) * scale))),
+      std::max(1, static_cast<int>(std::lround(static_cast<double>(height) * scale))));
+}
+
 void checkImageSize(int width, int height) {
   if (width < 1 || height < 1)
     throw Error(strf("image size %dx%d: must be at least 1x1", width, height));
@@ -97,6 +103,9 @@ Renderer::Renderer(gl::ProgramCache& programs, const scene::Scene& scene,
       plan_(effectPlan(scene, settings)),
       gpuScene_(scene),
       tonemap_(programs, settings.tonemap) {
+  if (!(settings.renderScale >= kMinRenderScale && settings.renderScale <= kMaxRenderScale))
+    throw Error(strf("render scale %g: must be between %g and %g", settings.renderScale,
+                     kMinRenderScale, kMaxRenderScale));
   createPasses();
   createTargets();
   frameUniforms_ = gl::createBuffer(sizeof(gpu::GpuFrame), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -226,6 +235,14 @@ void Renderer::createTargets() {
   glNamedFramebufferTexture(hdrFbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
   ldrFbo_ = gl::createFramebuffer();
   glNamedFramebufferTexture(ldrFbo_.id(), GL_COLOR_ATTACHMENT0, ldr_.id(), 0);
+  lowHdr_.reset();
+  if (settings_.renderScale < 1.0f) {
+    const glm::ivec2 low = internalSize();
+    lowHdr_ = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(lowHdr_.id(), 1, GL_RGBA32F, low.x, low.y);
+    glTextureParameteri(lowHdr_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(lowHdr_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
   for (GLuint f : {hdrFbo_.id(), ldrFbo_.id()}) {
     const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -309,8 +326,10 @@ uint32_t Renderer::nonfiniteTerms() const {
 }
 
 size_t Renderer::targetBytes() const {
+  const glm::ivec2 low = internalSize();
   return static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height) *
              (16 + 4 + 4) +
+         (lowHdr_ ? static_cast<size_t>(low.x) * static_cast<size_t>(low.y) * 16 : 0) +
          (rtgi_ ? rtgi_->targetBytes() : 0);
 }
 
@@ -357,7 +376,11 @@ void Renderer::renderFrame(const scene::Camera& camera) {
   const SceneUpdate update = updateVoxels(ctx);
   executeMode(ctx, camera, reproject ? &previousViewProj : nullptr);
   if (showMask_ && settings_.mode == Mode::kRtgi && rtgi_->maskTexture() != 0)
-    tonemap_.executeMask(ctx, rtgi_->maskTexture(), ldrFbo_.id());
+    tonemap_.executeMask(
+        ctx, rtgi_->maskTexture(),
+        glm::vec2(static_cast<float>(rtgi_->maskWidth()) / static_cast<float>(settings_.width),
+                  static_cast<float>(rtgi_->maskHeight()) / static_cast<float>(settings_.height)),
+        ldrFbo_.id());
   else
     tonemap_.execute(ctx, shownHdr(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -401,14 +424,16 @@ glm::mat4 Renderer::uploadFrameUniforms(const scene::Camera& camera) {
   glm::mat4 projection = camera.projection(aspect);
   const glm::mat4 previousViewProj = lastViewProj_;
   lastViewProj_ = projection * camera.view();
+  jitter_ = glm::vec2(0.0f);
   if (settings_.mode == Mode::kRtgi && settings_.jitter) {
     // A pixel traces once every `interleave` frames (all of them on the first): its
-    // k-th sample takes offset k.
+    // k-th sample takes offset k. The offset is in the pixels rtgi renders.
     const int n = rtgi_->settings().interleave;
-    const glm::vec2 j = subpixelJitter((accumulated_ + n - 1) / n);
+    jitter_ = subpixelJitter((accumulated_ + n - 1) / n);
+    const glm::ivec2 size = internalSize();
     glm::mat4 shift(1.0f);  // clip space: xy += offset x w, an NDC shift
-    shift[3] = glm::vec4(2.0f * j.x / static_cast<float>(settings_.width),
-                         2.0f * j.y / static_cast<float>(settings_.height), 0.0f, 1.0f);
+    shift[3] = glm::vec4(2.0f * jitter_.x / static_cast<float>(size.x),
+                         2.0f * jitter_.y / static_cast<float>(size.y), 0.0f, 1.0f);
     projection = shift * projection;
   }
   const glm::mat4 vp = projection * camera.view();
@@ -458,11 +483,28 @@ void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
     case Mode::kDvr:
       dvr_->execute(ctx, *octree_, camera, hdr_.id());
       break;
-    case Mode::kRtgi:
+    case Mode::kRtgi: {
       if (budget_) rtgi_->setTraceFraction(budget_->fraction());
-      rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id(),
+      if (!upsamples()) {
+        rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id(),
+                       previousViewProj);
+        break;
+      }
+      // At the internal size, then the output rebuilt from it.
+      const glm::ivec2 low = internalSize();
+      gl::FrameContext lowCtx{ctx.programs, ctx.timer, low.x, low.y, ctx.frameUniforms};
+      rtgi_->execute(lowCtx, gpuScene_, octree_.get(), camera.position, accumulated_, lowHdr_.id(),
                      previousViewProj);
+      RtgiPass::UpsampleFrame f;
+      f.jitter = jitter_;
+      f.viewProj = lastViewProj_;
+      f.previousViewProj = previousViewProj ? *previousViewProj : lastViewProj_;
+      f.cameraPosition = camera.position;
+      f.restart = accumulated_ == 0;
+      f.reprojecting = previousViewProj != nullptr;
+      rtgi_->upsample(ctx, lowHdr_.id(), f, hdr_.id());
       break;
+    }
     case Mode::kPathtrace:
       // Progressive: this frame's samples join those since accumulation restarted.
       if (!settings_.progressive || accumulated_ == 0) pathtrace_->reset();
@@ -519,6 +561,7 @@ void Renderer::setDenoise(bool on) {
 }
 
 GLuint Renderer::shownHdr() const {
+  if (upsamples()) return hdr_.id();  // the upsampler's output
   if (settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->denoisedTexture() != 0)
     return rtgi_->denoisedTexture();
   return hdr_.id();

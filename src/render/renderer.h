@@ -86,6 +86,12 @@ struct RenderSettings {
   // path tracer's) rather than to the value at its centre. The first frame is not
   // offset.
   bool jitter = true;
+  // rtgi: the share of the output's width and height it renders at, in [0.25, 1].
+  // Below 1, the G-buffer, the rays, accumulation, reprojection and the denoiser run
+  // at the internal size (internalSize()), and a temporal upsampler rebuilds the
+  // output from the jittered frames (RtgiPass::upsample): still, it converges to the
+  // full-resolution image. Other modes render at the output size.
+  float renderScale = 1.0f;
   // rtgi: hold this frame rate (0: off) by tracing a varying share of the pixels,
   // chosen by the work mask (rtgi.select; kMask unless set) on top of an interleave
   // of 16 (unless set).
@@ -112,6 +118,13 @@ scene::EffectPlan effectPlan(const scene::Scene& scene, const RenderSettings& se
 // sequence (Roberts 2018, the plastic constant's additive recurrence), which stays
 // evenly spread over any run of consecutive k; k = 0 is the pixel's centre.
 glm::vec2 subpixelJitter(int k);
+
+// The render scale's range (RenderSettings::renderScale).
+constexpr float kMinRenderScale = 0.25f;
+constexpr float kMaxRenderScale = 1.0f;
+// rtgi's internal size for an output of width x height at render scale `scale`:
+// each side scaled and rounded, at least 1.
+glm::ivec2 scaledSize(int width, int height, float scale);
 
 // Throws voxgi::Error when width x height cannot be rendered on this context.
 void checkImageSize(int width, int height);
@@ -169,6 +182,10 @@ class Renderer {
   const TonemapPass::Settings& tonemapSettings() { return tonemap_.settings(); }
   void setTonemapSettings(const TonemapPass::Settings& s);
 
+  // The size rtgi renders at: the output's under the render scale.
+  glm::ivec2 internalSize() const {
+    return scaledSize(settings_.width, settings_.height, settings_.renderScale);
+  }
   int accumulatedFrames() const { return accumulated_; }
   void restartAccumulation() { accumulated_ = 0; }
 
@@ -237,6 +254,11 @@ class Renderer {
   gl::StageTimer timer_;
   gl::Buffer frameUniforms_;
   gl::Texture hdr_, depth_, ldr_;
+  // rtgi's accumulation target at the internal size (a render scale below 1), and
+  // this frame's jitter, in its pixels.
+  gl::Texture lowHdr_;
+  glm::vec2 jitter_{0.0f};
+  bool upsamples() const { return settings_.mode == Mode::kRtgi && settings_.renderScale < 1.0f; }
   gl::Framebuffer hdrFbo_, ldrFbo_;
   std::vector<gl::StageTime> stages_;
   int accumulated_ = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 #include "core/log.h"
 #include "interleave_shared.h"
 #include "light_tree_shared.h"
@@ -208,6 +210,8 @@ void RtgiPass::resize(int width, int height) {
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
                  (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
+  if (outputWidth_ > 0)
+    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 2 * 16;
 }
 
 void RtgiPass::makeDenoiserImages() {
@@ -580,6 +584,80 @@ float RtgiPass::maskThreshold(uint64_t extra) const {
     above += histogramBins_[static_cast<size_t>(b)];
   }
   return -1.0f;  // every pixel
+}
+
+void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame,
+                        GLuint output) {
+  bool restart = frame.restart;
+  if (ctx.width != outputWidth_ || ctx.height != outputHeight_) {
+    for (gl::Texture& t : upsampleHistory_) makeImage(t, GL_RGBA32F, ctx.width, ctx.height);
+    if (outputWidth_ == 0) {
+      upsampleParams_ =
+          gl::createBuffer(sizeof(gpu::UpsampleParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+      linear_ = gl::createSampler();
+      glSamplerParameteri(linear_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glSamplerParameteri(linear_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glSamplerParameteri(linear_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glSamplerParameteri(linear_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    } else {
+      targetBytes_ -= static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 32;
+    }
+    outputWidth_ = ctx.width;
+    outputHeight_ = ctx.height;
+    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 32;
+    restart = true;
+  }
+  gpu::UpsampleParams u{};
+  u.size = glm::uvec4(static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height),
+                      (restart ? gpu::kUpsampleRestart : 0u) |
+                          (frame.reprojecting ? gpu::kUpsampleReprojecting : 0u),
+                      0u);
+  u.jitter = glm::vec4(frame.jitter, 0.0f, 0.0f);
+  u.blend = glm::vec4(kUpsampleHistoryCap, kUpsampleInternalWeight, kUpsampleClip, 0.0f);
+  u.camera = glm::vec4(frame.cameraPosition, 1.0f);
+  const glm::mat4 inverseViewProj = glm::inverse(frame.viewProj);
+  for (int i = 0; i < 4; ++i) {
+    u.inverseViewProj[i] = inverseViewProj[i];
+    u.previousViewProj[i] = frame.previousViewProj[i];
+  }
+  glNamedBufferSubData(upsampleParams_.id(), 0, sizeof(u), &u);
+
+  gl::StageScope stage(ctx.timer, Stage::kUpsample);
+  const int in = upsampleCurrent_, out = in ^ 1;
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kUpsampleParamsBinding, upsampleParams_.id());
+  glBindTextureUnit(gpu::kGPositionUnit, position_[current_].id());
+  glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
+  glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());
+  glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
+  glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
+  glBindTextureUnit(gpu::kUpsampleHistoryUnit, upsampleHistory_[in].id());
+  glBindTextureUnit(gpu::kUpsampleShownUnit, denoised_ ? denoisedImage_.id() : accum);
+  glBindTextureUnit(gpu::kUpsampleMeanUnit, accum);
+  for (GLuint unit : {gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit})
+    glBindSampler(unit, linear_.id());
+  glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                     GL_RGBA16F);
+  glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                     GL_RGBA16F);
+  glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
+                     GL_RGBA16F);
+  glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
+  glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[out].id(), 0, GL_FALSE, 0,
+                     GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(gpu::kUpsampleOutImage, output, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, settings_.features.defines()}).id());
+  glDispatchCompute(static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
+                    static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY), 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  for (GLuint unit : {gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit}) glBindSampler(unit, 0);
+  for (GLuint u2 : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit,
+                    gpu::kGMotionUnit, gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit,
+                    gpu::kUpsampleMeanUnit})
+    glBindTextureUnit(u2, 0);
+  for (GLuint unit = 0; unit < gpu::kMinImageUnits; ++unit)
+    glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  upsampleCurrent_ = out;
 }
 
 std::vector<float> RtgiPass::readMask() const {

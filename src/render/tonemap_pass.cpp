@@ -39,9 +39,11 @@ void TonemapPass::appendKnobs(std::vector<Knob>* knobs) {
   knobs->push_back(std::move(op));
 }
 
-void TonemapPass::executeMask(gl::FrameContext& ctx, GLuint maskTexture, GLuint framebuffer) {
+void TonemapPass::executeMask(gl::FrameContext& ctx, GLuint maskTexture, glm::vec2 scale,
+                              GLuint framebuffer) {
   const Settings saved = settings_;
   masking_ = true;
+  maskScale_ = scale;
   execute(ctx, maskTexture, framebuffer);
   masking_ = false;
   settings_ = saved;
@@ -59,6 +61,8 @@ void TonemapPass::execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint frame
   glUniform1i(gpu::kTonemapLocation, masking_                         ? gpu::kTonemapMask
                                      : settings_.op == Tonemap::kAces ? gpu::kTonemapAces
                                                                       : gpu::kTonemapClamp);
+  glUniform2f(gpu::kTonemapInputScaleLocation, masking_ ? maskScale_.x : 1.0f,
+              masking_ ? maskScale_.y : 1.0f);
   glBindVertexArray(emptyVao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindTextureUnit(gpu::kHdrInputUnit, 0);

@@ -26,7 +26,8 @@ class TonemapPass {
   TonemapPass(gl::ProgramCache& programs, const Settings& settings);
   void execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer);
   // A single-channel image in [0, 1] (the rtgi work mask) as grey instead.
-  void executeMask(gl::FrameContext& ctx, GLuint maskTexture, GLuint framebuffer);
+  // `scale`: the mask's size over the image's (below 1 under an rtgi render scale).
+  void executeMask(gl::FrameContext& ctx, GLuint maskTexture, glm::vec2 scale, GLuint framebuffer);
   Settings& settings() { return settings_; }
   // Exposure and operator, for the viewer's panel.
   void appendKnobs(std::vector<Knob>* knobs);
@@ -34,6 +35,7 @@ class TonemapPass {
  private:
   Settings settings_;
   bool masking_ = false;
+  glm::vec2 maskScale_{1.0f};
   const gl::Program& program_;
   gl::VertexArray emptyVao_;
 };

@@ -126,6 +126,18 @@ TEST(CliParse, ReprojectionOptions) {
   EXPECT_THROW(parse({"render", "--history-cap", "0"}), UsageError);
 }
 
+TEST(CliParse, RenderScale) {
+  EXPECT_EQ(parse({"render"}).render.render.renderScale, 1.0f);
+  EXPECT_EQ(parse({"render", "--render-scale", "0.5"}).render.render.renderScale, 0.5f);
+  const Invocation v = parse({"view", "--render-scale", "0.25"});
+  EXPECT_EQ(v.view.render.renderScale, 0.25f);
+  EXPECT_TRUE(v.view.renderScaleChosen);
+  EXPECT_FALSE(parse({"view"}).view.renderScaleChosen);
+  for (const char* bad : {"0.2", "1.5", "0", "-1", "nan", "half"})
+    EXPECT_THROW(parse({"render", "--render-scale", bad}), UsageError) << bad;
+  EXPECT_THROW(parse({"render", "--render-scale"}), UsageError);
+}
+
 TEST(CliParse, IndirectMethod) {
   using Method = render::RtgiPass::Settings::IndirectMethod;
   EXPECT_EQ(parse({"render"}).render.render.rtgi.indirectMethod, Method::kRays);
