@@ -19,6 +19,8 @@ VOXGI_CONST int kTonemapLocation = 2;
 // The mask view: the mask's size over the image's (an rtgi render scale below 1 makes
 // the mask smaller than the image it is shown in).
 VOXGI_CONST int kTonemapInputScaleLocation = 3;
+// rtgi's upsampled output: the internal image's weight (tonemap.frag, TONEMAP_UPSAMPLED).
+VOXGI_CONST int kUpsampleWeightLocation = 4;
 VOXGI_CONST int kAmbientLocation = 3;  // raster.frag: the uniform ambient radiance
 
 // Vertex attribute locations (scene::GpuScene's vertex array): position, normal

@@ -1,6 +1,6 @@
 #version 450 core
-// rtgi stage "upsample" (RenderSettings::renderScale below 1): the output image,
-// rebuilt at its own size from rtgi's frames at the internal size (temporal
+// rtgi stage "upsample" (RenderSettings::renderScale below 1): the output's history,
+// rebuilt at the output size from rtgi's frames at the internal size (temporal
 // upsampling, after Karis 2014, "High quality temporal supersampling", and Yang et
 // al. 2020, "A survey of temporal antialiasing techniques").
 //
@@ -9,20 +9,18 @@
 // the scene at q's jittered position. That position lies in exactly one output
 // pixel, whose history adds the sample: a per-pixel sum and count, so that while
 // the camera is still every output pixel converges to the mean over its own area,
-// the full-resolution image. The pixels a frame's samples miss keep their history.
+// the full-resolution image. RTGI_UPSAMPLE_SCATTER runs over the internal pixels and
+// adds each one's sample in place (at a scale of at most 1 no two land in one output
+// pixel); the output pixels no sample reaches keep their history. What is shown
+// (tonemap.frag, TONEMAP_UPSAMPLED) blends the history with rtgi's internal image.
 //
-// What is shown blends that history with rtgi's internal image (its mean, or the
-// denoised mean) read with a bilinear filter, which holds `blend.y` samples' weight:
-// where the output pixel has few samples of its own (a start, a disocclusion) the
-// internal image fills in, and the output's own samples take over as they arrive.
-//
-// After a move (kUpsampleReprojecting) the history follows the surface: the point
-// output pixel p sees, on the plane of the surface its nearest internal sample
-// shows, is carried back by the meshes' motion and projected with the previous
-// frame's view-projection. Its count is capped (blend.x) and never exceeds the
-// internal pixel's own count (rtgi's reprojection drops what a disocclusion made
-// stale), and its mean is clipped, in YCoCg, to the internal image's 3x3
-// neighbourhood, widened by `blend.z` standard deviations.
+// Without it, over the output pixels, on a frame after a move: the history follows
+// the surface. The point output pixel p sees, on the plane of the surface its
+// nearest internal sample shows, is carried back by the meshes' motion and
+// projected with the previous frame's view-projection. Its count is capped
+// (blend.x) and never exceeds the internal pixel's own count (rtgi's reprojection
+// drops what a disocclusion made stale), and its mean is clipped, in YCoCg, to the
+// internal image's 3x3 neighbourhood, widened by `blend.z` standard deviations.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -33,16 +31,20 @@
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
 
 layout(std140, binding = kUpsampleParamsBinding) uniform UpsampleBlock { UpsampleParams up; };
+#ifdef RTGI_UPSAMPLE_SCATTER
 layout(binding = kDirectImage, rgba16f) uniform readonly image2D directIn;
 layout(binding = kIndirectImage, rgba16f) uniform readonly image2D indirectIn;
 layout(binding = kSpecularImage, rgba16f) uniform readonly image2D specularIn;
+layout(binding = kUpsampleHistoryImage, rgba32f) uniform image2D history;
+#else
 layout(binding = kUpsampleHistoryImage, rgba32f) uniform writeonly image2D historyOut;
-layout(binding = kUpsampleOutImage, rgba32f) uniform writeonly image2D shownOut;
 layout(binding = kUpsampleHistoryUnit) uniform sampler2D historyIn;
 layout(binding = kUpsampleShownUnit) uniform sampler2D shownLow;
 layout(binding = kUpsampleMeanUnit) uniform sampler2D meanLow;
 layout(binding = kGMotionUnit) uniform sampler2D gMotion;
+#endif
 
+#ifdef RTGI_UPSAMPLE_SCATTER
 // Internal pixel q's light of this frame, as accumulate adds it.
 vec3 freshSample(ivec2 q) {
 #ifdef VOXGI_NO_EMISSION
@@ -57,6 +59,7 @@ vec3 freshSample(ivec2 q) {
   return c;
 }
 
+#else
 vec3 toYCoCg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b,
               -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -114,39 +117,35 @@ vec4 reprojectedHistory(ivec2 p, ivec2 q, ivec2 outSize) {
   return textureLod(historyIn, uv, 0.0);
 }
 
+#endif
+
+#ifdef RTGI_UPSAMPLE_SCATTER
+void main() {
+  ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 lowSize = ivec2(rtgi.frame.zw);
+  if (q.x >= lowSize.x || q.y >= lowSize.y || outside(q)) return;
+  ivec2 outSize = ivec2(up.size.xy);
+  // q's sample lies at q + 0.5 - jitter, in internal pixels.
+  vec2 ratio = vec2(lowSize) / vec2(outSize);
+  ivec2 p = ivec2(floor((vec2(q) + 0.5 - up.jitter.xy) / ratio));
+  if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, outSize))) return;
+  imageStore(history, p, imageLoad(history, p) + vec4(freshSample(q), 1.0));
+}
+#else
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 outSize = ivec2(up.size.xy);
   if (p.x >= outSize.x || p.y >= outSize.y) return;
   ivec2 lowSize = ivec2(rtgi.frame.zw);
+  // The internal pixel whose jittered sample is nearest to p's centre.
   vec2 ratio = vec2(lowSize) / vec2(outSize);
-  // p's centre in internal pixels, and the internal pixel whose jittered sample is
-  // nearest to it: pixel q's sample lies at q + 0.5 - jitter.
-  vec2 x = (vec2(p) + 0.5) * ratio;
-  vec2 j = up.jitter.xy;
-  ivec2 q = clamp(ivec2(floor(x + j)), ivec2(0), lowSize - 1);
-  ivec2 landing = ivec2(floor((vec2(q) + 0.5 - j) / ratio));
-  bool lands = all(equal(landing, p)) && !outside(q);
-
-  vec4 h = vec4(0.0);
-  uint flags = up.size.z;
-  if ((flags & kUpsampleRestart) == 0u) {
-    if ((flags & kUpsampleReprojecting) != 0u) {
-      h = reprojectedHistory(p, q, outSize);
-      float count = min(h.a, min(up.blend.x, texelFetch(meanLow, q, 0).a));
-      if (h.a > 1e-3 && count > 0.0) {
-        vec3 mean = clipToNeighbourhood(h.rgb / h.a, q, lowSize);
-        h = vec4(mean * count, count);
-      } else {
-        h = vec4(0.0);
-      }
-    } else {
-      h = texelFetch(historyIn, p, 0);
-    }
-  }
-  if (lands) h += vec4(freshSample(q), 1.0);
+  ivec2 q = clamp(ivec2(floor((vec2(p) + 0.5) * ratio + up.jitter.xy)), ivec2(0), lowSize - 1);
+  vec4 h = reprojectedHistory(p, q, outSize);
+  float count = min(h.a, min(up.blend.x, texelFetch(meanLow, q, 0).a));
+  if (h.a > 1e-3 && count > 0.0)
+    h = vec4(clipToNeighbourhood(h.rgb / h.a, q, lowSize) * count, count);
+  else
+    h = vec4(0.0);
   imageStore(historyOut, p, h);
-  vec3 low = textureLod(shownLow, x / vec2(lowSize), 0.0).rgb;
-  float w = up.blend.y;
-  imageStore(shownOut, p, vec4((h.rgb + w * low) / (h.a + w), h.a));
 }
+#endif

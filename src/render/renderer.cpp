@@ -243,7 +243,12 @@ void Renderer::createTargets() {
     glTextureParameteri(lowHdr_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(lowHdr_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  for (GLuint f : {hdrFbo_.id(), ldrFbo_.id()}) {
+  upsampledFbo_ = gl::createFramebuffer();
+  glNamedFramebufferTexture(upsampledFbo_.id(), GL_COLOR_ATTACHMENT0, ldr_.id(), 0);
+  glNamedFramebufferTexture(upsampledFbo_.id(), GL_COLOR_ATTACHMENT1, hdr_.id(), 0);
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(upsampledFbo_.id(), 2, both);
+  for (GLuint f : {hdrFbo_.id(), ldrFbo_.id(), upsampledFbo_.id()}) {
     const GLenum status = glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
       throw Error(strf("image size %dx%d: framebuffer incomplete (0x%x)", w, h, status));
@@ -381,6 +386,10 @@ void Renderer::renderFrame(const scene::Camera& camera) {
         glm::vec2(static_cast<float>(rtgi_->maskWidth()) / static_cast<float>(settings_.width),
                   static_cast<float>(rtgi_->maskHeight()) / static_cast<float>(settings_.height)),
         ldrFbo_.id());
+  else if (upsamples())
+    tonemap_.executeUpsampled(ctx, rtgi_->upsampleHistory(), rtgi_->upsampleShown(lowHdr_.id()),
+                              rtgi_->linearSampler(), RtgiPass::kUpsampleInternalWeight,
+                              upsampledFbo_.id());
   else
     tonemap_.execute(ctx, shownHdr(), ldrFbo_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -502,7 +511,7 @@ void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
       f.cameraPosition = camera.position;
       f.restart = accumulated_ == 0;
       f.reprojecting = previousViewProj != nullptr;
-      rtgi_->upsample(ctx, lowHdr_.id(), f, hdr_.id());
+      rtgi_->upsample(ctx, lowHdr_.id(), f);
       break;
     }
     case Mode::kPathtrace:
@@ -561,7 +570,7 @@ void Renderer::setDenoise(bool on) {
 }
 
 GLuint Renderer::shownHdr() const {
-  if (upsamples()) return hdr_.id();  // the upsampler's output
+  if (upsamples()) return hdr_.id();  // the upsampled output, written with the display image
   if (settings_.mode == Mode::kRtgi && rtgi_ && rtgi_->denoisedTexture() != 0)
     return rtgi_->denoisedTexture();
   return hdr_.id();

@@ -260,6 +260,9 @@ class Renderer {
   glm::vec2 jitter_{0.0f};
   bool upsamples() const { return settings_.mode == Mode::kRtgi && settings_.renderScale < 1.0f; }
   gl::Framebuffer hdrFbo_, ldrFbo_;
+  // The display image and the HDR target as one framebuffer: rtgi's upsampled
+  // output writes both (TonemapPass::executeUpsampled).
+  gl::Framebuffer upsampledFbo_;
   std::vector<gl::StageTime> stages_;
   int accumulated_ = 0;
   scene::Camera lastCamera_;

@@ -586,8 +586,7 @@ float RtgiPass::maskThreshold(uint64_t extra) const {
   return -1.0f;  // every pixel
 }
 
-void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame,
-                        GLuint output) {
+void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame) {
   bool restart = frame.restart;
   if (ctx.width != outputWidth_ || ctx.height != outputHeight_) {
     for (gl::Texture& t : upsampleHistory_) makeImage(t, GL_RGBA32F, ctx.width, ctx.height);
@@ -623,19 +622,37 @@ void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame
   glNamedBufferSubData(upsampleParams_.id(), 0, sizeof(u), &u);
 
   gl::StageScope stage(ctx.timer, Stage::kUpsample);
-  const int in = upsampleCurrent_, out = in ^ 1;
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kUpsampleParamsBinding, upsampleParams_.id());
   glBindTextureUnit(gpu::kGPositionUnit, position_[current_].id());
   glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
   glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());
   glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
-  glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
-  glBindTextureUnit(gpu::kUpsampleHistoryUnit, upsampleHistory_[in].id());
-  glBindTextureUnit(gpu::kUpsampleShownUnit, denoised_ ? denoisedImage_.id() : accum);
-  glBindTextureUnit(gpu::kUpsampleMeanUnit, accum);
-  for (GLuint unit : {gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit})
-    glBindSampler(unit, linear_.id());
+  const std::vector<std::string> defines = settings_.features.defines();
+  if (restart) {
+    glClearTexImage(upsampleHistory_[upsampleCurrent_].id(), 0, GL_RGBA, GL_FLOAT, nullptr);
+  } else if (frame.reprojecting) {
+    // The history follows the surfaces, into the other image.
+    const int in = upsampleCurrent_, out = in ^ 1;
+    glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
+    glBindTextureUnit(gpu::kUpsampleHistoryUnit, upsampleHistory_[in].id());
+    glBindSampler(gpu::kUpsampleHistoryUnit, linear_.id());
+    glBindTextureUnit(gpu::kUpsampleShownUnit, upsampleShown(accum));
+    glBindTextureUnit(gpu::kUpsampleMeanUnit, accum);
+    glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[out].id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, defines}).id());
+    glDispatchCompute(static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
+                      static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY),
+                      1);
+    glBindSampler(gpu::kUpsampleHistoryUnit, 0);
+    for (GLuint unit : {gpu::kGMotionUnit, gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit,
+                        gpu::kUpsampleMeanUnit})
+      glBindTextureUnit(unit, 0);
+    upsampleCurrent_ = out;
+  }
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  // This frame's samples, each added to the output pixel it landed in.
   glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA16F);
   glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
@@ -643,21 +660,20 @@ void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame
   glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA16F);
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
-  glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[out].id(), 0, GL_FALSE, 0,
-                     GL_WRITE_ONLY, GL_RGBA32F);
-  glBindImageTexture(gpu::kUpsampleOutImage, output, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, settings_.features.defines()}).id());
-  glDispatchCompute(static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
-                    static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY), 1);
+  glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[upsampleCurrent_].id(), 0,
+                     GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  std::vector<std::string> scatter = defines;
+  scatter.emplace_back("RTGI_UPSAMPLE_SCATTER");
+  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, scatter}).id());
+  glDispatchCompute(static_cast<GLuint>((width_ + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
+                    static_cast<GLuint>((height_ + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY), 1);
+  // The tonemap pass reads the history as a texture.
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  for (GLuint unit : {gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit}) glBindSampler(unit, 0);
-  for (GLuint u2 : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit,
-                    gpu::kGMotionUnit, gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit,
-                    gpu::kUpsampleMeanUnit})
-    glBindTextureUnit(u2, 0);
+  for (GLuint unit :
+       {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
+    glBindTextureUnit(unit, 0);
   for (GLuint unit = 0; unit < gpu::kMinImageUnits; ++unit)
     glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  upsampleCurrent_ = out;
 }
 
 std::vector<float> RtgiPass::readMask() const {

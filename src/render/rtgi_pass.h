@@ -121,10 +121,11 @@ class RtgiPass {
                const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                const glm::mat4* previousViewProj = nullptr);
   // A render scale below 1 (RenderSettings::renderScale): after execute() at the
-  // internal size, upsample() rebuilds the output at ctx's size into `output`
-  // (rgba32f) from this frame's fresh samples and the output's own history
-  // (rtgi_upsample.comp, a temporal upsampler). `accum` is the internal target
-  // execute() accumulated into.
+  // internal size, upsample() brings the output's history (at ctx's size) up to
+  // this frame: reprojected after a move, then each fresh sample added to the
+  // output pixel it landed in (rtgi_upsample.comp, a temporal upsampler). `accum` is
+  // the internal target execute() accumulated into. What is shown blends the
+  // history with the internal image (TonemapPass::executeUpsampled).
   struct UpsampleFrame {
     glm::vec2 jitter{0.0f};            // this frame's G-buffer offset, in internal pixels
     glm::mat4 viewProj{1.0f};          // this frame's, without jitter
@@ -133,7 +134,14 @@ class RtgiPass {
     bool restart = false;       // accumulation restarted: the output's history too
     bool reprojecting = false;  // the camera or meshes moved since the last frame
   };
-  void upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame, GLuint output);
+  void upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame);
+  // The output's history after upsample(): rgba32f, per pixel the sum of the samples
+  // that landed in it and their count.
+  GLuint upsampleHistory() const { return upsampleHistory_[upsampleCurrent_].id(); }
+  // The internal image shown (the denoised mean, or the mean `accum`), and the
+  // bilinear sampler the output reads it through.
+  GLuint upsampleShown(GLuint accum) const { return denoised_ ? denoisedImage_.id() : accum; }
+  GLuint linearSampler() const { return linear_.id(); }
   // While the camera moves, an output pixel keeps at most this many of its samples.
   static constexpr float kUpsampleHistoryCap = 8.0f;
   // The internal image's weight in what is shown, in samples of the output pixel's

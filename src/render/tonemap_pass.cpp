@@ -17,6 +17,7 @@ const char* tonemapName(Tonemap t) {
 TonemapPass::TonemapPass(gl::ProgramCache& programs, const Settings& settings)
     : settings_(settings),
       program_(programs.get({{"render/fullscreen.vert", "render/tonemap.frag"}, {}})),
+      programs_(programs),
       emptyVao_(gl::createVertexArray()) {}
 
 void TonemapPass::appendKnobs(std::vector<Knob>* knobs) {
@@ -47,6 +48,30 @@ void TonemapPass::executeMask(gl::FrameContext& ctx, GLuint maskTexture, glm::ve
   execute(ctx, maskTexture, framebuffer);
   masking_ = false;
   settings_ = saved;
+}
+
+void TonemapPass::executeUpsampled(gl::FrameContext& ctx, GLuint history, GLuint shown,
+                                   GLuint linear, float weight, GLuint framebuffer) {
+  gl::StageScope stage(ctx.timer, Stage::kTonemap);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, ctx.width, ctx.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(
+      programs_.get({{"render/fullscreen.vert", "render/tonemap.frag"}, {"TONEMAP_UPSAMPLED"}})
+          .id());
+  glBindTextureUnit(gpu::kUpsampleHistoryUnit, history);
+  glBindTextureUnit(gpu::kUpsampleShownUnit, shown);
+  glBindSampler(gpu::kUpsampleShownUnit, linear);
+  glUniform1f(gpu::kExposureLocation, settings_.exposure);
+  glUniform1i(gpu::kTonemapLocation,
+              settings_.op == Tonemap::kAces ? gpu::kTonemapAces : gpu::kTonemapClamp);
+  glUniform1f(gpu::kUpsampleWeightLocation, weight);
+  glBindVertexArray(emptyVao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindSampler(gpu::kUpsampleShownUnit, 0);
+  glBindTextureUnit(gpu::kUpsampleHistoryUnit, 0);
+  glBindTextureUnit(gpu::kUpsampleShownUnit, 0);
 }
 
 void TonemapPass::execute(gl::FrameContext& ctx, GLuint hdrTexture, GLuint framebuffer) {
