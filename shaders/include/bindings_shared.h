@@ -239,11 +239,11 @@ VOXGI_CONST uint kDenoiseOutImage = 1u;
 VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
 VOXGI_CONST uint kDenoiseInImage2 = 3u;  // the second term's
 VOXGI_CONST uint kDenoiseOutImage2 = 4u;
-// The temporal upsampler writes the output's history and the image shown (rgba32f,
-// the output size) on units the rtgi stages' images leave free (it reads the
-// direct, indirect and specular images and the traced pixels beside them).
+// The temporal upsampler's output history (rgba32f, the output size: per pixel the
+// sum of the samples that landed in it and their count), on a unit the rtgi
+// stages' images leave free (it reads the direct, indirect and specular images and
+// the traced pixels beside it).
 VOXGI_CONST uint kUpsampleHistoryImage = 3u;
-VOXGI_CONST uint kUpsampleOutImage = 4u;
 
 // The path tracer: the running sum, its Kahan compensation, and the resolved mean.
 VOXGI_CONST uint kPtSumImage = 0u;

@@ -151,7 +151,6 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Image, kDenoiseInImage2),
       VOXGI_ENTRY(Image, kDenoiseOutImage2),
       VOXGI_ENTRY(Image, kUpsampleHistoryImage),
-      VOXGI_ENTRY(Image, kUpsampleOutImage),
       VOXGI_ENTRY(Image, kPtSumImage),
       VOXGI_ENTRY(Image, kPtCompensationImage),
       VOXGI_ENTRY(Image, kPtOutputImage),
