@@ -12,6 +12,10 @@ Measured, FLIP on sRGB 8-bit against a path-traced reference at that pose:
   - still: the end pose rendered still for 64 frames with every pixel traced and
     denoised (render's defaults: the converged image the viewer approaches).
 
+With --render-scale (repeatable), each scale gets its rows: rtgi renders at that
+share of the size and the temporal upsampler rebuilds the output (the still
+image stays at scale 1, the converged image the viewer approaches).
+
 Each row also gives the median frame time and traced share of the run. The frame
 times are this machine's: run it on a quiet machine. References come from
 out/reference/ (VIEW_POSE_SIZE_Nspp.exr); a missing one is rendered with --ref-spp.
@@ -73,6 +77,10 @@ def main():
                     help="spp of a reference rendered because none exists (default 512)")
     ap.add_argument("--view", action="append", choices=list(motion.VIEWS),
                     help="only this view (repeatable)")
+    ap.add_argument("--render-scale", action="append", type=float, dest="scales",
+                    help="rtgi's render scale, 0.25 to 1 (repeatable; default 1)")
+    ap.add_argument("--denoise", action="append", choices=["off", "on"],
+                    help="the denoiser off, on (repeatable; default both)")
     a = ap.parse_args()
     if not os.path.exists(conv.voxgi()):
         raise SystemExit("bench-screen: error: build/voxgi missing (tools/build)")
@@ -80,12 +88,16 @@ def main():
         raise SystemExit("bench-screen: error: --move must be at least 3 and --after at least 1")
     if not re.fullmatch(r"\d+x\d+", a.size):
         raise SystemExit(f"bench-screen: error: --size {a.size}: not WxH")
+    scales = a.scales or [1.0]
+    if any(not 0.25 <= x <= 1.0 for x in scales):
+        raise SystemExit("bench-screen: error: --render-scale must be in [0.25, 1]")
     mid = a.move // 2
     lines = [f"rtgi at {a.size} under `--target-fps 30`, the camera orbiting {a.orbit:g} degrees "
              f"over {a.move} frames at 30 fps; FLIP against the path tracer at each pose.", "",
-             "| view | denoiser | moving (frame %d) | %d frames after it stopped | still, 64 frames "
-             "| frame ms, median | traced share, median |" % (mid + 1, a.after),
-             "|---|---|---:|---:|---:|---:|---:|"]
+             "| view | scale | denoiser | moving (frame %d) | %d frames after it stopped "
+             "| still, 64 frames | frame ms, median | frame ms, 95th percentile "
+             "| traced share, median |" % (mid + 1, a.after),
+             "|---|---:|---|---:|---:|---:|---:|---:|---:|"]
     print("\n".join(lines), flush=True)
     for view in motion.VIEWS:
         if a.view and view not in a.view:
@@ -104,19 +116,24 @@ def main():
                ["--look-from", ",".join(f"{c:.6f}" for c in eye_end),
                 "--look-at", ",".join(f"{c:.6f}" for c in target)], base)
         still_flip = conv.measure(base, *ref_end)["flip"]
-        for denoise in ("off", "on"):
-            flags = ["--target-fps", "30", "--denoise", denoise]
-            tag = os.path.join(runs, f"{view}_{denoise}")
-            render(scene, a.size, mid + 1, flags, tag + "_moving")
-            moving = conv.measure(tag + "_moving", *ref_mid)["flip"]
-            stats = render(scene, a.size, a.move - 1 + a.after + 1, flags, tag + "_after")
-            after = conv.measure(tag + "_after", *ref_end)["flip"]
-            budget = stats.get("budget", {})
-            line = (f"| {view} | {denoise} | {moving:.4f} | {after:.4f} | {still_flip:.4f} | "
-                    f"{budget.get('frame_ms_median', stats['frame_ms']):.1f} | "
-                    f"{budget.get('traced_fraction_median', 1.0):.3f} |")
-            lines.append(line)
-            print(line, flush=True)
+        for scale in scales:
+            for denoise in a.denoise or ["off", "on"]:
+                flags = ["--target-fps", "30", "--denoise", denoise, "--render-scale", f"{scale:g}"]
+                tag = os.path.join(runs, f"{view}_s{scale:g}_{denoise}")
+                render(scene, a.size, mid + 1, flags, tag + "_moving")
+                moving = conv.measure(tag + "_moving", *ref_mid)["flip"]
+                stats = render(scene, a.size, a.move - 1 + a.after + 1, flags, tag + "_after")
+                after = conv.measure(tag + "_after", *ref_end)["flip"]
+                budget = stats.get("budget", {})
+                each = sorted(budget.get("frame_ms_each", [stats["frame_ms"]])[1:] or
+                              [stats["frame_ms"]])
+                p95 = each[min(len(each) - 1, int(round(0.95 * (len(each) - 1))))]
+                line = (f"| {view} | {scale:g} | {denoise} | {moving:.4f} | {after:.4f} | "
+                        f"{still_flip:.4f} | "
+                        f"{budget.get('frame_ms_median', stats['frame_ms']):.1f} | {p95:.1f} | "
+                        f"{budget.get('traced_fraction_median', 1.0):.3f} |")
+                lines.append(line)
+                print(line, flush=True)
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 

@@ -192,13 +192,12 @@ VOXGI_CONST uint kHistoryMomentsUnit = 13u;  // the denoiser's moments before th
 VOXGI_CONST uint kHistoryDirectUnit = 14u;
 VOXGI_CONST uint kReprojectedMomentsUnit = 14u;
 VOXGI_CONST uint kReprojectedDirectUnit = 15u;
-// rtgi's temporal upsampler (a render scale below 1): the output's history before
-// this frame (rgba32f at the output size, linear filter: the sum of the samples that
-// landed in the pixel, and their count), rtgi's image as shown at the internal size
-// (linear filter) and its running mean (the count of samples in alpha).
+// rtgi's upsampled output (a render scale below 1), shown by the tonemap pass: the
+// output's history (rgba32f at the output size: per pixel the sum of the samples
+// that landed in it, and their count) and rtgi's image as shown at the internal
+// size (read with a bilinear filter).
 VOXGI_CONST uint kUpsampleHistoryUnit = 9u;
 VOXGI_CONST uint kUpsampleShownUnit = 10u;
-VOXGI_CONST uint kUpsampleMeanUnit = 11u;
 
 // ---------------------------------------------------------------------------
 // Image units.

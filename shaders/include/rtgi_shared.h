@@ -77,20 +77,12 @@ struct RtgiParams {
 
 // The temporal upsampler (rtgi_upsample.comp, RenderSettings::renderScale < 1):
 // rtgi renders at the internal size, its G-buffer offset each frame by a sub-pixel
-// jitter, and the upsampler rebuilds the output from each frame's fresh samples,
-// each landing in the output pixel that holds its jittered position.
+// jitter, and each frame's fresh samples land in the output pixel that holds their
+// jittered position.
 struct UpsampleParams {
-  uvec4 size;   // xy the output size; z flags (kUpsample*)
+  uvec4 size;   // xy the output size
   vec4 jitter;  // xy this frame's jitter, in internal pixels (as the G-buffer's)
-  vec4 blend;   // x history cap while moving, y the internal image's weight, z clip width
-  vec4 camera;  // xyz position
-  vec4 inverseViewProj[4];   // this frame's, without its jitter
-  vec4 previousViewProj[4];  // the previous frame's, without its jitter
 };
-// The output's history starts again (accumulation restarted).
-VOXGI_CONST uint kUpsampleRestart = 1u;
-// The camera or meshes moved since the last frame: the history is reprojected.
-VOXGI_CONST uint kUpsampleReprojecting = 2u;
 
 // Pixels that trace this frame, appended by rtgi_select.comp; `groups` doubles as
 // the indirect dispatch of the tracing stages.

@@ -504,14 +504,9 @@ void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
       gl::FrameContext lowCtx{ctx.programs, ctx.timer, low.x, low.y, ctx.frameUniforms};
       rtgi_->execute(lowCtx, gpuScene_, octree_.get(), camera.position, accumulated_, lowHdr_.id(),
                      previousViewProj);
-      RtgiPass::UpsampleFrame f;
-      f.jitter = jitter_;
-      f.viewProj = lastViewProj_;
-      f.previousViewProj = previousViewProj ? *previousViewProj : lastViewProj_;
-      f.cameraPosition = camera.position;
-      f.restart = accumulated_ == 0;
-      f.reprojecting = previousViewProj != nullptr;
-      rtgi_->upsample(ctx, lowHdr_.id(), f);
+      // The output's history restarts with accumulation and after a move: the
+      // internal image, which follows the move, carries what is shown meanwhile.
+      rtgi_->upsample(ctx, jitter_, accumulated_ == 0 || previousViewProj != nullptr);
       break;
     }
     case Mode::kPathtrace:

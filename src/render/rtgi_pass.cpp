@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <bit>
 
-#include <glm/gtc/matrix_inverse.hpp>
-
 #include "core/log.h"
 #include "interleave_shared.h"
 #include "light_tree_shared.h"
@@ -211,7 +209,7 @@ void RtgiPass::resize(int width, int height) {
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
                  (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
   if (outputWidth_ > 0)
-    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 2 * 16;
+    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
 }
 
 void RtgiPass::makeDenoiserImages() {
@@ -586,10 +584,9 @@ float RtgiPass::maskThreshold(uint64_t extra) const {
   return -1.0f;  // every pixel
 }
 
-void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame) {
-  bool restart = frame.restart;
+void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   if (ctx.width != outputWidth_ || ctx.height != outputHeight_) {
-    for (gl::Texture& t : upsampleHistory_) makeImage(t, GL_RGBA32F, ctx.width, ctx.height);
+    makeImage(upsampleHistory_, GL_RGBA32F, ctx.width, ctx.height);
     if (outputWidth_ == 0) {
       upsampleParams_ =
           gl::createBuffer(sizeof(gpu::UpsampleParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -599,60 +596,26 @@ void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame
       glSamplerParameteri(linear_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
       glSamplerParameteri(linear_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     } else {
-      targetBytes_ -= static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 32;
+      targetBytes_ -= static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
     }
     outputWidth_ = ctx.width;
     outputHeight_ = ctx.height;
-    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 32;
+    targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
     restart = true;
   }
   gpu::UpsampleParams u{};
-  u.size = glm::uvec4(static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height),
-                      (restart ? gpu::kUpsampleRestart : 0u) |
-                          (frame.reprojecting ? gpu::kUpsampleReprojecting : 0u),
-                      0u);
-  u.jitter = glm::vec4(frame.jitter, 0.0f, 0.0f);
-  u.blend = glm::vec4(kUpsampleHistoryCap, kUpsampleInternalWeight, kUpsampleClip, 0.0f);
-  u.camera = glm::vec4(frame.cameraPosition, 1.0f);
-  const glm::mat4 inverseViewProj = glm::inverse(frame.viewProj);
-  for (int i = 0; i < 4; ++i) {
-    u.inverseViewProj[i] = inverseViewProj[i];
-    u.previousViewProj[i] = frame.previousViewProj[i];
-  }
+  u.size = glm::uvec4(static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height), 0u, 0u);
+  u.jitter = glm::vec4(jitter, 0.0f, 0.0f);
   glNamedBufferSubData(upsampleParams_.id(), 0, sizeof(u), &u);
 
   gl::StageScope stage(ctx.timer, Stage::kUpsample);
+  if (restart) {
+    glClearTexImage(upsampleHistory_.id(), 0, GL_RGBA, GL_FLOAT, nullptr);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  }
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kUpsampleParamsBinding, upsampleParams_.id());
-  glBindTextureUnit(gpu::kGPositionUnit, position_[current_].id());
-  glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
-  glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());
   glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
-  const std::vector<std::string> defines = settings_.features.defines();
-  if (restart) {
-    glClearTexImage(upsampleHistory_[upsampleCurrent_].id(), 0, GL_RGBA, GL_FLOAT, nullptr);
-  } else if (frame.reprojecting) {
-    // The history follows the surfaces, into the other image.
-    const int in = upsampleCurrent_, out = in ^ 1;
-    glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
-    glBindTextureUnit(gpu::kUpsampleHistoryUnit, upsampleHistory_[in].id());
-    glBindSampler(gpu::kUpsampleHistoryUnit, linear_.id());
-    glBindTextureUnit(gpu::kUpsampleShownUnit, upsampleShown(accum));
-    glBindTextureUnit(gpu::kUpsampleMeanUnit, accum);
-    glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[out].id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
-    glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, defines}).id());
-    glDispatchCompute(static_cast<GLuint>((ctx.width + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
-                      static_cast<GLuint>((ctx.height + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY),
-                      1);
-    glBindSampler(gpu::kUpsampleHistoryUnit, 0);
-    for (GLuint unit : {gpu::kGMotionUnit, gpu::kUpsampleHistoryUnit, gpu::kUpsampleShownUnit,
-                        gpu::kUpsampleMeanUnit})
-      glBindTextureUnit(unit, 0);
-    upsampleCurrent_ = out;
-  }
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-  // This frame's samples, each added to the output pixel it landed in.
   glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA16F);
   glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
@@ -660,18 +623,14 @@ void RtgiPass::upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame
   glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA16F);
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
-  glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_[upsampleCurrent_].id(), 0,
-                     GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-  std::vector<std::string> scatter = defines;
-  scatter.emplace_back("RTGI_UPSAMPLE_SCATTER");
-  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, scatter}).id());
+  glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_.id(), 0, GL_FALSE, 0,
+                     GL_READ_WRITE, GL_RGBA32F);
+  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, settings_.features.defines()}).id());
   glDispatchCompute(static_cast<GLuint>((width_ + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
                     static_cast<GLuint>((height_ + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY), 1);
   // The tonemap pass reads the history as a texture.
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  for (GLuint unit :
-       {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
-    glBindTextureUnit(unit, 0);
+  glBindTextureUnit(gpu::kGEmissionUnit, 0);
   for (GLuint unit = 0; unit < gpu::kMinImageUnits; ++unit)
     glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
 }

@@ -121,29 +121,21 @@ class RtgiPass {
                const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                const glm::mat4* previousViewProj = nullptr);
   // A render scale below 1 (RenderSettings::renderScale): after execute() at the
-  // internal size, upsample() brings the output's history (at ctx's size) up to
-  // this frame: reprojected after a move, then each fresh sample added to the
-  // output pixel it landed in (rtgi_upsample.comp, a temporal upsampler). `accum` is
-  // the internal target execute() accumulated into. What is shown blends the
-  // history with the internal image (TonemapPass::executeUpsampled).
-  struct UpsampleFrame {
-    glm::vec2 jitter{0.0f};            // this frame's G-buffer offset, in internal pixels
-    glm::mat4 viewProj{1.0f};          // this frame's, without jitter
-    glm::mat4 previousViewProj{1.0f};  // the previous frame's, without jitter
-    glm::vec3 cameraPosition{0.0f};
-    bool restart = false;       // accumulation restarted: the output's history too
-    bool reprojecting = false;  // the camera or meshes moved since the last frame
-  };
-  void upsample(gl::FrameContext& ctx, GLuint accum, const UpsampleFrame& frame);
+  // internal size, upsample() adds this frame's fresh samples to the output's
+  // history (at ctx's size), each in the output pixel it landed in
+  // (rtgi_upsample.comp, a temporal upsampler). `jitter`: this frame's G-buffer
+  // offset, in internal pixels. `restart`: accumulation restarted, or the camera or
+  // meshes moved; the history starts again (the internal image, which follows the
+  // move, carries what is shown meanwhile). What is shown blends the history with
+  // the internal image (TonemapPass::executeUpsampled).
+  void upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart);
   // The output's history after upsample(): rgba32f, per pixel the sum of the samples
   // that landed in it and their count.
-  GLuint upsampleHistory() const { return upsampleHistory_[upsampleCurrent_].id(); }
+  GLuint upsampleHistory() const { return upsampleHistory_.id(); }
   // The internal image shown (the denoised mean, or the mean `accum`), and the
   // bilinear sampler the output reads it through.
   GLuint upsampleShown(GLuint accum) const { return denoised_ ? denoisedImage_.id() : accum; }
   GLuint linearSampler() const { return linear_.id(); }
-  // While the camera moves, an output pixel keeps at most this many of its samples.
-  static constexpr float kUpsampleHistoryCap = 8.0f;
   // The internal image's weight in what is shown, in samples of the output pixel's
   // own: it fills in where they are few and fades as they come. A single sample is
   // as noisy as a path; the internal image is a mean of many (denoised where the
@@ -151,9 +143,6 @@ class RtgiPass {
   // 0.5, 64 frames: FLIP 0.071 / 0.070 / 0.067 at weights 2 / 8 / 32, 0.068 with the
   // internal image alone; 256 frames: 0.059 at 16, 0.065 alone (scale 1: 0.049).
   static constexpr float kUpsampleInternalWeight = 16.0f;
-  // The history's clip box after a move: the neighbourhood's mean +- this many
-  // standard deviations.
-  static constexpr float kUpsampleClip = 1.25f;
   // Glossy surfaces (not mirrors) keep at most this many frames of history across a
   // camera move: their highlights move with the view.
   static constexpr int kGlossyHistory = 4;
@@ -300,11 +289,9 @@ class RtgiPass {
   bool shown_ = true;
   int width_ = 0, height_ = 0;
   size_t targetBytes_ = 0;
-  // The temporal upsampler: the output's history (sum and count per pixel), read
-  // from one and written to the other each frame, its parameters, and the linear
-  // filter its reads use.
-  gl::Texture upsampleHistory_[2];
-  int upsampleCurrent_ = 0;
+  // The temporal upsampler: the output's history (sum and count per pixel), its
+  // parameters, and the linear filter the output's reads of the internal image use.
+  gl::Texture upsampleHistory_;
   int outputWidth_ = 0, outputHeight_ = 0;
   gl::Buffer upsampleParams_;
   gl::Sampler linear_;

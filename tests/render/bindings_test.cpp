@@ -131,7 +131,6 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Texture, kReprojectedDirectUnit),
       VOXGI_ENTRY(Texture, kUpsampleHistoryUnit),
       VOXGI_ENTRY(Texture, kUpsampleShownUnit),
-      VOXGI_ENTRY(Texture, kUpsampleMeanUnit),
       VOXGI_ENTRY(Image, kDirectImage),
       VOXGI_ENTRY(Image, kIndirectImage),
       VOXGI_ENTRY(Image, kSpecularImage),
