@@ -347,16 +347,17 @@ void RtgiPass::bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, 
   glBindTextureUnit(gpu::kGNormalUnit, normal_[current_].id());
   glBindTextureUnit(gpu::kGAlbedoUnit, albedo_.id());
   glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
-  glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
-                     GL_RGBA16F);
-  glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
-                     GL_RGBA16F);
-  glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
-                     GL_RGBA16F);
+  bindTermImages(GL_READ_WRITE);
   glBindImageTexture(gpu::kAccumImage, accum, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
   // Declared by the tracing stages and accumulate; read only when a list is used.
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
+}
+
+void RtgiPass::bindTermImages(GLenum access) const {
+  glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, access, GL_RGBA16F);
+  glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, access, GL_RGBA16F);
+  glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, access, GL_RGBA16F);
 }
 
 void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePlan& plan,
@@ -616,12 +617,7 @@ void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kRtgiParamsBinding, params_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kUpsampleParamsBinding, upsampleParams_.id());
   glBindTextureUnit(gpu::kGEmissionUnit, emission_.id());
-  glBindImageTexture(gpu::kDirectImage, directImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                     GL_RGBA16F);
-  glBindImageTexture(gpu::kIndirectImage, indirectImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                     GL_RGBA16F);
-  glBindImageTexture(gpu::kSpecularImage, specularImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                     GL_RGBA16F);
+  bindTermImages(GL_READ_ONLY);
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
   glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_.id(), 0, GL_FALSE, 0,
                      GL_READ_WRITE, GL_RGBA32F);

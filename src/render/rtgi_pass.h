@@ -212,6 +212,8 @@ class RtgiPass {
   void drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs);
   // The parameters, scene buffers, G-buffer and images the compute stages read.
   void bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, GLuint accum);
+  // This frame's direct, indirect and specular images on their image units.
+  void bindTermImages(GLenum access) const;
   // The select stage (frame budget): the list of pixels that trace; sets the
   // selection's level and kind in `p` and uploads it.
   void selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePlan& plan,

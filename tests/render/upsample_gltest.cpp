@@ -96,26 +96,7 @@ TEST_F(UpsampleTest, AStillImageConvergesTowardsTheFullResolutionOne) {
 // A white square before a black wall, lit head-on, moves a sixth of the image:
 // where it was, the wall shows black again in the very next frame.
 TEST_F(UpsampleTest, RevealedSurfacesCarryNoGhost) {
-  SceneBuilder b;
-  const int white = b.addMaterial(glm::vec3(0.8f));
-  const int black = b.addMaterial(glm::vec3(0.0f));
-  auto square = [&](float h, float z, int material) {
-    b.addTriangles({{-h, -h, z}, {h, -h, z}, {h, h, z}, {-h, -h, z}, {h, h, z}, {-h, h, z}},
-                   material);
-  };
-  square(0.5f, 0.5f, white);
-  square(3.0f, 0.0f, black);
-  scene::Scene s = b.finish();
-  scene::Light sun;
-  sun.type = scene::LightType::kDirectional;
-  sun.direction = glm::vec3(0.0f, 0.0f, -1.0f);
-  sun.intensity = 3.0f;
-  s.lights = {sun};
-  s.camera.position = glm::vec3(0.0f, 0.0f, 3.0f) - glm::vec3(s.origin);
-  s.camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
-  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
-  s.camera.znear = 0.1f;
-  s.camera.zfar = 10.0f;
+  const scene::Scene s = squareBeforeWall();
   const int size = 64;
   render::Renderer r(*programs_, s, rtgiSettings(size, 0.5f));
   for (int f = 0; f < 32; ++f) r.renderFrame(s.camera);

@@ -279,4 +279,29 @@ std::string writeDeepChainGltf(const std::string& name, int depth, glm::dvec3 st
   return writeJson(name, g);
 }
 
+scene::Scene squareBeforeWall() {
+  SceneBuilder b;
+  const int white = b.addMaterial(glm::vec3(0.8f));
+  const int black = b.addMaterial(glm::vec3(0.0f));
+  // A square of half-width h at depth z, facing +z: two triangles.
+  auto square = [&](float h, float z, int material) {
+    b.addTriangles({{-h, -h, z}, {h, -h, z}, {h, h, z}, {-h, -h, z}, {h, h, z}, {-h, h, z}},
+                   material);
+  };
+  square(0.5f, 0.5f, white);
+  square(3.0f, 0.0f, black);
+  scene::Scene s = b.finish();
+  scene::Light sun;
+  sun.type = scene::LightType::kDirectional;
+  sun.direction = glm::vec3(0.0f, 0.0f, -1.0f);
+  sun.intensity = 3.0f;
+  s.lights = {sun};
+  s.camera.position = glm::vec3(0.0f, 0.0f, 3.0f) - glm::vec3(s.origin);
+  s.camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  s.camera.znear = 0.1f;
+  s.camera.zfar = 10.0f;
+  return s;
+}
+
 }  // namespace voxgi::test

@@ -32,6 +32,13 @@ class SceneBuilder {
   scene::Scene scene_;
 };
 
+// A white square (albedo 0.8, 1 m, facing +z) 0.5 m in front of a black wall (6 m),
+// lit head-on by a directional light of 3 lux, seen from 3 m: the square's radiance
+// is the same every frame (direct light only: the black wall sends nothing back) and
+// everything else is exactly 0, so any light the square leaves behind after a move
+// is a ghost.
+scene::Scene squareBeforeWall();
+
 // Adds the quad p[0..3] (counter-clockwise seen from its front) to s as one draw of
 // two triangles, with its flat normal and the given corner UVs.
 void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4],
