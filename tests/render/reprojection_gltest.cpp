@@ -9,6 +9,7 @@
 #include "image/metrics.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "support/displayed_image.h"
 #include "support/gl_fixture.h"
 #include "support/scene_builder.h"
 #include "support/test_paths.h"
@@ -132,15 +133,7 @@ TEST_F(ReprojectionTest, HistoryFollowsTheViewAndIsCapped) {
   // The error as displayed (clamped to [0, 1], as the default tonemap does): the
   // lamp's radiance, ten times display white, would otherwise weigh its few edge
   // pixels above the rest of the image.
-  auto rgb = [&](const std::vector<float>& px) {
-    image::Image im;
-    im.width = size;
-    im.height = size;
-    im.channels = 3;
-    for (size_t i = 0; i < px.size(); i += 4)
-      for (size_t c = 0; c < 3; ++c) im.pixels.push_back(std::clamp(px[i + c], 0.0f, 1.0f));
-    return im;
-  };
+  auto rgb = [&](const std::vector<float>& px) { return displayedImage(px, size, size); };
   const double keptError = image::errorMetrics(rgb(kept), rgb(converged)).rmse;
   const double firstError = image::errorMetrics(rgb(first), rgb(converged)).rmse;
   std::printf(

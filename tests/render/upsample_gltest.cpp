@@ -10,6 +10,7 @@
 #include "image/metrics.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "support/displayed_image.h"
 #include "support/gl_fixture.h"
 #include "support/scene_builder.h"
 #include "support/test_paths.h"
@@ -27,16 +28,10 @@ render::RenderSettings rtgiSettings(int size, float scale) {
   return s;
 }
 
-// The image as displayed (clamped to [0, 1]): the lamp's radiance, ten times
-// display white, would otherwise outweigh the rest of the image.
+// The image as displayed: the lamp's radiance, ten times display white, would
+// otherwise outweigh the rest of the image.
 image::Image displayed(const std::vector<float>& px, int size) {
-  image::Image im;
-  im.width = size;
-  im.height = size;
-  im.channels = 3;
-  for (size_t i = 0; i < px.size(); i += 4)
-    for (size_t c = 0; c < 3; ++c) im.pixels.push_back(std::clamp(px[i + c], 0.0f, 1.0f));
-  return im;
+  return displayedImage(px, size, size);
 }
 
 // An RGBA image of `size` x `size` pixels, upsampled 2x with a bilinear filter
