@@ -6,7 +6,9 @@
 //              revoxelize] -> dvr (HDR radiance) -> tonemap
 //   rtgi:      [voxelize, octree, inject as for dvr] -> gbuffer -> shadows ->
 //              indirect -> specular -> accumulate (the mean over frames since
-//              accumulation restarted) -> tonemap
+//              accumulation restarted) -> tonemap; at a render scale below 1 those
+//              run at the internal size, then upsample (the fresh samples into the
+//              output's history) -> tonemap (which shows history and internal image)
 // The effect plan (scene/effects.h, effects()) decides which of shadows, indirect
 // and specular run, and the shader variants of every pass but pathtrace.
 //   pathtrace: pathtrace (spp samples per pixel accumulated, the mean into the same
