@@ -33,7 +33,7 @@ VOXGI_CONST uint kMinImageUnits = 8u;
 // fragment shader (GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS) reads. The context
 // refuses a driver that offers less (gl/context.cpp); the bindings test keeps these
 // equal to what the shaders use.
-VOXGI_CONST uint kRequiredSsboBindings = 26u;
+VOXGI_CONST uint kRequiredSsboBindings = 27u;
 VOXGI_CONST uint kRequiredComputeSsboBlocks = 15u;
 VOXGI_CONST uint kRequiredFragmentSsboBlocks = 9u;
 
@@ -102,6 +102,9 @@ VOXGI_CONST uint kOctreeBounceBinding = 25u;
 // rtgi (rtgi_shared.h), which reads the scene and the octree beside its own.
 VOXGI_CONST uint kPixelListBinding = 15u;      // PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // uint[kMaskBins]
+// The shadows stage's light reservoirs (ReSTIR DI, rtgi_restir.glsl): vec4 per
+// pixel, this frame's after temporal reuse, then the last frame's final ones.
+VOXGI_CONST uint kRtgiReservoirBinding = 26u;
 // The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): the per-triangle shading
 // data (GpuPtShading).
 VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;

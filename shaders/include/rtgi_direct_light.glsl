@@ -97,9 +97,33 @@ vec3 emitterDiffuseSample(GpuEmitter e, Surface s, vec3 l, float pdf) {
   return shadeDiffuse(s, l, e.radiance.rgb * max(dot(s.n, l), 0.0)) / pdf;
 }
 
+// What the shadows stage's reservoirs and directLight weigh emitter k by at s: the
+// luminance of its exact unshadowed contribution (lighting.glsl), and that
+// contribution's highlight in `spec`.
+float emitterTarget(int k, Surface s, out vec3 spec) {
+  return luminance(areaLightParts(emitters[k], s, spec));
+}
+
+// Emitter k's light at s, shadowed: one direction towards it, its Lambert part by
+// light sampling x `weight` (1 / the probability of drawing k, or a reservoir's
+// contribution weight), plus the highlight `spec` (already weighted), x the
+// visibility of that direction's point.
+vec3 emitterShade(int k, float weight, vec3 spec, Surface s, vec3 o, vec3 ng) {
+  GpuEmitter e = emitters[k];
+  vec3 l;
+  float dist;
+  float pdf = sampleEmitterDirection(e, s.p, vec2(rand01(), rand01()), l, dist);
+  if (!(pdf > 0.0)) return vec3(0.0);
+  vec3 c = emitterDiffuseSample(e, s, l, pdf) * weight + spec;
+  vec3 d = s.p + l * dist - o;
+  float len = length(d);
+  if (!(dot(d, ng) >= 0.0) || !any(greaterThan(c, vec3(0.0)))) return vec3(0.0);
+  return c * (len > 0.0 ? shadowRay(o, d / len, len, true, emitterSlack(e)) : 1.0);
+}
+
 // `ng`: the surface's own normal where a normal map tilts s.n, else 0: light from
 // below it does not count (the leak rule, normal_map_shared.h).
-vec3 directLight(Surface s, vec3 o, vec3 ng) {
+vec3 punctualDirect(Surface s, vec3 o, vec3 ng) {
   vec3 result = vec3(0.0);
 #if defined(RTGI_LIGHTS_SAMPLED)
   {
@@ -151,6 +175,11 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
     result += c * shadowRay(o, l, dist, false, 0.0);
   }
 #endif
+  return result;
+}
+
+vec3 directLight(Surface s, vec3 o, vec3 ng) {
+  vec3 result = punctualDirect(s, o, ng);
 #ifndef VOXGI_NO_EMISSION
   int emitterCount = int(rtgi.counts.y);
 #ifdef VOXGI_NO_SHADOWS
@@ -165,7 +194,6 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
   // visibility, unbiased however the emitter is shadowed. The highlight is the exact
   // unshadowed one (representative point) x that visibility: it stays smooth where a
   // sampled GGX lobe would sparkle, and is biased only in partial shadow.
-  vec3 diffuse = vec3(0.0);
   vec3 specular = vec3(0.0);
   int pick = -1;
 #if defined(RTGI_EMITTERS_EXACT)
@@ -216,7 +244,7 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
       float r = rand01();
       if (k < 0 || !(p > 0.0)) continue;
       vec3 spec;
-      float h = luminance(areaLightParts(emitters[k], s, spec));
+      float h = emitterTarget(k, s, spec);
       if (!(h > 0.0)) continue;
       float w = h / p;
       wSum += w;
@@ -231,20 +259,7 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
       specular /= pmf;
     }
 #endif
-    if (pick >= 0 && pmf > 0.0) {
-      GpuEmitter e = emitters[pick];
-      vec3 l;
-      float dist;
-      float pdf = sampleEmitterDirection(e, s.p, vec2(rand01(), rand01()), l, dist);
-      if (pdf > 0.0) {
-        diffuse = emitterDiffuseSample(e, s, l, pdf) / pmf;
-        vec3 d = s.p + l * dist - o;
-        float len = length(d);
-        if (dot(d, ng) >= 0.0 && any(greaterThan(diffuse + specular, vec3(0.0))))
-          result += (diffuse + specular) *
-                    (len > 0.0 ? shadowRay(o, d / len, len, true, emitterSlack(e)) : 1.0);
-      }
-    }
+    if (pick >= 0 && pmf > 0.0) result += emitterShade(pick, 1.0 / pmf, specular, s, o, ng);
   }
 #endif
 #endif

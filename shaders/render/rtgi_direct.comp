@@ -10,9 +10,10 @@
 // renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
 // Scene variants (RtgiPass): RTGI_LIGHTS when there are punctual lights,
 // RTGI_EMITTERS_EXACT (few emitters) or RTGI_EMITTERS_SAMPLED (many) when there are
-// emitters. A software rasterizer runs both sides of every branch under a lane
-// mask, and a loop's body at least once: code for what the scene lacks would cost
-// as much as code that runs, so it is compiled out.
+// emitters; RTGI_RESTIR_INITIAL and RTGI_RESTIR, the two dispatches of reservoir
+// resampling of many emitters (rtgi_restir.glsl). A software rasterizer runs both sides of every
+// branch under a lane mask, and a loop's body at least once: code for what the scene lacks would
+// cost as much as code that runs, so it is compiled out.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -40,11 +41,23 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 }
 
 #include "rtgi_direct_light.glsl"
+#if defined(RTGI_RESTIR) || defined(RTGI_RESTIR_INITIAL)
+#include "rtgi_restir.glsl"
+#endif
 
 void main() {
   ivec2 px;
   if (!tracePixel(px)) return;
   Pixel p = loadPixel(px);
+#ifdef RTGI_RESTIR_INITIAL
+  // The first of the two dispatches of reservoir resampling (rtgi_restir.glsl).
+  seedPixel(px, 4u);
+  if (p.covered)
+    restirInitial(px, p);
+  else
+    reservoirs[reservoirIndex(px, false)] = packReservoir(-1, 0.0, 0.0);
+  return;
+#endif
   vec3 result = vec3(0.0);
   if (p.covered) {
     seedPixel(px, 1u);
@@ -57,7 +70,11 @@ void main() {
 #else
     vec3 o = surfaceRayOrigin(px, s);
 #endif
+#ifdef RTGI_RESTIR
+    result = punctualDirect(s, o, ng) + restirDirect(px, s, o, ng);
+#else
     result = directLight(s, o, ng);
+#endif
   }
   imageStore(directOut, px, vec4(result, 1.0));
 }

@@ -179,6 +179,9 @@ std::string renderHelpRtgi() {
          "  --history-cap N   while the camera moves, a pixel's history counts at most N\n"
          "                    frames (default 16; glossy surfaces 4, mirrors none), so\n"
          "                    light follows the view; a still camera accumulates on\n"
+         "  --light-reuse on|off  on (default): with many emitters, each pixel's emitter\n"
+         "                    sample is resampled with its last frame's and its\n"
+         "                    neighbours' (ReSTIR DI); off: its own candidates only\n"
          "  --denoise on|off  on (default): the image is each pixel's running mean\n"
          "                    filtered by a variance-guided, edge-avoiding wavelet (SVGF),\n"
          "                    as strongly as its measured noise asks, so less and less as\n"
@@ -272,7 +275,7 @@ std::string viewHelp() {
          "                    +specular,-shadows; the panel shows the plan\n"
          "  --voxels N, --revoxelize, --small-triangles P, --bounces N, --inject-rays N,\n"
          "  --bounce-rays N, --refine-rays N, --interleave N, --budget-select S,\n"
-         "  --reproject on|off, --history-cap N, --indirect M,\n"
+         "  --reproject on|off, --history-cap N, --light-reuse on|off, --indirect M,\n"
          "  --ambient A\n"
          "                    as for voxgi render\n"
          "  --denoise on|off  the image shown is denoised (see voxgi render --help); on by\n"
@@ -440,6 +443,8 @@ bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& 
       throw UsageError("--indirect: unknown method '" + v + "' (rays, cones)");
   } else if (a == "--reproject") {
     rs->rtgi.reproject = parseOnOff("--reproject", value());
+  } else if (a == "--light-reuse") {
+    rs->rtgi.reuseLights = parseOnOff("--light-reuse", value());
   } else if (a == "--denoise") {
     rs->rtgi.denoise = parseOnOff("--denoise", value());
   } else if (a == "--history-cap") {

@@ -57,6 +57,10 @@ class RtgiPass {
     // Up to this many punctual lights: each its own shadow ray; more: one per pixel
     // and frame, drawn in proportion to its unshadowed contribution.
     int exactLights = 4;
+    // Many emitters (beyond exactEmitters): the pixels' emitter samples are resampled
+    // over space and time (ReSTIR DI, rtgi_restir.glsl); false: each pixel draws
+    // its own candidates every frame.
+    bool reuseLights = true;
     int interleave = 1;  // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     // Beyond the interleave pattern, which further pixels trace (frame budget):
     // none, those the work mask marks as noisy, or a uniform random share.
@@ -241,7 +245,11 @@ class RtgiPass {
   void denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum);
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
-  const gl::Program& directProgram(const GpuScene& gs);
+  // `restir`: the variant of the direct stage's reservoir resampling, "" none.
+  const gl::Program& directProgram(const GpuScene& gs, const char* restir = "");
+  // Whether the direct stage resamples reservoirs of emitters (reuseLights with many
+  // emitters and shadow rays).
+  bool reusesLights(const GpuScene& gs) const;
   const gl::Program& specularProgram(const GpuScene& gs);
   const gl::Program& indirectProgram(const GpuScene& gs);
   // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs.
@@ -275,6 +283,9 @@ class RtgiPass {
   std::vector<uint32_t> histogramBins_;
   gl::Buffer params_;
   gl::Buffer nonfinite_;  // uint: terms dropped by accumulate (kNonfiniteCountBinding)
+  // The shadows stage's reservoirs (kRtgiReservoirBinding), made on first use.
+  gl::Buffer reservoirs_;
+  size_t reservoirBytes_ = 0;
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.
   gl::Texture position_[2], normal_[2], albedo_, emission_, motion_, depth_;

@@ -64,6 +64,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kEmitterBinding),
       VOXGI_ENTRY(Ssbo, kLightTreeBinding),
       VOXGI_ENTRY(Ssbo, kNonfiniteCountBinding),
+      VOXGI_ENTRY(Ssbo, kRtgiReservoirBinding),
       VOXGI_ENTRY(Ssbo, kVoxelStatsBinding),
       VOXGI_ENTRY(Ssbo, kVoxelListBinding),
       VOXGI_ENTRY(Ssbo, kBrickMapBinding),
