@@ -103,7 +103,7 @@ VOXGI_CONST uint kOctreeBounceBinding = 25u;
 VOXGI_CONST uint kPixelListBinding = 15u;      // PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // uint[kMaskBins]
 // The shadows stage's light reservoirs (ReSTIR DI, rtgi_restir.glsl): vec4 per
-// pixel, this frame's after temporal reuse, then the last frame's final ones.
+// pixel.
 VOXGI_CONST uint kRtgiReservoirBinding = 26u;
 // The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): the per-triangle shading
 // data (GpuPtShading).

@@ -55,7 +55,7 @@ void main() {
   if (p.covered)
     restirInitial(px, p);
   else
-    reservoirs[reservoirIndex(px, false)] = packReservoir(-1, 0.0, 0.0);
+    reservoirs[reservoirIndex(px)] = packReservoir(-1, 0.0, 0.0);
   return;
 #endif
   vec3 result = vec3(0.0);

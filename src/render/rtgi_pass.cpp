@@ -429,9 +429,9 @@ void RtgiPass::runStage(gl::FrameContext& ctx, Stage stage, const gl::Program& p
 void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
   if (bvh_) bindBvh(gs);
   if (plan.direct && reusesLights(gs)) {
-    // Reservoir resampling (rtgi_restir.glsl): candidates and temporal reuse, then
-    // spatial reuse and the shadow rays; the first reads last frame's G-buffer.
-    const size_t bytes = 2 * 16 * static_cast<size_t>(width_) * static_cast<size_t>(height_);
+    // Reservoir resampling (rtgi_restir.glsl): each pixel's candidates, then
+    // their reuse among neighbours and the shadow rays.
+    const size_t bytes = 16 * static_cast<size_t>(width_) * static_cast<size_t>(height_);
     if (!reservoirs_ || reservoirBytes_ != bytes) {
       reservoirs_ =
           gl::createBuffer(static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -439,13 +439,8 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
       reservoirBytes_ = bytes;
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiReservoirBinding, reservoirs_.id());
-    glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
-    glBindTextureUnit(gpu::kGPreviousNormalUnit, normal_[current_ ^ 1].id());
-    glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
     runStage(ctx, Stage::kShadows, directProgram(gs, "RTGI_RESTIR_INITIAL"), plan);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    for (GLuint u : {gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit, gpu::kGMotionUnit})
-      glBindTextureUnit(u, 0);
     runStage(ctx, Stage::kShadows, directProgram(gs, "RTGI_RESTIR"), plan);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   } else if (plan.direct) {

@@ -57,9 +57,9 @@ class RtgiPass {
     // Up to this many punctual lights: each its own shadow ray; more: one per pixel
     // and frame, drawn in proportion to its unshadowed contribution.
     int exactLights = 4;
-    // Many emitters (beyond exactEmitters): the pixels' emitter samples are resampled
-    // over space and time (ReSTIR DI, rtgi_restir.glsl); false: each pixel draws
-    // its own candidates every frame.
+    // Many emitters (where the light tree walks nodes): each pixel's emitter sample
+    // is resampled with its neighbours' (ReSTIR DI's spatial reuse,
+    // rtgi_restir.glsl); false: each pixel draws from its own candidates only.
     bool reuseLights = true;
     int interleave = 1;  // a pixel traces every N-th frame (1, 2, 4, 8, 16)
     // Beyond the interleave pattern, which further pixels trace (frame budget):
