@@ -289,7 +289,8 @@ class Renderer {
     bool built = false;      // octree and inject
   };
   // Voxelizes, builds the octree, injects or refines its light, as the mode needs.
-  SceneUpdate updateVoxels(gl::FrameContext& ctx);
+  // `moving`: the camera or meshes moved this frame and the pixels follow them.
+  SceneUpdate updateVoxels(gl::FrameContext& ctx, bool moving);
   // The mode's pass, into the HDR target.
   void executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
                    const glm::mat4* previousViewProj);

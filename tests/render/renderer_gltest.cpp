@@ -104,6 +104,32 @@ TEST_F(RendererTest, SwitchingToRtgiGivesAFreshRtgiImage) {
   EXPECT_EQ(switched.readLinear(), fresh.readLinear());
 }
 
+// Under a frame budget, the voxels' light is not refined while the view moves (the
+// frame's time goes to the pixels); it is without a budget, and once the view stops.
+TEST_F(RendererTest, VoxelLightWaitsWhileABudgetedViewMoves) {
+  render::RenderSettings s = settings(32, 32);
+  s.mode = render::Mode::kRtgi;
+  s.voxels = 32;
+  auto refined = [](const render::Renderer& r) {
+    for (const gl::StageTime& t : r.lastStages())
+      if (t.stage == Stage::kRefine) return true;
+    return false;
+  };
+  for (double fps : {0.0, 30.0}) {
+    s.targetFps = fps;
+    render::Renderer r(*programs_, scene_, s);
+    scene::Camera camera = scene_.camera;
+    r.renderFrame(camera);
+    r.renderFrame(camera);
+    EXPECT_TRUE(refined(r)) << "fps " << fps;  // still
+    camera.position += 0.05f * camera.forward;
+    r.renderFrame(camera);
+    EXPECT_EQ(refined(r), fps == 0.0) << "fps " << fps;  // moving
+    r.renderFrame(camera);
+    EXPECT_TRUE(refined(r)) << "fps " << fps;  // still again
+  }
+}
+
 TEST_F(RendererTest, KnobsDriveTheTonemap) {
   render::Renderer r(*programs_, scene_, settings(32, 32));
   auto knobs = r.knobs();
