@@ -50,7 +50,7 @@ std::vector<StageTime> StageTimer::resolve() {
     out.push_back({p.stage, static_cast<double>(ns) * 1e-6, p.cpuMs});
   }
   pending_.clear();
-  return out;
+  return sumByStage(out);
 }
 
 }  // namespace voxgi::gl

@@ -6,6 +6,7 @@
 #ifndef VOXGI_GL_STAGE_TIMER_H
 #define VOXGI_GL_STAGE_TIMER_H
 
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -23,11 +24,30 @@ struct StageTime {
 // "gpu-queries" or "synchronous" (what StageTime::gpuMs measured on this context).
 const char* stageTimingMethod();
 
+// One entry per stage, in the order first seen, each the sum of that stage's
+// entries: a stage may run in more than one timed pass a frame (rtgi's shadows with
+// reservoir reuse), and its cost is their sum.
+inline std::vector<StageTime> sumByStage(const std::vector<StageTime>& stages) {
+  std::vector<StageTime> out;
+  for (const StageTime& s : stages) {
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&](const StageTime& o) { return o.stage == s.stage; });
+    if (it == out.end()) {
+      out.push_back(s);
+    } else {
+      it->gpuMs += s.gpuMs;
+      it->cpuMs += s.cpuMs;
+    }
+  }
+  return out;
+}
+
 class StageTimer {
  public:
   void begin(Stage stage);
   void end();
-  // Waits for the queries of this frame and returns the stage times in order.
+  // Waits for the queries of this frame and returns the stage times in order, one
+  // per stage (sumByStage).
   std::vector<StageTime> resolve();
 
  private:

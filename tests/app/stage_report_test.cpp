@@ -32,6 +32,21 @@ TEST(StageTimes, MediansPerStageInFirstSeenOrder) {
   EXPECT_DOUBLE_EQ(t.median(Stage::kVoxelize), 0.0);
 }
 
+// A stage timed in two passes of one frame costs their sum; the order stays the
+// order first seen.
+TEST(StageTimes, AStageInTwoPassesOfAFrameCostsTheirSum) {
+  const std::vector<gl::StageTime> merged = gl::sumByStage({{Stage::kGbuffer, 2.0, 2.5},
+                                                            {Stage::kShadows, 1.0, 1.5},
+                                                            {Stage::kIndirect, 4.0, 4.0},
+                                                            {Stage::kShadows, 3.0, 3.5}});
+  ASSERT_EQ(merged.size(), 3u);
+  EXPECT_EQ(merged[0].stage, Stage::kGbuffer);
+  EXPECT_EQ(merged[1].stage, Stage::kShadows);
+  EXPECT_DOUBLE_EQ(merged[1].gpuMs, 4.0);
+  EXPECT_DOUBLE_EQ(merged[1].cpuMs, 5.0);
+  EXPECT_EQ(merged[2].stage, Stage::kIndirect);
+}
+
 TEST(StageTimes, EmptyRunHasZeroMediansAndNoStages) {
   const StageTimes t;
   EXPECT_DOUBLE_EQ(t.frameMedian(), 0.0);
