@@ -10,11 +10,12 @@
 // A reservoir's sample is an emitter (its index), its target h the luminance of that
 // emitter's exact unshadowed contribution at the surface (emitterTarget); a
 // direction on it is drawn only to shade. Its contribution weight W stands in for
-// 1 / the probability of the emitter, M counts the candidates behind it. Reuse
+// 1 / the probability of the emitter, M counts the candidates behind it
+// (kRestirCandidates for every pixel's own reservoir). Reuse
 // weighs its inputs by pairwise MIS (restirDirect): unbiased, so a neighbour across
 // an edge, whose surface faces other emitters, neither darkens nor brightens the
 // pixel. A light tree draw costs 10-12 node tests on the way down; a reused
-// reservoir three targets, so reuse adds candidates at a fraction of their price.
+// reservoir two targets, so reuse adds candidates at a fraction of their price.
 //
 // No temporal reuse: each pixel's running mean already averages its frames (after a
 // camera move, its reprojected history), and a reservoir carried from frame to frame
@@ -26,7 +27,8 @@
 // without (seeds 7, 8, 9).
 //
 // Storage (kRtgiReservoirBinding): vec4 per pixel, (emitter index as float bits,
-// W, M, the frame it was written as float bits).
+// W, its target h at the pixel's own surface, the frame it was written as float
+// bits).
 #ifndef VOXGI_RTGI_RESTIR_GLSL
 #define VOXGI_RTGI_RESTIR_GLSL
 
@@ -73,8 +75,8 @@ void stream(inout Reservoir r, int y, float h, vec3 spec, float w, float m) {
 
 uint reservoirIndex(ivec2 px) { return uint(px.y) * rtgi.frame.z + uint(px.x); }
 
-vec4 packReservoir(int y, float w, float m) {
-  return vec4(intBitsToFloat(y), w, m, uintBitsToFloat(rtgi.frame.x));
+vec4 packReservoir(int y, float w, float h) {
+  return vec4(intBitsToFloat(y), w, h, uintBitsToFloat(rtgi.frame.x));
 }
 
 // The emitter a stored reservoir holds, -1 for none (or an index past the emitters:
@@ -106,7 +108,7 @@ void restirInitial(ivec2 px, Pixel p) {
     stream(r, k, h, spec, h > 0.0 ? h / pmf : 0.0, 1.0);
   }
   float w = r.y >= 0 ? r.wSum / (r.m * r.h) : 0.0;
-  reservoirs[reservoirIndex(px)] = packReservoir(r.y, w, r.m);
+  reservoirs[reservoirIndex(px)] = packReservoir(r.y, w, r.h);
 }
 #endif  // RTGI_RESTIR_INITIAL
 
@@ -139,7 +141,7 @@ vec3 restirDirect(ivec2 px, Surface s, vec3 o, vec3 ng) {
   vec4 own = reservoirs[reservoirIndex(px)];
   int yc = storedEmitter(own);
   float wc = own.y;
-  float mc = max(own.z, 0.0);
+  const float mc = float(kRestirCandidates), mi = mc;
   vec3 specC = vec3(0.0);
   float hcc = yc >= 0 ? emitterTarget(yc, s, specC) : 0.0;
   // The neighbours that traced this frame, on a like surface.
@@ -154,7 +156,7 @@ vec3 restirDirect(ivec2 px, Surface s, vec3 o, vec3 ng) {
     vec4 qp = texelFetch(gPosition, q, 0);
     if (qp.w < 0.5) continue;
     vec4 stored = reservoirs[reservoirIndex(q)];
-    if (floatBitsToUint(stored.w) != rtgi.frame.x || !(stored.z > 0.0) ||
+    if (floatBitsToUint(stored.w) != rtgi.frame.x ||
         !likeSurface(s, qp.xyz, normalize(texelFetch(gNormal, q, 0).xyz), 0.05))
       continue;
     near[k++] = q;
@@ -166,12 +168,11 @@ vec3 restirDirect(ivec2 px, Surface s, vec3 o, vec3 ng) {
     Surface t = shadedSurface(near[i]);
     vec4 stored = reservoirs[reservoirIndex(near[i])];
     int yi = storedEmitter(stored);
-    float mi = stored.z;
     vec3 spec = vec3(0.0), unused;
     float hci = 0.0, weight = 0.0;
     if (yi >= 0) {
       hci = emitterTarget(yi, s, spec);
-      float hii = mi * emitterTarget(yi, t, unused);
+      float hii = mi * stored.z;  // its target at its own surface, kept by the first pass
       float d = hii + mck * hci;
       weight = d > 0.0 ? hii / d / float(k) * hci * stored.y : 0.0;
     }

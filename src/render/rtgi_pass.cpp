@@ -90,8 +90,7 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
 
 // Where the tree draws among all the emitters at once, each with its own tight
 // bound (lightDefines), reuse gains nothing either: dark_plane's 96 clusters give the
-// same direct light (FLIP 0.0140 against 0.0141 at 64 frames) at 1.25x the stage's
-// cost.
+// same direct light (FLIP 0.0140 against 0.0141 at 64 frames) at more cost.
 bool RtgiPass::reusesLights(const GpuScene& gs) const {
   return settings_.reuseLights && settings_.features.shadows && settings_.features.emission &&
          static_cast<int>(gs.emitterCount()) > settings_.exactEmitters &&
