@@ -39,14 +39,17 @@ float emitterSlack(GpuEmitter e) {
   return uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
 }
 
-// A direction from p towards a point of emitter e that emits towards p, from two
-// uniform numbers: returns its solid-angle pdf (0: no such point), the direction l and
-// the distance to the point. Triangles that p sees under at least
-// kMinSphericalTriangle: uniform in their solid angle (sampling_shared.h, Arvo 1995),
-// so the estimate below varies only with the receiver's cosine and BRDF over the
-// triangle, however large and near it is. Smaller triangles and clusters (disks):
-// uniform over their area, pdf = dist^2 / (area x cosine at the emitter).
-float sampleEmitterDirection(GpuEmitter e, vec3 p, vec2 u, out vec3 l, out float dist) {
+// A direction from p (normal n) towards a point of emitter e that emits towards p,
+// from two uniform numbers: returns its solid-angle pdf (0: no such point), the
+// direction l and the distance to the point. Triangles that p sees under at least
+// kMinSphericalTriangle: the part above p's horizon, about in proportion to the
+// cosine there (sampleClippedTriangle, sampling_shared.h: Arvo 1995 warped after
+// Hart et al. 2020), so the Lambert estimate below hardly varies over the triangle,
+// however large and near it is, and no draw is spent below the horizon (a skylight
+// over a column's face: half the draws black, the rest twice as bright, before).
+// Smaller triangles and clusters (disks): uniform over their area, pdf = dist^2 /
+// (area x cosine at the emitter).
+float sampleEmitterDirection(GpuEmitter e, vec3 p, vec3 n, vec2 u, out vec3 l, out float dist) {
   l = vec3(0.0);
   dist = 0.0;
   bool twoSided = e.radiance.w > 0.5;
@@ -58,24 +61,20 @@ float sampleEmitterDirection(GpuEmitter e, vec3 p, vec2 u, out vec3 l, out float
   if (!cluster) {
     vec3 a = e.a.xyz - p, b = e.b.xyz - p, c = e.c.xyz - p;
     float la = length(a), lb = length(b), lc = length(c);
-    if (la > 0.0 && lb > 0.0 && lc > 0.0) {
-      a /= la;
-      b /= lb;
-      c /= lc;
-      float area = sphericalTriangleArea(a, b, c);
-      if (area >= kMinSphericalTriangle) {
-        l = sampleSphericalTriangle(a, b, c, area, u);
-        float cosE = -dot(ne, l);
-        float toPlane = dot(e.a.xyz - p, ne);  // -(p's height above the plane)
-        if (twoSided) {
-          cosE = abs(cosE);
-        } else if (!(cosE > 0.0)) {
-          return 0.0;  // p is behind a one-sided emitter
-        }
-        if (!(cosE > 1e-6)) return 0.0;
-        dist = abs(toPlane) / cosE;
-        return 1.0 / area;
+    if (la > 0.0 && lb > 0.0 && lc > 0.0 &&
+        sphericalTriangleArea(a / la, b / lb, c / lc) >= kMinSphericalTriangle) {
+      float pdf = sampleClippedTriangle(a, b, c, n, u, l);
+      if (!(pdf > 0.0)) return 0.0;
+      float cosE = -dot(ne, l);
+      float toPlane = dot(e.a.xyz - p, ne);  // -(p's height above the plane)
+      if (twoSided) {
+        cosE = abs(cosE);
+      } else if (!(cosE > 0.0)) {
+        return 0.0;  // p is behind a one-sided emitter
       }
+      if (!(cosE > 1e-6)) return 0.0;
+      dist = abs(toPlane) / cosE;
+      return pdf;
     }
   }
   vec3 d = emitterPoint(e, u) - p;
@@ -112,7 +111,7 @@ vec3 emitterShade(int k, float weight, vec3 spec, Surface s, vec3 o, vec3 ng) {
   GpuEmitter e = emitters[k];
   vec3 l;
   float dist;
-  float pdf = sampleEmitterDirection(e, s.p, vec2(rand01(), rand01()), l, dist);
+  float pdf = sampleEmitterDirection(e, s.p, s.n, vec2(rand01(), rand01()), l, dist);
   if (!(pdf > 0.0)) return vec3(0.0);
   vec3 c = emitterDiffuseSample(e, s, l, pdf) * weight + spec;
   vec3 d = s.p + l * dist - o;

@@ -234,5 +234,47 @@ TEST_F(DirectLightTest, ReusedEmitterSamplesLowerTheNoise) {
   EXPECT_LT(worst, 0.75);
 }
 
+// An upright wall, seen from the camera, under a large one-sided emitting panel
+// (two triangles) that reaches past the wall's plane on both sides: its front face's
+// horizon cuts the panel in two. No floor, nothing between.
+scene::Scene wallUnderPanel() {
+  SceneBuilder b;
+  const int grey = b.addMaterial(glm::vec3(0.6f));
+  b.addBox({-3.0f, 0.0f, -1.2f}, {3.0f, 3.0f, -1.0f}, grey);
+  const int panel = b.addMaterial(glm::vec3(0.0f), glm::vec3(4.0f), false);
+  const glm::vec3 q[4] = {
+      {-3.0f, 7.0f, -4.0f}, {3.0f, 7.0f, -4.0f}, {3.0f, 7.0f, 2.0f}, {-3.0f, 7.0f, 2.0f}};
+  addQuad(&b.scene(), panel, q);
+  return finishUnlit(b);
+}
+
+// One frame's direct light from a large emitter is close to the exact unshadowed
+// light wherever nothing shadows it, even where the receiver's horizon cuts the
+// emitter: its directions are drawn over the part above the horizon, about in
+// proportion to the cosine (sampleClippedTriangle). The per-pixel relative error of
+// one frame, root mean square over the lit pixels.
+TEST_F(DirectLightTest, ALargeEmitterCutByTheHorizonLightsEvenlyInOneFrame) {
+  const scene::Scene s = wallUnderPanel();
+  render::RtgiPass::Settings rtgi;
+  const std::vector<double> exact = pixels(s, rtgi, 1, 1, "-indirect,-specular,-shadows");
+  const double top = *std::max_element(exact.begin(), exact.end());
+  double worst = 0.0;
+  for (uint32_t seed : {1u, 2u}) {
+    const std::vector<double> one = pixels(s, rtgi, 1, seed);
+    double sum = 0.0;
+    int lit = 0;
+    for (size_t i = 0; i < one.size(); ++i) {
+      if (!(exact[i] > 0.05 * top)) continue;
+      sum += (one[i] / exact[i] - 1.0) * (one[i] / exact[i] - 1.0);
+      ++lit;
+    }
+    ASSERT_GT(lit, kSize * kSize / 8);
+    worst = std::max(worst, std::sqrt(sum / lit));
+  }
+  // Measured over seeds 1 and 2: 0.17 and 0.19; uniform over the whole triangles
+  // (half the draws below the horizon), 1.10 and 1.13.
+  EXPECT_LT(worst, 0.3);
+}
+
 }  // namespace
 }  // namespace voxgi::test
