@@ -55,16 +55,21 @@ GpuLightNode lightTreeNode(int i);
 
 // What node `n` may contribute at point p with normal nrm (unit); 0 where none of its
 // emitters can send light there: all face away from p, or all lie below p's horizon.
-// A point inside the node's sphere gets its power (no direction is excluded). The
-// angle bounds are worked with as cosines and sines (cos(a - b) = cos a cos b +
-// sin a sin b), without inverse trigonometric functions.
+// A point inside the node's sphere excludes no direction, and its distance² counts
+// as the sphere's radius² (as pbrt-v4 clamps it to the bounds' size): what a
+// receiver gets from emitters around it is at most their radiance x pi, about their
+// power / their area, not their whole power. Before, a 16 x 4 m skylight's triangle
+// counted its whole power at the floor under it, 50 times the light it sends there,
+// so the small lamps nearby were drawn some 20 times too rarely: each draw of one a
+// firefly. The angle bounds are worked with as cosines and sines (cos(a - b) =
+// cos a cos b + sin a sin b), without inverse trigonometric functions.
 VOXGI_FN float lightNodeImportance(GpuLightNode n, vec3 p, vec3 nrm) {
   float power = n.info.x;
   if (!(power > 0.0f)) return 0.0f;
   vec3 toC = vec3(n.sphere) - p;
   float dist2 = dot(toC, toC);
   float r = n.sphere.w;
-  if (dist2 <= r * r) return power;
+  if (dist2 <= r * r) return power / max(r * r, 1e-30f);
   float invDist = inversesqrt(dist2);
   vec3 w = toC * invDist;
   // The sphere's half-angle seen from p, theta_u, widened a little against rounding.
