@@ -6,8 +6,10 @@
 // of n samples is the samples' variance over n. A pixel with kDenoiseTemporalSamples
 // samples or more takes its samples' variance from its own moments
 // (rtgi_accumulate.comp); one with fewer (just after a restart or a disocclusion)
-// from the moments of the 7x7 pixels around it on the same surface (Schied et al.
-// 2017, sec. 4.2). Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
+// from the 7x7 pixels around it on the same surface: with two samples or more, the
+// mean of their samples' variances; with one, the variance of their pooled moments
+// (Schied et al. 2017, sec. 4.2), which counts the light's change from pixel to
+// pixel as noise too. Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -54,19 +56,34 @@ void main() {
     // that have samples.
     DenoiseKey p = keyAt(px);
     float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+    // With two samples or more, each pixel's own samples' variance, averaged: the
+    // light's change from pixel to pixel is not noise (the moments pooled over the
+    // pixels would count a hard shadow's edge as noise, and the filter would carry
+    // the light across it). With one, only the pooled moments tell anything.
+    bool own = n >= 2.0;
     vec4 sum = n > 0.0 ? m : vec4(0.0);
+    vec2 within = own ? max(m.yw - m.xz * m.xz, vec2(0.0)) * (n / (n - 1.0)) : vec2(0.0);
     float weight = n > 0.0 ? 1.0 : 0.0;
     for (int dy = -3; dy <= 3; ++dy)
       for (int dx = -3; dx <= 3; ++dx) {
         ivec2 q = px + ivec2(dx, dy);
         if ((dx == 0 && dy == 0) || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
           continue;
-        if (!(texelFetch(mean, q, 0).a > 0.0) || texelFetch(gPosition, q, 0).w < 0.5) continue;
+        float nq = texelFetch(mean, q, 0).a;
+        if (!(nq >= (own ? 2.0 : 1.0)) || texelFetch(gPosition, q, 0).w < 0.5) continue;
         float w = exp(logEdgeWeight(p, keyAt(q), scale));
-        sum += w * texelFetch(moments, q, 0);
+        vec4 mq = texelFetch(moments, q, 0);
+        sum += w * mq;
+        within += w * max(mq.yw - mq.xz * mq.xz, vec2(0.0)) * (nq / (nq - 1.0));
         weight += w;
       }
     if (weight > 0.0) m = sum / weight;
+    if (own && weight > 0.0) {
+      vec2 variance = within / weight / n;
+      imageStore(prepared, px, vec4(direct / albedo, variance.x));
+      imageStore(prepared2, px, vec4((c.rgb - direct) / albedo, variance.y));
+      return;
+    }
   }
   vec2 variance = max(m.yw - m.xz * m.xz, vec2(0.0)) / max(n, 1.0);
   imageStore(prepared, px, vec4(direct / albedo, variance.x));
