@@ -186,9 +186,10 @@ VOXGI_FN float sampleClippedTriangle(vec3 a, vec3 b, vec3 c, vec3 n, vec2 u, VOX
   if (above == 0) return 0.0f;
   // Turn the corners (keeping their order) so that, with two above, c is the one below,
   // and with one above, a is the one above.
-  bool turnOnce = above == 2 ? !aUp : above == 1 && bUp;
-  bool turnTwice = above == 2 ? !bUp : above == 1 && cUp;
-  if (turnOnce) {  // (a, b, c) -> (b, c, a)
+  int turns = (above == 2 ? !aUp : above == 1 && bUp)   ? 1
+              : (above == 2 ? !bUp : above == 1 && cUp) ? 2
+                                                        : 0;
+  for (int k = 0; k < turns; ++k) {  // (a, b, c) -> (b, c, a)
     vec3 t = a;
     a = b;
     b = c;
@@ -197,15 +198,6 @@ VOXGI_FN float sampleClippedTriangle(vec3 a, vec3 b, vec3 c, vec3 n, vec2 u, VOX
     da = db;
     db = dc;
     dc = s;
-  } else if (turnTwice) {  // (a, b, c) -> (c, a, b)
-    vec3 t = c;
-    c = b;
-    b = a;
-    a = t;
-    float s = dc;
-    dc = db;
-    db = da;
-    da = s;
   }
   // The first part, and the second where the clipped polygon is a quad.
   vec3 p0 = a, p1 = b, p2 = c, q2 = c;

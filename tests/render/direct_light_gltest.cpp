@@ -235,6 +235,14 @@ TEST_F(DirectLightTest, ReusedEmitterSamplesLowerTheNoise) {
   EXPECT_LT(worst, 0.75);
 }
 
+// A one-sided emitting panel (radiance 4, two triangles) facing down at height y,
+// x in [-3, 3], z in [z0, z1].
+void addPanel(SceneBuilder& b, float y, float z0, float z1) {
+  const int panel = b.addMaterial(glm::vec3(0.0f), glm::vec3(4.0f), false);
+  const glm::vec3 q[4] = {{-3.0f, y, z0}, {3.0f, y, z0}, {3.0f, y, z1}, {-3.0f, y, z1}};
+  addQuad(&b.scene(), panel, q);
+}
+
 // An upright wall, seen from the camera, under a large one-sided emitting panel
 // (two triangles) that reaches past the wall's plane on both sides: its front face's
 // horizon cuts the panel in two. No floor, nothing between.
@@ -242,10 +250,7 @@ scene::Scene wallUnderPanel() {
   SceneBuilder b;
   const int grey = b.addMaterial(glm::vec3(0.6f));
   b.addBox({-3.0f, 0.0f, -1.2f}, {3.0f, 3.0f, -1.0f}, grey);
-  const int panel = b.addMaterial(glm::vec3(0.0f), glm::vec3(4.0f), false);
-  const glm::vec3 q[4] = {
-      {-3.0f, 7.0f, -4.0f}, {3.0f, 7.0f, -4.0f}, {3.0f, 7.0f, 2.0f}, {-3.0f, 7.0f, 2.0f}};
-  addQuad(&b.scene(), panel, q);
+  addPanel(b, 7.0f, -4.0f, 2.0f);
   return finishUnlit(b);
 }
 
@@ -286,10 +291,7 @@ scene::Scene glossyFloorUnderPanel() {
   b.scene().materials[static_cast<size_t>(wood)].metallic = 0.0f;
   b.scene().materials[static_cast<size_t>(wood)].roughness = 0.7f;
   b.addBox({-4.0f, -0.2f, -4.0f}, {4.0f, 0.0f, 4.0f}, wood);
-  const int panel = b.addMaterial(glm::vec3(0.0f), glm::vec3(4.0f), false);
-  const glm::vec3 q[4] = {
-      {-3.0f, 3.0f, -4.0f}, {3.0f, 3.0f, -4.0f}, {3.0f, 3.0f, 0.0f}, {-3.0f, 3.0f, 0.0f}};
-  addQuad(&b.scene(), panel, q);
+  addPanel(b, 3.0f, -4.0f, 0.0f);
   return finishUnlit(b);
 }
 
