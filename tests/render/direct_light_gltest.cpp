@@ -50,20 +50,12 @@ class DirectLightTest : public GlTest {
     programs_ = std::make_unique<gl::ProgramCache>(sourceDir() + "/shaders");
   }
 
-  // Direct light only (no indirect, no specular), `frames` frames; the luminance of
-  // each pixel.
-  std::vector<double> pixels(scene::Scene s, render::RtgiPass::Settings rtgi, int frames,
-                             uint32_t seed, const char* effects = "-indirect,-specular") {
+  // The luminance of each pixel of s seen from camera_, kSize x kSize, after `frames`
+  // frames with settings rs (its mode's).
+  std::vector<double> luminances(scene::Scene s, render::RenderSettings rs, int frames) {
     s.camera = camera_;
     s.fitClipPlanes();
-    render::RenderSettings rs;
-    rs.mode = render::Mode::kRtgi;
     rs.width = rs.height = kSize;
-    rs.voxels = 64;
-    rs.jitter = false;
-    rs.effects = effects;
-    rs.rtgi = rtgi;
-    rs.rtgi.seed = seed;
     render::Renderer r(*programs_, s, rs);
     for (int f = 0; f < frames; ++f) r.renderFrame();
     const std::vector<float> px = r.readLinear();
@@ -73,16 +65,34 @@ class DirectLightTest : public GlTest {
     return out;
   }
 
-  // The mean luminance of each kBlock x kBlock block of pixels().
-  std::vector<double> blocks(scene::Scene s, render::RtgiPass::Settings rtgi, int frames,
+  // rtgi's direct light only (no indirect, no specular), `frames` frames; the
+  // luminance of each pixel.
+  std::vector<double> pixels(scene::Scene s, render::RtgiPass::Settings rtgi, int frames,
                              uint32_t seed, const char* effects = "-indirect,-specular") {
-    const std::vector<double> px = pixels(std::move(s), rtgi, frames, seed, effects);
+    render::RenderSettings rs;
+    rs.mode = render::Mode::kRtgi;
+    rs.voxels = 64;
+    rs.jitter = false;
+    rs.effects = effects;
+    rs.rtgi = rtgi;
+    rs.rtgi.seed = seed;
+    return luminances(std::move(s), rs, frames);
+  }
+
+  // The mean of each kBlock x kBlock block of a kSize x kSize image.
+  static std::vector<double> toBlocks(const std::vector<double>& px) {
     std::vector<double> out((kSize / kBlock) * (kSize / kBlock), 0.0);
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x)
         out[(y / kBlock) * (kSize / kBlock) + x / kBlock] +=
             px[static_cast<size_t>(y) * kSize + x] / (kBlock * kBlock);
     return out;
+  }
+
+  // The mean luminance of each kBlock x kBlock block of pixels().
+  std::vector<double> blocks(scene::Scene s, render::RtgiPass::Settings rtgi, int frames,
+                             uint32_t seed, const char* effects = "-indirect,-specular") {
+    return toBlocks(pixels(std::move(s), rtgi, frames, seed, effects));
   }
 
   // The largest worstBlock() of blocks(s, rtgi, frames, seed) against `reference`
@@ -305,24 +315,12 @@ TEST_F(DirectLightTest, ARoughHighlightFromALargeEmitterIsThePathTracers) {
   // point's highlight errs most.
   camera_.position = glm::vec3(0.0f, 0.8f, 4.0f);
   camera_.forward = glm::normalize(glm::vec3(0.0f, -0.35f, -1.0f));
-  s.camera = camera_;
-  s.fitClipPlanes();
   render::RenderSettings rs;
   rs.mode = render::Mode::kPathtrace;
-  rs.width = rs.height = kSize;
   rs.spp = 1024;
   rs.pathtrace.maxDepth = 2;
   rs.pathtrace.seed = 5;
-  render::Renderer r(*programs_, s, rs);
-  r.renderFrame();
-  const std::vector<float> px = r.readLinear();
-  std::vector<double> reference((kSize / kBlock) * (kSize / kBlock), 0.0);
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
-      const size_t i = 4 * (static_cast<size_t>(y) * kSize + x);
-      reference[(y / kBlock) * (kSize / kBlock) + x / kBlock] +=
-          (0.2126 * px[i] + 0.7152 * px[i + 1] + 0.0722 * px[i + 2]) / (kBlock * kBlock);
-    }
+  const std::vector<double> reference = toBlocks(luminances(s, rs, 1));
   const double worst = worstOverSeeds(s, render::RtgiPass::Settings(), 256, reference);
   // Measured: 1.3% (the worst block over seeds 1 and 2); a representative point's
   // highlight (Karis 2013, areaLightParts) 8.2%.
