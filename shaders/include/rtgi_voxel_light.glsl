@@ -1,6 +1,7 @@
 // The voxels' light at the hit of a ray on the exact triangles (rtgi's indirect rays
 // from the pixels and from reflected hits). Include after rtgi_bvh.glsl, with the
-// octree's radiance[] and material[] declared.
+// octree's radiance[] and material[] declared; with RTGI_VOXEL_AT_ONLY, voxelAt alone
+// (material[] only: the octree's bounce pass, which reads another light buffer).
 #ifndef VOXGI_RTGI_VOXEL_LIGHT_GLSL
 #define VOXGI_RTGI_VOXEL_LIGHT_GLSL
 
@@ -26,6 +27,7 @@ int voxelAt(vec3 o, vec3 dir, float t) {
   return -1;
 }
 
+#ifndef RTGI_VOXEL_AT_ONLY
 // The voxels' light at that point (voxelAt); none where no leaf stands for it.
 vec3 voxelLightAt(vec3 o, vec3 dir, float t) {
   int node = voxelAt(o, dir, t);
@@ -42,5 +44,6 @@ vec3 voxelLightAlong(vec3 o, vec3 dir) {
   loopBudget = kPtLoopBudget;
   return trace(o, dir, kInf, false, t, tri, bc) ? voxelLightAt(o, dir, t) : vec3(0.0);
 }
+#endif  // RTGI_VOXEL_AT_ONLY
 
 #endif  // VOXGI_RTGI_VOXEL_LIGHT_GLSL

@@ -8,6 +8,14 @@
 // side of its axis. The leaf's radiance becomes its direct light plus albedo x the
 // mean of what the rays brought (cosine sampling: E / pi = mean radiance). Rays that
 // leave the grid see no light (the background emits nothing).
+// OCTREE_BVH (rtgi with its BVH bound): the rays find their hit on the scene's exact
+// triangles, and the leaf that stands for it there (rtgi_voxel_light.glsl, voxelAt)
+// gives its light; the first kNearFieldVoxels are still marched (hitLeaf). Marched
+// all the way, a ray stops at the first voxel it touches, and voxels stand up to a
+// voxel beyond their surfaces: rays that pass by an edge stop at it. The night
+// hall's second bounce against the path tracer's: 0.91 with exact shadow rays alone,
+// 0.94 with these (0.98-1.03 in most 16x16 blocks; the mirror ball's blocks, whose
+// reflections this term leaves out, hold the rest).
 #include "scene_shared.h"
 #include "voxel_shared.h"
 #include "lighting.glsl"
@@ -21,6 +29,25 @@ layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uin
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(std430, binding = kOctreeScratchBinding) readonly buffer Previous { uint previous[]; };
 layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint directIn[]; };
+#ifdef OCTREE_BVH
+#include "rtgi_bvh.glsl"
+#define RTGI_VOXEL_AT_ONLY
+#include "rtgi_voxel_light.glsl"
+
+// The leaf the ray from p along unit dir brings the light of: the first voxel within
+// kNearFieldVoxels (where p's place about the surface is known only to a voxel, as
+// in octree_inject.comp), else the leaf that stands for the nearest triangle (-1:
+// none, or no hit).
+int hitLeaf(vec3 p, vec3 dir, float start) {
+  MarchHit h = octreeTrace(octreeWorldRay(p, dir, kNearFieldVoxels), start, kRaySteps);
+  if (h.hit) return int(h.node);
+  float t;
+  uint tri;
+  vec2 bc;
+  loopBudget = kPtLoopBudget;
+  return trace(p, dir, kInf, false, t, tri, bc) ? voxelAt(p, dir, t) : -1;
+}
+#endif
 
 // The mean radiance the rays bring to the voxel centre as seen by a surface of unit
 // normal n (over the sphere where !oriented); a two-sided leaf they hit shows the
@@ -41,11 +68,18 @@ vec3 gatheredAt(vec3 centre, vec3 n, bool oriented) {
       float s = sqrt(max(0.0, 1.0 - z * z));
       dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
     }
+#ifdef OCTREE_BVH
+    int leaf = hitLeaf(p, dir, start);
+    if (leaf < 0) continue;
+    uint hitNode = uint(leaf);
+#else
     MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
     if (!h.hit) continue;
-    uint word = material[h.node].y;
+    uint hitNode = h.node;
+#endif
+    uint word = material[hitNode].y;
     if (!seenFromBehind(word, dir))
-      gathered += unpackRgb9e5(previous[lightSlot(h.node, word, -dir)]);
+      gathered += unpackRgb9e5(previous[lightSlot(hitNode, word, -dir)]);
   }
   return gathered / float(max(rays, 1));
 }

@@ -10,12 +10,45 @@
 // its axis, into its two light slots.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS casts no shadow ray (every
 // sample point counts as visible); VOXGI_NO_EMISSION leaves emitters out.
+// OCTREE_BVH (rtgi with its BVH bound, rtgi_bvh.glsl's defines): the shadow rays run
+// on the scene's exact triangles. Marched through the octree, they meet voxels that
+// stand up to one voxel beyond every surface, so each shadow is a voxel wider than
+// its occluder's: the night hall's leaves came out 8% darker than the exact light at
+// the points they stand for (with shadows off, within 1%).
 #include "scene_shared.h"
 #include "voxel_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
 #include "octree.glsl"
 #include "octree_light.glsl"
+#ifdef OCTREE_BVH
+#include "rtgi_bvh.glsl"
+
+// Visibility from p along unit l, dist away: the first kNearFieldVoxels marched
+// through the octree, the rest an exact shadow ray. p stands 1.6 voxels off the
+// leaf's centre, where the surface the leaf holds is known only to a voxel: p may sit
+// past a surface nearby (the far face of a wall thinner than a voxel, the other side
+// of a corner) and see light the leaf's surface does not. The voxels within that
+// reach keep it out: the day hall at 64 frames, FLIP 0.071 with them, 0.079 without;
+// the sealed room 0.050 against 0.057.
+float lightVisibleExact(vec3 p, vec3 l, float dist, float start) {
+  if (octreeVisible(p, l, min(dist, kNearFieldVoxels * octreeVoxelSize()), start, 0.0) == 0.0)
+    return 0.0;
+  return bvhVisible(p, l, dist, false, 0.0);
+}
+
+// The same to a random point on emitter e (a cluster's disk lies up to its radius
+// behind its facets: bvhVisible's slack).
+float emitterVisibleExact(GpuEmitter e, vec3 p, float start) {
+  vec3 d = emitterPoint(e, vec2(rand01(), rand01())) - p;
+  float dist = length(d);
+  if (!(dist > 0.0)) return 1.0;
+  float near = min(dist, kNearFieldVoxels * octreeVoxelSize());
+  if (octreeVisible(p, d / dist, near, start, 0.0) == 0.0) return 0.0;
+  float slack = uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
+  return bvhVisible(p, d / dist, dist, true, slack);
+}
+#endif
 
 layout(local_size_x = kOctreeGroupSize) in;
 layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
@@ -26,6 +59,9 @@ layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint di
 #ifdef VOXGI_NO_SHADOWS
 #define LIGHT_VISIBLE(p, l, dist, start) 1.0
 #define EMITTER_VISIBLE(e, p, start) 1.0
+#elif defined(OCTREE_BVH)
+#define LIGHT_VISIBLE(p, l, dist, start) lightVisibleExact(p, l, dist, start)
+#define EMITTER_VISIBLE(e, p, start) emitterVisibleExact(e, p, start)
 #else
 #define LIGHT_VISIBLE(p, l, dist, start) octreeVisible(p, l, dist, start, 0.0)
 #define EMITTER_VISIBLE(e, p, start) emitterVisible(e, p, start)

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "bindings_shared.h"
 #include "core/log.h"
 #include "pathtrace_shared.h"
 #include "render/pathtrace_scene.h"
@@ -172,6 +173,28 @@ void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt,
   glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
   textureTable_ = upload(table.data(), table.size() * sizeof(glm::uvec4));
   textureBytes_ = pixels.size() * 4 + table.size() * sizeof(glm::uvec4);
+}
+
+void GpuBvh::bind(GLuint materials, bool colors, bool normalMaps) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
+  glBindTextureUnit(gpu::kRtgiBvhNodeUnit, nodeTexels());
+  glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, triangleTexels());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, shading());
+  if (textured()) {
+    glBindTextureUnit(gpu::kRtgiBvhUvUnit, uvTexels());
+    glBindTextureUnit(gpu::kRtgiBvhTexelUnit, textureTexels());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding, textureTable());
+  }
+  if (colors && colored())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, this->colors());
+  if (normalMaps && textured() && tangentsUploaded())
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTangentBinding, tangents());
+}
+
+void GpuBvh::unbind() {
+  for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
+                   gpu::kRtgiBvhTexelUnit})
+    glBindTextureUnit(u, 0);
 }
 
 }  // namespace voxgi::render

@@ -63,6 +63,13 @@ class GpuBvh {
   GLuint textureTexels() const { return textureTexels_.id(); }
   GLuint textureTable() const { return textureTable_.id(); }
 
+  // Binds what a stage that traces the BVH reads (rtgi_bvh.glsl's bindings): the
+  // scene's `materials`, the nodes, triangles and shading, the textures when
+  // textured(), the vertex colours and tangents when asked for and present.
+  // unbind() releases the texture units.
+  void bind(GLuint materials, bool colors, bool normalMaps) const;
+  static void unbind();
+
  private:
   // A buffer of `bytes` (counted in gpuBytes_).
   gl::Buffer upload(const void* data, size_t bytes);

@@ -150,22 +150,6 @@ void Renderer::createPasses() {
   }
   if (mode == Mode::kPoints && !points_)
     points_ = std::make_unique<PointsPass>(programs_, PointsPass::Settings{});
-  // rtgi's indirect rays on the triangles read the voxel bounces apart from the
-  // direct light: an octree made for another mode without them is made again.
-  RtgiPass::Settings rt = settings_.rtgi;
-  rt.indirect = plan_.has(scene::Effect::kIndirect);
-  const bool keepBounces =
-      mode == Mode::kRtgi && RtgiPass::readsVoxelBounces(rt, scene_.meshesAnimated());
-  if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces))) {
-    voxel::Octree::Settings os = settings_.octree;
-    os.features = features;
-    // Voxel bounces are indirect light too (mirrors see them): without the indirect
-    // effect the voxels hold direct light only.
-    if (!plan_.has(scene::Effect::kIndirect)) os.bounces = std::min(os.bounces, 1);
-    os.keepBounces = keepBounces;
-    octree_ = std::make_unique<voxel::Octree>(programs_, os);
-    octreeBuilt_ = false;
-  }
   if (mode == Mode::kRtgi && !rtgi_) {
     RtgiPass::Settings rs = settings_.rtgi;
     rs.keepMask = rs.keepMask || showMask_;
@@ -190,6 +174,27 @@ void Renderer::createPasses() {
       bvh = sharedBvh();
     rtgi_ = std::make_unique<RtgiPass>(programs_, rs, std::move(bvh));
     rtgi_->setShown(frameShown_);
+  }
+  // rtgi's indirect rays on the triangles read the voxel bounces apart from the
+  // direct light: an octree made for another mode without them is made again.
+  RtgiPass::Settings rt = settings_.rtgi;
+  rt.indirect = plan_.has(scene::Effect::kIndirect);
+  const bool keepBounces =
+      mode == Mode::kRtgi && RtgiPass::readsVoxelBounces(rt, scene_.meshesAnimated());
+  // With rtgi's BVH, the voxels' shadow rays run on the exact triangles too.
+  const bool exactShadows =
+      mode == Mode::kRtgi && rtgi_ && rtgi_->raysHitTriangles() && features.shadows;
+  if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces) ||
+                           (exactShadows && octree_->settings().bvhDefines.empty()))) {
+    voxel::Octree::Settings os = settings_.octree;
+    if (exactShadows) os.bvhDefines = rtgi_->bvhDefines(gpuScene_);
+    os.features = features;
+    // Voxel bounces are indirect light too (mirrors see them): without the indirect
+    // effect the voxels hold direct light only.
+    if (!plan_.has(scene::Effect::kIndirect)) os.bounces = std::min(os.bounces, 1);
+    os.keepBounces = keepBounces;
+    octree_ = std::make_unique<voxel::Octree>(programs_, os);
+    octreeBuilt_ = false;
   }
   if (mode == Mode::kDvr && !dvr_) dvr_ = std::make_unique<DvrPass>(programs_, DvrPass::Settings{});
   if (mode == Mode::kPathtrace && !pathtrace_) {
@@ -463,6 +468,9 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
     octreeBuilt_ = false;
   }
   update.built = usesOctree(settings_.mode) && !octreeBuilt_;
+  // The BVH the voxels' shadow rays trace (Octree::Settings::bvhDefines).
+  const bool bvhShadows = octree_ && !octree_->settings().bvhDefines.empty();
+  if (bvhShadows) rtgi_->bindBvh(gpuScene_);
   if (update.built) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
@@ -480,6 +488,7 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
     // and the voxels converge once it stops.
     octree_->refine(ctx, gpuScene_);
   }
+  if (bvhShadows) rtgi_->unbindBvh();
   return update;
 }
 

@@ -56,25 +56,11 @@ std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
 }
 
 void RtgiPass::bindBvh(const GpuScene& gs) const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, gs.materials());
-  glBindTextureUnit(gpu::kRtgiBvhNodeUnit, bvh_->nodeTexels());
-  glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, bvh_->triangleTexels());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, bvh_->shading());
-  if (bvh_->textured()) {
-    glBindTextureUnit(gpu::kRtgiBvhUvUnit, bvh_->uvTexels());
-    glBindTextureUnit(gpu::kRtgiBvhTexelUnit, bvh_->textureTexels());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding, bvh_->textureTable());
-  }
-  if (settings_.features.colors && bvh_->colored())
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, bvh_->colors());
-  if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTangentBinding, bvh_->tangents());
+  bvh_->bind(gs.materials(), settings_.features.colors, settings_.features.normalMaps);
 }
 
 void RtgiPass::unbindBvh() const {
-  for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
-                   gpu::kRtgiBvhTexelUnit})
-    glBindTextureUnit(u, 0);
+  GpuBvh::unbind();
 }
 
 // The direct stage's variant for what the scene has (see rtgi_direct.comp), its

@@ -183,6 +183,11 @@ class RtgiPass {
   }
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
+  // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs, and its
+  // buffers bound for such stages (the octree's shadow rays too), or unbound (bvh_ set).
+  std::vector<std::string> bvhDefines(const GpuScene& gs) const;
+  void bindBvh(const GpuScene& gs) const;
+  void unbindBvh() const;
   // Whether rtgi with settings `s` (s.indirect as the effect plan sets it) lights its
   // indirect rays' hits exactly and reads the voxel bounces there apart from their
   // direct light (voxel::Octree::Settings::keepBounces): its indirect rays are rays
@@ -252,16 +257,11 @@ class RtgiPass {
   bool reusesLights(const GpuScene& gs) const;
   const gl::Program& specularProgram(const GpuScene& gs);
   const gl::Program& indirectProgram(const GpuScene& gs);
-  // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs.
-  std::vector<std::string> bvhDefines(const GpuScene& gs) const;
   // {"RTGI_CONES"} with cone-traced indirect light (glossy reflections are cones too).
   std::vector<std::string> conesDefine() const;
   // The direct light's variant for gs's lights, at the pixels or (atHits) at the
   // indirect rays' hits.
   std::vector<std::string> lightDefines(const GpuScene& gs, bool atHits = false) const;
-  // The BVH's buffers, bound for the stages that trace it, or unbound (bvh_ set).
-  void bindBvh(const GpuScene& gs) const;
-  void unbindBvh() const;
   // The programs of the indirect and specular stages, built only when they run.
   void buildOptionalStages();
 

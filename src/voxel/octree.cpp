@@ -44,6 +44,26 @@ uint64_t worstCaseNodes(uint32_t listed, int depth) {
   return total;
 }
 
+// octree_inject.comp's variant: the effect plan's, and OCTREE_BVH with a BVH.
+std::vector<std::string> injectDefines(const Octree::Settings& settings) {
+  std::vector<std::string> defines = settings.features.defines();
+  if (!settings.bvhDefines.empty()) {
+    defines.insert(defines.end(), settings.bvhDefines.begin(), settings.bvhDefines.end());
+    defines.emplace_back("OCTREE_BVH");
+  }
+  return defines;
+}
+
+// octree_bounce.comp's: OCTREE_BVH with a BVH.
+std::vector<std::string> bounceDefines(const Octree::Settings& settings) {
+  std::vector<std::string> defines;
+  if (!settings.bvhDefines.empty()) {
+    defines = settings.bvhDefines;
+    defines.emplace_back("OCTREE_BVH");
+  }
+  return defines;
+}
+
 void clearBuffer(GLuint buffer, GLsizeiptr bytes) {
   const uint32_t zero = 0;
   glClearNamedBufferSubData(buffer, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -57,8 +77,8 @@ Octree::Octree(gl::ProgramCache& programs, const Settings& settings)
       buildLevel_(programs.get({{"voxel/octree_build.comp"}, {}})),
       fill_(programs.get({{"voxel/octree_fill.comp"}, {}})),
       filter_(programs.get({{"voxel/octree_filter.comp"}, {}})),
-      inject_(programs.get({{"voxel/octree_inject.comp"}, settings.features.defines()})),
-      bounce_(programs.get({{"voxel/octree_bounce.comp"}, {}})),
+      inject_(programs.get({{"voxel/octree_inject.comp"}, injectDefines(settings)})),
+      bounce_(programs.get({{"voxel/octree_bounce.comp"}, bounceDefines(settings)})),
       average_(programs.get({{"voxel/octree_average.comp"}, {}})),
       filterRadiance_(programs.get({{"voxel/octree_filter.comp"}, {"OCTREE_FILTER_RADIANCE"}})) {
   if (settings.bounces < 0 || (settings.bounces > 16 && !allBounces()))

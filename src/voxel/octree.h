@@ -14,8 +14,9 @@
 // at the size used plus headroom; an overflowing re-build grows it and runs again.
 //
 // Light (stage "inject"): every leaf gathers direct light with shadow rays marched
-// through the octree (punctual lights; emissive surfaces by their exact unshadowed
-// irradiance times the visible fraction of sample points, emitters chosen by power),
+// through the octree, or traced on the exact triangles where rtgi has a BVH
+// (Settings::bvhDefines, bounce rays too) (punctual lights; emissive surfaces by their exact
+// unshadowed irradiance times the visible fraction of sample points, emitters chosen by power),
 // then `bounces - 1` passes each gather one more bounce of diffuse light from the
 // leaves the rays hit (ping-pong buffers: the result does not depend on thread
 // order). Last, inner nodes are filtered bottom-up.
@@ -44,6 +45,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "gl/frame_context.h"
@@ -85,6 +87,12 @@ class Octree {
     bool keepBounces = false;
     uint32_t seed = 1;
     scene::ShaderFeatures features;  // effect-plan variant of octree_inject.comp
+    // The defines of a BVH of the scene's triangles (rtgi_bvh.glsl) that the caller
+    // binds before inject() and refine(): the leaves' shadow and bounce rays run on
+    // the exact triangles (a bounce ray reads the leaf that stands for its hit).
+    // Empty: they march the octree, whose voxels widen every shadow and stop rays
+    // up to a voxel early.
+    std::vector<std::string> bvhDefines;
   };
 
   Octree(gl::ProgramCache& programs, const Settings& settings);
