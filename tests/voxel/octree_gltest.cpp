@@ -146,6 +146,17 @@ scene::Scene pointLit(SceneBuilder& b, glm::vec3 position) {
   return s;
 }
 
+// A floor over the 64^3 grid's bottom row of voxels (y = 0.5), facing up.
+void addFloor(SceneBuilder& b, int material) {
+  b.addTriangles({{0.5f, 0.5f, 0.5f},
+                  {63.5f, 0.5f, 63.5f},
+                  {63.5f, 0.5f, 0.5f},
+                  {0.5f, 0.5f, 0.5f},
+                  {0.5f, 0.5f, 63.5f},
+                  {63.5f, 0.5f, 63.5f}},
+                 material);
+}
+
 // Its octree with the voxels' direct light only (one bounce: the pixel's own).
 std::unique_ptr<Built> buildDirect(const scene::Scene& s, bool exactRays = false) {
   voxel::Octree::Settings settings;
@@ -299,13 +310,7 @@ TEST_F(OctreeTest, InnerNodesFilterTheirChildren) {
 TEST_F(OctreeTest, InjectionCastsShadows) {
   SceneBuilder b;
   const int m = b.addMaterial(glm::vec3(0.5f));
-  b.addTriangles({{0.5f, 0.5f, 0.5f},
-                  {63.5f, 0.5f, 63.5f},
-                  {63.5f, 0.5f, 0.5f},
-                  {0.5f, 0.5f, 0.5f},
-                  {0.5f, 0.5f, 63.5f},
-                  {63.5f, 0.5f, 63.5f}},
-                 m);  // facing up
+  addFloor(b, m);
   b.addBox({24.0f, 10.0f, 24.0f}, {40.0f, 14.0f, 40.0f}, m);
   const scene::Scene s = pointLit(b, {32.0f, 40.0f, 32.0f});
   const scene::Light& light = s.lights[0];
@@ -360,13 +365,7 @@ TEST_F(OctreeTest, InjectionCastsShadows) {
 TEST_F(OctreeTest, ExactShadowRaysKeepShadowsTheirSize) {
   SceneBuilder b;
   const int m = b.addMaterial(glm::vec3(0.5f));
-  b.addTriangles({{0.5f, 0.5f, 0.5f},
-                  {63.5f, 0.5f, 63.5f},
-                  {63.5f, 0.5f, 0.5f},
-                  {0.5f, 0.5f, 0.5f},
-                  {0.5f, 0.5f, 63.5f},
-                  {63.5f, 0.5f, 63.5f}},
-                 m);  // facing up
+  addFloor(b, m);
   const glm::vec3 lo(24.3f, 19.6f, 24.3f), hi(39.7f, 20.4f, 39.7f);
   b.addBox(lo, hi, m);
   const scene::Scene s = pointLit(b, {32.3f, 40.0f, 31.6f});
