@@ -276,7 +276,8 @@ void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
                        {"bounces", tree->allBounces() ? nlohmann::json("all")
                                                       : nlohmann::json(o.render.octree.bounces)},
                        {"refine_rays", o.render.octree.refineRays},
-                       {"estimates", tree->estimates()}};
+                       {"estimates", tree->estimates()},
+                       {"rays", tree->settings().bvhDefines.empty() ? "voxels" : "triangles"}};
   }
 }
 

@@ -287,6 +287,9 @@ TEST(Cli, RendersPngExrAndStats) {
   for (const char* key : {"nodes", "bytes", "dense_bytes"})
     EXPECT_GT(stats["octree"][key].get<double>(), 0.0) << key;
   EXPECT_LT(stats["octree"]["bytes"].get<double>(), stats["octree"]["dense_bytes"].get<double>());
+  // rtgi's defaults: its rays and the voxels' own on the exact triangles.
+  EXPECT_EQ(stats["rays"], "triangles");
+  EXPECT_EQ(stats["octree"]["rays"], "triangles");
   // Nothing but the three outputs in the folder.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
 }
