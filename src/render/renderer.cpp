@@ -181,13 +181,13 @@ void Renderer::createPasses() {
   rt.indirect = plan_.has(scene::Effect::kIndirect);
   const bool keepBounces =
       mode == Mode::kRtgi && RtgiPass::readsVoxelBounces(rt, scene_.meshesAnimated());
-  // With rtgi's BVH, the voxels' shadow rays run on the exact triangles too.
-  const bool exactShadows =
+  // With rtgi's BVH, the voxels' shadow and bounce rays run on the exact triangles.
+  const bool exactVoxelRays =
       mode == Mode::kRtgi && rtgi_ && rtgi_->raysHitTriangles() && features.shadows;
   if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces) ||
-                           (exactShadows && octree_->settings().bvhDefines.empty()))) {
+                           (exactVoxelRays && octree_->settings().bvhDefines.empty()))) {
     voxel::Octree::Settings os = settings_.octree;
-    if (exactShadows) os.bvhDefines = rtgi_->bvhDefines(gpuScene_);
+    if (exactVoxelRays) os.bvhDefines = rtgi_->bvhDefines(gpuScene_);
     os.features = features;
     // Voxel bounces are indirect light too (mirrors see them): without the indirect
     // effect the voxels hold direct light only.
@@ -468,9 +468,9 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
     octreeBuilt_ = false;
   }
   update.built = usesOctree(settings_.mode) && !octreeBuilt_;
-  // The BVH the voxels' shadow rays trace (Octree::Settings::bvhDefines).
-  const bool bvhShadows = octree_ && !octree_->settings().bvhDefines.empty();
-  if (bvhShadows) rtgi_->bindBvh(gpuScene_);
+  // The BVH the voxels' rays trace (Octree::Settings::bvhDefines).
+  const bool voxelRaysOnBvh = octree_ && !octree_->settings().bvhDefines.empty();
+  if (voxelRaysOnBvh) rtgi_->bindBvh(gpuScene_);
   if (update.built) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
@@ -488,7 +488,7 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
     // and the voxels converge once it stops.
     octree_->refine(ctx, gpuScene_);
   }
-  if (bvhShadows) rtgi_->unbindBvh();
+  if (voxelRaysOnBvh) rtgi_->unbindBvh();
   return update;
 }
 

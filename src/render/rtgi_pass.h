@@ -184,7 +184,7 @@ class RtgiPass {
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
   // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs, and its
-  // buffers bound for such stages (the octree's shadow rays too), or unbound (bvh_ set).
+  // buffers bound for such stages (the octree's rays too), or unbound (bvh_ set).
   std::vector<std::string> bvhDefines(const GpuScene& gs) const;
   void bindBvh(const GpuScene& gs) const;
   void unbindBvh() const;

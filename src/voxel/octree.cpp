@@ -44,23 +44,20 @@ uint64_t worstCaseNodes(uint32_t listed, int depth) {
   return total;
 }
 
-// octree_inject.comp's variant: the effect plan's, and OCTREE_BVH with a BVH.
-std::vector<std::string> injectDefines(const Octree::Settings& settings) {
-  std::vector<std::string> defines = settings.features.defines();
-  if (!settings.bvhDefines.empty()) {
-    defines.insert(defines.end(), settings.bvhDefines.begin(), settings.bvhDefines.end());
-    defines.emplace_back("OCTREE_BVH");
-  }
-  return defines;
-}
-
-// octree_bounce.comp's: OCTREE_BVH with a BVH.
+// octree_bounce.comp's variant: OCTREE_BVH and the BVH's defines, with a BVH.
 std::vector<std::string> bounceDefines(const Octree::Settings& settings) {
   std::vector<std::string> defines;
   if (!settings.bvhDefines.empty()) {
     defines = settings.bvhDefines;
     defines.emplace_back("OCTREE_BVH");
   }
+  return defines;
+}
+
+// octree_inject.comp's: the effect plan's as well.
+std::vector<std::string> injectDefines(const Octree::Settings& settings) {
+  std::vector<std::string> defines = settings.features.defines();
+  for (std::string& d : bounceDefines(settings)) defines.push_back(std::move(d));
   return defines;
 }
 
