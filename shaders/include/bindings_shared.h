@@ -205,6 +205,13 @@ VOXGI_CONST uint kUpsampleShownUnit = 10u;
 // ---------------------------------------------------------------------------
 // Image units.
 
+// rtgi's G-buffer made by rays (rtgi_gbuffer.comp), the five images gbuffer.frag
+// draws to, before any other stage of the frame binds its images.
+VOXGI_CONST uint kGbufferPositionImage = 0u;  // rgba32f
+VOXGI_CONST uint kGbufferNormalImage = 1u;    // rgba16f
+VOXGI_CONST uint kGbufferAlbedoImage = 2u;    // rgba8
+VOXGI_CONST uint kGbufferEmissionImage = 3u;  // rgba16f
+VOXGI_CONST uint kGbufferMotionImage = 4u;    // rgba16f
 // rtgi: the images written by the per-pixel stages and read by accumulate.
 VOXGI_CONST uint kDirectImage = 0u;
 VOXGI_CONST uint kIndirectImage = 1u;

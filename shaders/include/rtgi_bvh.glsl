@@ -4,7 +4,10 @@
 // the path tracer reads them (bilinear, no mipmaps). RTGI_BVH_COLORS: the vertex
 // colours at a hit. RTGI_BVH_TANGENTS: the tangents at a hit (normal maps).
 // RTGI_BVH_ALPHA (the scene has alpha-masked materials): a hit on a
-// masked-out texel does not stop a ray, as in the path tracer. Include after
+// masked-out texel does not stop a ray, as in the path tracer. RTGI_BVH_CULL
+// (primary rays, rtgi_gbuffer.comp): a single-sided triangle seen from behind does
+// not stop a ray either, as the raster culls it; the caller sets cullDirection to
+// the ray's direction before it traces. Include after
 // scene_shared.h and octree.glsl.
 #ifndef VOXGI_RTGI_BVH_GLSL
 #define VOXGI_RTGI_BVH_GLSL
@@ -33,7 +36,7 @@ layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #define VOXGI_BVH_TANGENTS
 #define VOXGI_BVH_TANGENT_BINDING kRtgiBvhTangentBinding
 #endif
-#ifdef RTGI_BVH_ALPHA
+#if defined(RTGI_BVH_ALPHA) || defined(RTGI_BVH_CULL)
 #define VOXGI_BVH_ALPHA
 #endif
 #include "bvh_trace.glsl"
@@ -51,9 +54,22 @@ layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #include "texture_shared.h"
 #endif
 
-#ifdef RTGI_BVH_ALPHA
+#ifdef RTGI_BVH_CULL
+vec3 cullDirection;  // the ray's direction, set before each trace
+#endif
+
+#if defined(RTGI_BVH_ALPHA) || defined(RTGI_BVH_CULL)
 bool bvhHitStops(uint tri, vec2 bc) {
   GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+#ifdef RTGI_BVH_CULL
+  if ((m.flags & kMaterialDoubleSided) == 0u) {
+    GpuPtTriangle T = loadTriangle(tri);
+    if (!(dot(cross(T.e1.xyz, T.e2.xyz), cullDirection) < 0.0)) return false;
+  }
+#endif
+#ifndef RTGI_BVH_ALPHA
+  return true;
+#else
 #ifdef RTGI_BVH_COLORS
   m.baseColor *= triangleColor(tri, bc);
 #endif
@@ -62,6 +78,7 @@ bool bvhHitStops(uint tri, vec2 bc) {
   return alphaStops(m, true, t, triangleUv(tri, bc));
 #else
   return alphaStops(m, false, uvec4(0u), vec2(0.0));
+#endif
 #endif
 }
 #endif

@@ -193,6 +193,11 @@ std::string renderHelpRtgi() {
          "                    triangles, through a BVH; the voxels give only the light\n"
          "                    at an indirect ray's hit). A scene whose meshes move\n"
          "                    always marches the voxels\n"
+         "  --primary P       how the G-buffer finds what each pixel shows: raster draws\n"
+         "                    every triangle; rays casts one ray a pixel through the BVH,\n"
+         "                    a cost that grows with the log of the triangle count; auto\n"
+         "                    (default): rays on a software GL for scenes with more\n"
+         "                    triangles than pixels, else raster\n"
          "  --indirect M      how diffuse indirect light is gathered: rays (default), one\n"
          "                    random ray per pixel and frame, averaged by accumulation; or\n"
          "                    cones, six cones through the octree's filtered levels (voxel\n"
@@ -433,6 +438,16 @@ bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& 
     rs->rtgi.exactReflections = false;
   } else if (a == "--voxel-rays") {
     rs->rtgi.exactRays = false;
+  } else if (a == "--primary") {
+    const std::string v = value();
+    if (v == "auto")
+      rs->rtgi.primary = Settings::Primary::kAuto;
+    else if (v == "raster")
+      rs->rtgi.primary = Settings::Primary::kRaster;
+    else if (v == "rays")
+      rs->rtgi.primary = Settings::Primary::kRays;
+    else
+      throw UsageError("--primary: unknown '" + v + "' (auto, raster, rays)");
   } else if (a == "--indirect") {
     const std::string v = value();
     if (v == "rays")

@@ -201,6 +201,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;
   stats["rays"] = rt.raysHitTriangles() ? "triangles" : "voxels";
+  stats["primary"] = rt.primaryRays() ? "rays" : "raster";
   stats["indirect"] =
       rt.settings().indirectMethod == Settings::IndirectMethod::kCones ? "cones" : "rays";
   stats["reflections"] = !rt.settings().specular ? "none"

@@ -169,8 +169,15 @@ void Renderer::createPasses() {
     // meshes move keeps every ray on the voxels: its BVH would need a rebuild per
     // pose (a moving camera or light leaves it as it is).
     std::shared_ptr<const GpuBvh> bvh;
+    const char* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const glm::ivec2 internal = internalSize();
+    rs.primary = resolvePrimary(
+        rs.primary, isSoftwareRenderer(glRenderer ? glRenderer : ""), scene_.triangleCount(),
+        static_cast<size_t>(internal.x) * static_cast<size_t>(internal.y), scene_.meshesAnimated());
     const bool raysUseBvh = rs.exactRays && (rs.indirect || features.shadows);
-    if (((rs.specular && rs.exactReflections) || raysUseBvh) && !scene_.meshesAnimated())
+    if (((rs.specular && rs.exactReflections) || raysUseBvh ||
+         rs.primary == RtgiPass::Settings::Primary::kRays) &&
+        !scene_.meshesAnimated())
       bvh = sharedBvh();
     rtgi_ = std::make_unique<RtgiPass>(programs_, rs, std::move(bvh));
     rtgi_->setShown(frameShown_);

@@ -321,6 +321,10 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
 }
 
 void RtgiPass::drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
+  if (primaryRays()) {
+    castGBuffer(ctx, gs);
+    return;
+  }
   gl::StageScope stage(ctx.timer, Stage::kGbuffer);
   beginOpaquePass(ctx, fbo_[current_].id(), glm::vec4(0.0f), 5);  // the G-buffer's 5 targets
   glUseProgram(gbuffer_.id());
@@ -329,6 +333,30 @@ void RtgiPass::drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
   drawSceneGeometry(gs);
   glDisable(GL_DEPTH_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void RtgiPass::castGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
+  std::vector<std::string> defines = settings_.features.defines();
+  for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
+  const gl::Program& program = programs_.get({{"render/rtgi_gbuffer.comp"}, defines});
+  gl::StageScope stage(ctx.timer, Stage::kGbuffer);
+  bindBvh(gs);
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
+  const struct {
+    GLuint unit;
+    const gl::Texture& image;
+    GLenum format;
+  } images[] = {{gpu::kGbufferPositionImage, position_[current_], GL_RGBA32F},
+                {gpu::kGbufferNormalImage, normal_[current_], GL_RGBA16F},
+                {gpu::kGbufferAlbedoImage, albedo_, GL_RGBA8},
+                {gpu::kGbufferEmissionImage, emission_, GL_RGBA16F},
+                {gpu::kGbufferMotionImage, motion_, GL_RGBA16F}};
+  for (const auto& i : images)
+    glBindImageTexture(i.unit, i.image.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, i.format);
+  glUseProgram(program.id());
+  glDispatchCompute(static_cast<GLuint>((width_ + 7) / 8), static_cast<GLuint>((height_ + 7) / 8),
+                    1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 void RtgiPass::bindFrameInputs(const GpuScene& gs, const voxel::Octree* octree, GLuint accum) {
@@ -658,6 +686,17 @@ std::vector<float> RtgiPass::readMask() const {
         out.begin() + static_cast<std::ptrdiff_t>((y + 1) * w),
         out.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(height_) - 1 - y) * w));
   return out;
+}
+
+RtgiPass::Settings::Primary resolvePrimary(RtgiPass::Settings::Primary primary, bool software,
+                                           size_t triangles, size_t pixels, bool meshesAnimated) {
+  using Primary = RtgiPass::Settings::Primary;
+  if (primary == Primary::kRays && meshesAnimated)
+    throw Error("rtgi: primary rays need a scene whose meshes do not move (--primary raster)");
+  if (primary != Primary::kAuto) return primary;
+  const bool many =
+      static_cast<double>(triangles) > kPrimaryRaysPerPixel * static_cast<double>(pixels);
+  return software && many && !meshesAnimated ? Primary::kRays : Primary::kRaster;
 }
 
 }  // namespace voxgi::render

@@ -84,6 +84,12 @@ class RtgiPass {
     // cache at an indirect ray's hit. false: the rays march the voxels, which stop
     // them too early near contacts (the previous behaviour).
     bool exactRays = true;
+    // How the G-buffer finds the surface each pixel shows: kRaster draws every
+    // triangle (gbuffer.frag); kRays casts one ray a pixel through the BVH
+    // (rtgi_gbuffer.comp), whose cost grows with the logarithm of the triangle
+    // count rather than with it; kAuto is resolved by resolvePrimary before the pass
+    // is made. kRays needs a BVH (meshes that do not move).
+    enum class Primary { kAuto, kRaster, kRays } primary = Primary::kAuto;
     // How the indirect stage gathers diffuse indirect light: one random ray per pixel
     // and frame (accumulation averages them), or six cones through the octree's
     // filtered levels (voxel cone tracing; the same light every frame).
@@ -183,6 +189,10 @@ class RtgiPass {
   }
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
+  // Whether the G-buffer is made by rays (Settings::primary).
+  bool primaryRays() const {
+    return bvh_ != nullptr && settings_.primary == Settings::Primary::kRays;
+  }
   // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs, and its
   // buffers bound for such stages (the octree's rays too), or unbound (bvh_ set).
   std::vector<std::string> bvhDefines(const GpuScene& gs) const;
@@ -264,6 +274,8 @@ class RtgiPass {
   std::vector<std::string> lightDefines(const GpuScene& gs, bool atHits = false) const;
   // The programs of the indirect and specular stages, built only when they run.
   void buildOptionalStages();
+  // The G-buffer made by one ray a pixel through the BVH (primaryRays()).
+  void castGBuffer(gl::FrameContext& ctx, const GpuScene& gs);
 
   Settings settings_;
   gl::ProgramCache& programs_;
@@ -309,6 +321,14 @@ class RtgiPass {
   gl::Buffer upsampleParams_;
   gl::Sampler linear_;
 };
+
+// Settings::primary resolved: kAuto casts rays on a software GL (`software`) when the
+// scene has more than kPrimaryRaysPerPixel triangles per pixel of the G-buffer
+// (`pixels`) and its meshes do not move, and rasterizes otherwise. kRays for a scene
+// whose meshes move throws Error: its BVH would need a rebuild every pose.
+inline constexpr double kPrimaryRaysPerPixel = 1.0;
+RtgiPass::Settings::Primary resolvePrimary(RtgiPass::Settings::Primary primary, bool software,
+                                           size_t triangles, size_t pixels, bool meshesAnimated);
 
 }  // namespace voxgi::render
 

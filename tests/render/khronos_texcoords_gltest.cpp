@@ -18,15 +18,19 @@
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/gl_fixture.h"
+#include "support/mode_runs.h"
 #include "support/test_paths.h"
 
 namespace voxgi::test {
 namespace {
 
-std::vector<float> renderScene(const scene::Scene& s, render::Mode mode, int w, int h,
-                               render::PathtraceDevice device = render::PathtraceDevice::kAuto) {
+std::vector<float> renderScene(
+    const scene::Scene& s, render::Mode mode, int w, int h,
+    render::PathtraceDevice device = render::PathtraceDevice::kAuto,
+    render::RtgiPass::Settings::Primary primary = render::RtgiPass::Settings::Primary::kRaster) {
   render::RenderSettings rs;
   rs.mode = mode;
+  rs.rtgi.primary = primary;
   rs.width = w;
   rs.height = h;
   rs.voxels = 64;
@@ -236,18 +240,9 @@ TEST_F(KhronosTexcoordsTest, TextureCoordinateTestInEveryMode) {
                      glm::vec3(m.baseColor), lo, hi, m.name});
   }
   ASSERT_EQ(quads.size(), 4u);
-  struct Run {
-    const char* name;
-    render::Mode mode;
-    render::PathtraceDevice device;
-  };
-  for (const Run& run :
-       {Run{"raster", render::Mode::kRaster, render::PathtraceDevice::kAuto},
-        Run{"rtgi", render::Mode::kRtgi, render::PathtraceDevice::kAuto},
-        Run{"pathtrace gl", render::Mode::kPathtrace, render::PathtraceDevice::kGl},
-        Run{"pathtrace cpu", render::Mode::kPathtrace, render::PathtraceDevice::kCpu}}) {
+  for (const ModeRun& run : kEveryMode) {
     SCOPED_TRACE(run.name);
-    const std::vector<float> px = renderScene(s, run.mode, kSize, kSize, run.device);
+    const std::vector<float> px = renderScene(s, run.mode, kSize, kSize, run.device, run.primary);
     for (const Quad& q : quads) {
       const float det = q.e1.x * q.e2.y - q.e1.y * q.e2.x;
       ASSERT_NE(det, 0.0f);

@@ -69,12 +69,11 @@ TEST_F(TextureCoordinatesTest, SetAndTransformInEveryMode) {
     for (const ModeRun& run : kEveryMode) {
       SCOPED_TRACE(std::string(c.file) + ", " + run.name);
       render::RenderSettings rs;
-      rs.mode = run.mode;
+      applyRun(run, &rs);
       rs.width = rs.height = kSize;
       rs.voxels = 32;
       rs.spp = 16;
       rs.jitter = false;
-      rs.pathtrace.device = run.device;
       gl::ProgramCache programs(sourceDir() + "/shaders");
       render::Renderer r(programs, s, rs);
       r.renderFrame();
