@@ -197,7 +197,7 @@ std::string renderHelpRtgi() {
          "                    every triangle; rays casts one ray a pixel through the BVH,\n"
          "                    a cost that grows with the log of the triangle count; auto\n"
          "                    (default): rays on a software GL for scenes with more\n"
-         "                    triangles than pixels, else raster\n"
+         "                    than 4 triangles a pixel, else raster\n"
          "  --indirect M      how diffuse indirect light is gathered: rays (default), one\n"
          "                    random ray per pixel and frame, averaged by accumulation; or\n"
          "                    cones, six cones through the octree's filtered levels (voxel\n"

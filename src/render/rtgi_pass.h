@@ -3,8 +3,9 @@
 // Reads: the GpuScene and a lit Octree. Writes: the running mean of linear HDR
 // radiance into the renderer's RGBA32F target (which it keeps between frames).
 // Stages, each timed:
-//   gbuffer     raster primary visibility: position, normal + roughness, base colour
-//               + metallic, emission, motion (rtgi_shared.h);
+//   gbuffer     primary visibility: position, normal + roughness, base colour
+//               + metallic, emission, motion (rtgi_shared.h), rasterized or
+//               (Settings::primary) cast as one ray a pixel through the BVH;
 //   shadows     direct light with shadow rays through the octree (rtgi_direct.comp);
 //               with the shadows effect off, "direct": the same without shadow rays,
 //               and absent when there is no light at all;
@@ -325,8 +326,12 @@ class RtgiPass {
 // Settings::primary resolved: kAuto casts rays on a software GL (`software`) when the
 // scene has more than kPrimaryRaysPerPixel triangles per pixel of the G-buffer
 // (`pixels`) and its meshes do not move, and rasterizes otherwise. kRays for a scene
-// whose meshes move throws Error: its BVH would need a rebuild every pose.
-inline constexpr double kPrimaryRaysPerPixel = 1.0;
+// whose meshes move throws Error: its BVH would need a rebuild every pose. On
+// llvmpipe a primary ray costs about 0.5 us, rasterizing 0.09 us a triangle plus
+// 0.1-0.2 us a pixel: the two meet near 4 triangles a pixel (measured at 256x256 and
+// 640x360 on halls of 37 k to 2.4 M triangles, docs/scale.md). A hardware
+// rasterizer is far ahead of rays at any count.
+inline constexpr double kPrimaryRaysPerPixel = 4.0;
 RtgiPass::Settings::Primary resolvePrimary(RtgiPass::Settings::Primary primary, bool software,
                                            size_t triangles, size_t pixels, bool meshesAnimated);
 

@@ -112,9 +112,9 @@ TEST_F(PrimaryRaysTest, RaysShowWhatTheRasterShows) {
 
 TEST_F(PrimaryRaysTest, AutoCastsRaysOnlyWhereRasterizingCostsMore) {
   using render::resolvePrimary;
-  // Software GL, more triangles than pixels, static meshes: rays.
-  EXPECT_EQ(resolvePrimary(Primary::kAuto, true, 100001, 100000, false), Primary::kRays);
-  EXPECT_EQ(resolvePrimary(Primary::kAuto, true, 99999, 100000, false), Primary::kRaster);
+  // Software GL, more than 4 triangles a pixel, static meshes: rays.
+  EXPECT_EQ(resolvePrimary(Primary::kAuto, true, 400001, 100000, false), Primary::kRays);
+  EXPECT_EQ(resolvePrimary(Primary::kAuto, true, 399999, 100000, false), Primary::kRaster);
   // A hardware rasterizer, or meshes that move (no BVH): the raster.
   EXPECT_EQ(resolvePrimary(Primary::kAuto, false, 10000000, 100000, false), Primary::kRaster);
   EXPECT_EQ(resolvePrimary(Primary::kAuto, true, 10000000, 100000, true), Primary::kRaster);
