@@ -197,4 +197,15 @@ void GpuBvh::unbind() {
     glBindTextureUnit(u, 0);
 }
 
+std::vector<std::string> GpuBvh::traceDefines(const scene::Scene& scene,
+                                              const scene::ShaderFeatures& features) const {
+  std::vector<std::string> defines{"RTGI_BVH"};
+  if (textured_) defines.emplace_back("RTGI_BVH_TEXTURES");
+  if (features.colors && colored()) defines.emplace_back("RTGI_BVH_COLORS");
+  if (features.normalMaps && textured_ && tangentsUploaded())
+    defines.emplace_back("RTGI_BVH_TANGENTS");
+  if (ptReadsAlphaMasks(scene, features.alpha)) defines.emplace_back("RTGI_BVH_ALPHA");
+  return defines;
+}
+
 }  // namespace voxgi::render

@@ -16,9 +16,12 @@
 #define VOXGI_RENDER_GPU_BVH_H
 
 #include <cstddef>
+#include <string>
+#include <vector>
 
 #include "gl/handles.h"
 #include "render/bvh.h"
+#include "scene/effects.h"
 #include "scene/scene.h"
 
 namespace voxgi::render {
@@ -69,6 +72,12 @@ class GpuBvh {
   // unbind() releases the texture units.
   void bind(GLuint materials, bool colors, bool normalMaps) const;
   static void unbind();
+  // The defines of a stage that traces it through rtgi_bvh.glsl, in `scene` (the one
+  // it was built from) with the effect plan's `features`: RTGI_BVH, and
+  // RTGI_BVH_TEXTURES, _COLORS, _TANGENTS and _ALPHA for what it holds and the
+  // plan reads. bind() with the same colours and normal maps serves them.
+  std::vector<std::string> traceDefines(const scene::Scene& scene,
+                                        const scene::ShaderFeatures& features) const;
 
  private:
   // A buffer of `bytes` (counted in gpuBytes_).

@@ -194,7 +194,7 @@ void Renderer::createPasses() {
   if (usesOctree(mode) && (!octree_ || (keepBounces && !octree_->settings().keepBounces) ||
                            (exactVoxelRays && octree_->settings().bvhDefines.empty()))) {
     voxel::Octree::Settings os = settings_.octree;
-    if (exactVoxelRays) os.bvhDefines = rtgi_->bvhDefines(gpuScene_);
+    if (exactVoxelRays) os.bvhDefines = bvh_->traceDefines(scene_, features);
     os.features = features;
     // Voxel bounces are indirect light too (mirrors see them): without the indirect
     // effect the voxels hold direct light only.
@@ -477,7 +477,10 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
   update.built = usesOctree(settings_.mode) && !octreeBuilt_;
   // The BVH the voxels' rays trace (Octree::Settings::bvhDefines).
   const bool voxelRaysOnBvh = octree_ && !octree_->settings().bvhDefines.empty();
-  if (voxelRaysOnBvh) rtgi_->bindBvh(gpuScene_);
+  if (voxelRaysOnBvh) {
+    const scene::ShaderFeatures features = scene::shaderFeatures(plan_);
+    bvh_->bind(gpuScene_.materials(), features.colors, features.normalMaps);
+  }
   if (update.built) {
     octree_->build(ctx, *voxelize_);
     octree_->inject(ctx, gpuScene_);
@@ -495,7 +498,7 @@ Renderer::SceneUpdate Renderer::updateVoxels(gl::FrameContext& ctx, bool moving)
     // and the voxels converge once it stops.
     octree_->refine(ctx, gpuScene_);
   }
-  if (voxelRaysOnBvh) rtgi_->unbindBvh();
+  if (voxelRaysOnBvh) GpuBvh::unbind();
   return update;
 }
 

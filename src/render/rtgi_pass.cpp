@@ -43,15 +43,9 @@ void RtgiPass::buildOptionalStages() {
 }
 
 std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
-  std::vector<std::string> defines{"RTGI_BVH"};
+  std::vector<std::string> defines = bvh_->traceDefines(gs.scene(), settings_.features);
   // The indirect rays of the specular stage's hits on it too.
   if (raysHitTriangles()) defines.emplace_back("RTGI_BVH_RAYS");
-  if (bvh_->textured()) defines.emplace_back("RTGI_BVH_TEXTURES");
-  if (settings_.features.colors && bvh_->colored()) defines.emplace_back("RTGI_BVH_COLORS");
-  if (settings_.features.normalMaps && bvh_->textured() && bvh_->tangentsUploaded())
-    defines.emplace_back("RTGI_BVH_TANGENTS");
-  if (ptReadsAlphaMasks(gs.scene(), settings_.features.alpha))
-    defines.emplace_back("RTGI_BVH_ALPHA");
   return defines;
 }
 

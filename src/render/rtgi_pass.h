@@ -194,11 +194,6 @@ class RtgiPass {
   bool primaryRays() const {
     return bvh_ != nullptr && settings_.primary == Settings::Primary::kRays;
   }
-  // The defines of a stage that traces the BVH (rtgi_bvh.glsl) in scene gs, and its
-  // buffers bound for such stages (the octree's rays too), or unbound (bvh_ set).
-  std::vector<std::string> bvhDefines(const GpuScene& gs) const;
-  void bindBvh(const GpuScene& gs) const;
-  void unbindBvh() const;
   // Whether rtgi with settings `s` (s.indirect as the effect plan sets it) lights its
   // indirect rays' hits exactly and reads the voxel bounces there apart from their
   // direct light (voxel::Octree::Settings::keepBounces): its indirect rays are rays
@@ -209,6 +204,11 @@ class RtgiPass {
   }
 
  private:
+  // The defines of an rtgi stage that traces the BVH (rtgi_bvh.glsl) in scene gs,
+  // and its buffers bound for such stages, or unbound (bvh_ set).
+  std::vector<std::string> bvhDefines(const GpuScene& gs) const;
+  void bindBvh(const GpuScene& gs) const;
+  void unbindBvh() const;
   // This frame's choices, from the settings, the scene and the frame (execute).
   struct FramePlan {
     bool reprojecting = false;  // after a camera move, not on the first frame

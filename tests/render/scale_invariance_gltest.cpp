@@ -39,6 +39,8 @@ std::vector<float> render(const std::string& path, render::Mode mode, uint32_t s
   rs.pathtrace.seed = seed;
   rs.rtgi.seed = seed;
   rs.rtgi.exactRays = !voxelRays;
+  // With the voxels' rays, the G-buffer rasterized too: no ray in world units.
+  if (voxelRays) rs.rtgi.primary = render::RtgiPass::Settings::Primary::kRaster;
   rs.octree.seed = seed;
   rs.voxels = 64;
   render::Renderer r(programs, s, rs);
@@ -76,9 +78,10 @@ const Variant kVariants[] = {{"translated 1e4", glm::dvec3(1e4, -1e4, 1e4), 1.0}
                              {"scaled 1e-3", glm::dvec3(0.0), 1e-3},
                              {"scaled 1e3", glm::dvec3(0.0), 1e3}};
 
-// `voxelRays`: rtgi's rays march the voxels only (every ray in voxel units: the image
-// is the same to float rounding, bound 1e-3). Otherwise rtgi's rays hit the triangles
-// in world units, and rounding may send a ray elsewhere, as in the path tracer.
+// `voxelRays`: rtgi's rays march the voxels only and its G-buffer is rasterized
+// (every ray in voxel units: the image is the same to float rounding, bound 1e-3). Otherwise rtgi's
+// rays hit the triangles in world units, and rounding may send a ray elsewhere, as in the path
+// tracer.
 void expectScaleInvariant(const std::string& source, render::Mode mode, bool voxelRays = false) {
   const std::vector<float> original = render(source, mode, 1, voxelRays);
   ASSERT_TRUE(allFinite(original));
