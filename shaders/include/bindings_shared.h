@@ -105,31 +105,33 @@ VOXGI_CONST uint kMaskHistogramBinding = 16u;  // uint[kMaskBins]
 // The shadows stage's light reservoirs (ReSTIR DI, rtgi_restir.glsl): vec4 per
 // pixel.
 VOXGI_CONST uint kRtgiReservoirBinding = 26u;
-// The specular stage's BVH (RTGI_BVH; render/gpu_bvh.h): the per-triangle shading
-// data (GpuPtShading).
-VOXGI_CONST uint kRtgiBvhShadingBinding = 19u;
+// The BVH's stages (RTGI_BVH; render/gpu_bvh.h): the scene's index buffer (uint
+// per triangle corner), which a triangle's record points into (GpuPtTriangle).
+VOXGI_CONST uint kRtgiBvhIndexBinding = 19u;
 // The table of textures (uvec4 each, see kPtTextureBinding).
 VOXGI_CONST uint kRtgiBvhTextureBinding = 20u;
 // Vertex colours at the hit (RTGI_BVH_COLORS: the scene has them, the plan reads
-// them): the BVH's corner colours (see kPtColorBinding).
+// them): the scene's colour buffer (see kPtColorBinding).
 VOXGI_CONST uint kRtgiBvhColorBinding = 21u;
 // Tangents at the hit (RTGI_BVH_TANGENTS: the scene has normal maps, the plan reads
-// them): the BVH's corner tangents (see kPtTangentBinding).
+// them): the scene's tangent buffer (see kPtTangentBinding).
 VOXGI_CONST uint kRtgiBvhTangentBinding = 22u;
 
 // The path tracer (pathtrace_shared.h), which reads the scene's materials and
 // lights and nothing of the voxels or the octree.
-VOXGI_CONST uint kPtShadingBinding = 5u;
+// The scene's index buffer (uint per triangle corner), which a triangle's record
+// points into (GpuPtTriangle).
+VOXGI_CONST uint kPtIndexBinding = 5u;
 VOXGI_CONST uint kPtEmissiveBinding = 6u;
 VOXGI_CONST uint kPtCounterBinding = 7u;  // uint: paths cut short by the loop budget
 // Textures (unless VOXGI_NO_TEXTURES): uvec4 per texture of the scene, x first
 // texel in kPtTexelTexUnit, y width, z height, w 1 if sRGB-encoded (colour).
 VOXGI_CONST uint kPtTextureBinding = 8u;
-// Vertex colours (VOXGI_BVH_COLORS): vec4 per triangle corner, three a triangle,
-// BVH order (COLOR_0, RGBA).
+// Vertex colours (VOXGI_BVH_COLORS): the scene's colour buffer, vec4 per vertex
+// (COLOR_0, RGBA).
 VOXGI_CONST uint kPtColorBinding = 9u;
-// Tangents for normal maps (VOXGI_BVH_TANGENTS): vec4 per triangle corner (xyz, w
-// handedness), three a triangle, BVH order.
+// Tangents for normal maps (VOXGI_BVH_TANGENTS): the scene's tangent buffer, vec4 per
+// vertex (xyz, w handedness).
 VOXGI_CONST uint kPtTangentBinding = 10u;
 
 // ---------------------------------------------------------------------------
@@ -158,19 +160,18 @@ VOXGI_CONST uint kOctreeNodeTexUnit = 8u;
 // from an SSBO.
 VOXGI_CONST uint kPtNodeTexUnit = 0u;
 VOXGI_CONST uint kPtTriangleTexUnit = 1u;
-// Texture coordinates of each triangle's corners, in BVH order: two RGBA32UI texels
-// a triangle, (u0, v0, u1, v1) and (u2, v2, 0, 0), floats as bits.
-VOXGI_CONST uint kPtUvTexUnit = 2u;
+// The scene's vertex buffer (scene::Vertex: position, normal, uv, uv2), read as five
+// RG32F texels a vertex through the index buffer at a hit.
+VOXGI_CONST uint kPtVertexTexUnit = 2u;
 // Every texture's RGBA8 texels, one R32UI texel each, rows top first.
 VOXGI_CONST uint kPtTexelTexUnit = 3u;
 
-// rtgi. The specular stage's BVH nodes and triangles as buffer textures, and the
-// base-colour textures at the hit (a textured BVH, unless VOXGI_NO_TEXTURES):
-// corner UVs and texels as the path tracer reads them (kPtUvTexUnit,
-// kPtTexelTexUnit).
+// rtgi. The BVH's nodes and triangles as buffer textures, the scene's vertices at
+// the hit, and the textures (a textured BVH, unless VOXGI_NO_TEXTURES), as the path
+// tracer reads them (kPtVertexTexUnit, kPtTexelTexUnit).
 VOXGI_CONST uint kRtgiBvhNodeUnit = 0u;
 VOXGI_CONST uint kRtgiBvhTriangleUnit = 1u;
-VOXGI_CONST uint kRtgiBvhUvUnit = 2u;
+VOXGI_CONST uint kRtgiBvhVertexUnit = 2u;
 VOXGI_CONST uint kRtgiBvhTexelUnit = 3u;
 // The G-buffer, read with texelFetch.
 VOXGI_CONST uint kGPositionUnit = 4u;  // rgba32f: world position, w 1 + material where covered

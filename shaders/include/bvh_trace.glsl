@@ -4,6 +4,10 @@
 // of bvh_shared.h (which the CPU BVH runs too).
 // Include after pathtrace_shared.h. The including shader declares what this reads:
 //   usamplerBuffer nodeTexels, triangleTexels   the BVH (RGBA32UI buffer textures)
+//   samplerBuffer sceneVertexTexels   the scene's vertex buffer (scene::Vertex as
+//                     five RG32F texels a vertex: position, normal, uv, uv2)
+//   uint sceneIndices[]   the scene's index buffer (an SSBO), which a triangle's
+//                     record points into (GpuPtTriangle: its first index in e2.w)
 //   uint loopBudget   loop iterations the invocation may still run (kPtLoopBudget);
 //                     every node visited spends one
 //   const float kInf = 1.0 / 0.0
@@ -29,49 +33,63 @@ GpuPtTriangle loadTriangle(uint i) {
   return t;
 }
 
+// What a hit needs besides its position, from the triangle's record and the scene's
+// own vertices (GpuScene's buffers, no copy in BVH order): the material, the
+// emitter pdf, the corners' vertex indices and their attributes at barycentrics bc.
+uint triangleMaterial(uint tri) { return texelFetch(triangleTexels, int(tri) * 3).w; }
+float triangleEmitterPdf(uint tri) {
+  return uintBitsToFloat(texelFetch(triangleTexels, int(tri) * 3 + 1).w);
+}
+uvec3 triangleCorners(uint tri) {
+  uint first = texelFetch(triangleTexels, int(tri) * 3 + 2).w;
+  return uvec3(sceneIndices[first], sceneIndices[first + 1u], sceneIndices[first + 2u]);
+}
+vec3 vertexNormal(uint v) {
+  vec2 a = texelFetch(sceneVertexTexels, int(v) * 5 + 1).xy;
+  vec2 b = texelFetch(sceneVertexTexels, int(v) * 5 + 2).xy;
+  return vec3(a.y, b);
+}
+// The corners' normals interpolated (not normalized).
+vec3 triangleNormal(uint tri, vec2 bc) {
+  uvec3 c = triangleCorners(tri);
+  return (1.0 - bc.x - bc.y) * vertexNormal(c.x) + bc.x * vertexNormal(c.y) +
+         bc.y * vertexNormal(c.z);
+}
+
 #ifdef VOXGI_BVH_UVS
-// Texture coordinates at barycentrics bc of triangle tri, from the corner UVs in
-// `usamplerBuffer uvTexels` (two RGBA32UI texels a triangle, BVH order), which the
-// including shader declares when it defines VOXGI_BVH_UVS. Channel 0 first; in a
-// scene with a channel 1 (scene::Vertex::uv2) its corners follow, as many again.
-vec2 triangleUvAt(int b, vec2 bc) {
-  vec4 a = uintBitsToFloat(texelFetch(uvTexels, b));
-  vec2 c = uintBitsToFloat(texelFetch(uvTexels, b + 1).xy);
-  return (1.0 - bc.x - bc.y) * a.xy + bc.x * a.zw + bc.y * c;
+// Texture coordinates at barycentrics bc of triangle tri: channel 0, and channel 1
+// (scene::Vertex::uv2, equal to uv where a material has none).
+vec2 vertexTexels(uvec3 c, vec2 bc, int slot) {
+  return (1.0 - bc.x - bc.y) * texelFetch(sceneVertexTexels, int(c.x) * 5 + slot).xy +
+         bc.x * texelFetch(sceneVertexTexels, int(c.y) * 5 + slot).xy +
+         bc.y * texelFetch(sceneVertexTexels, int(c.z) * 5 + slot).xy;
 }
-vec2 triangleUv(uint tri, vec2 bc) { return triangleUvAt(int(tri) * 2, bc); }
-// Channel 1; read only for materials that set a kMaterial*Uv2 bit, which only
-// scenes with the second half have.
-vec2 triangleUv2(uint tri, vec2 bc) {
-  return triangleUvAt(textureSize(uvTexels) / 2 + int(tri) * 2, bc);
-}
+vec2 triangleUv(uint tri, vec2 bc) { return vertexTexels(triangleCorners(tri), bc, 3); }
+vec2 triangleUv2(uint tri, vec2 bc) { return vertexTexels(triangleCorners(tri), bc, 4); }
 #endif
 
 #ifdef VOXGI_BVH_COLORS
-// The vertex colour (COLOR_0) at barycentrics bc of triangle tri, from its corners'
-// colours (three a triangle, BVH order; scene side: render/gpu_bvh.h), an SSBO at the
-// binding VOXGI_BVH_COLOR_BINDING, which the including shader defines.
-layout(std430, binding = VOXGI_BVH_COLOR_BINDING) readonly buffer BvhColors {
-  vec4 bvhCornerColors[];
-};
+// The vertex colour (COLOR_0) at barycentrics bc of triangle tri, from the scene's
+// colour buffer (vec4 per vertex), an SSBO at the binding VOXGI_BVH_COLOR_BINDING,
+// which the including shader defines.
+layout(std430, binding = VOXGI_BVH_COLOR_BINDING) readonly buffer BvhColors { vec4 sceneColors[]; };
 vec4 triangleColor(uint tri, vec2 bc) {
-  uint b = tri * 3u;
-  return (1.0 - bc.x - bc.y) * bvhCornerColors[b] + bc.x * bvhCornerColors[b + 1u] +
-         bc.y * bvhCornerColors[b + 2u];
+  uvec3 c = triangleCorners(tri);
+  return (1.0 - bc.x - bc.y) * sceneColors[c.x] + bc.x * sceneColors[c.y] + bc.y * sceneColors[c.z];
 }
 #endif
 
 #ifdef VOXGI_BVH_TANGENTS
-// The tangent (xyz, w handedness) at barycentrics bc of triangle tri, from its
-// corners' tangents (three a triangle, BVH order; scene side: render/gpu_bvh.h), an
-// SSBO at the binding VOXGI_BVH_TANGENT_BINDING, which the including shader defines.
+// The tangent (xyz, w handedness) at barycentrics bc of triangle tri, from the scene's
+// tangent buffer (vec4 per vertex), an SSBO at the binding VOXGI_BVH_TANGENT_BINDING,
+// which the including shader defines.
 layout(std430, binding = VOXGI_BVH_TANGENT_BINDING) readonly buffer BvhTangents {
-  vec4 bvhCornerTangents[];
+  vec4 sceneTangents[];
 };
 vec4 triangleTangent(uint tri, vec2 bc) {
-  uint b = tri * 3u;
-  return (1.0 - bc.x - bc.y) * bvhCornerTangents[b] + bc.x * bvhCornerTangents[b + 1u] +
-         bc.y * bvhCornerTangents[b + 2u];
+  uvec3 c = triangleCorners(tri);
+  return (1.0 - bc.x - bc.y) * sceneTangents[c.x] + bc.x * sceneTangents[c.y] +
+         bc.y * sceneTangents[c.z];
 }
 #endif
 

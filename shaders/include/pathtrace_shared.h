@@ -40,18 +40,15 @@ struct GpuBvhNode {
   vec4 rightMax;  // w: right count (bits)
 };
 
-// Triangle in BVH order for intersection (Moeller-Trumbore): v0 and the two edges.
+// Triangle in BVH order for intersection (Moeller-Trumbore): v0 and the two edges,
+// and in their w what shading the hit needs besides the scene's own vertices: the
+// material, the emitter pdf, and where the triangle's corners are in the scene's
+// index buffer (GpuScene's vertices and indices, read through it: bvh_trace.glsl).
 struct GpuPtTriangle {
-  vec4 v0;  // w: unused
-  vec4 e1;  // v1 - v0
-  vec4 e2;  // v2 - v0
-};
-
-// Per-triangle shading data, same order as GpuPtTriangle.
-struct GpuPtShading {
-  vec4 n0;  // vertex normals; n0.w: material index (bits)
-  vec4 n1;  // n1.w: emitter pdf per unit area of this triangle when sampled by NEE (0: none)
-  vec4 n2;  // n2.w: unused
+  vec4 v0;  // w: material index (bits)
+  vec4 e1;  // v1 - v0; w: emitter pdf per unit area of this triangle when sampled by
+            // NEE (0: none)
+  vec4 e2;  // v2 - v0; w: its first index in the scene's index buffer (bits)
 };
 
 // An emissive triangle for next-event estimation, chosen by power through a
@@ -83,7 +80,6 @@ struct GpuPtParams {
 static_assert(sizeof(GpuBvhNode) == 64);
 static_assert(offsetof(GpuBvhNode, rightMin) == 32);
 static_assert(sizeof(GpuPtTriangle) == 48);
-static_assert(sizeof(GpuPtShading) == 48);
 static_assert(sizeof(GpuPtEmissive) == 96);
 static_assert(offsetof(GpuPtEmissive, radiance) == 48);
 static_assert(sizeof(GpuPtParams) == 128);

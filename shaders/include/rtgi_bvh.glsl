@@ -16,15 +16,15 @@
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
 layout(binding = kRtgiBvhNodeUnit) uniform usamplerBuffer nodeTexels;
 layout(binding = kRtgiBvhTriangleUnit) uniform usamplerBuffer triangleTexels;
-layout(std430, binding = kRtgiBvhShadingBinding) readonly buffer Shading {
-  GpuPtShading shading[];
+layout(binding = kRtgiBvhVertexUnit) uniform samplerBuffer sceneVertexTexels;
+layout(std430, binding = kRtgiBvhIndexBinding) readonly buffer SceneIndices {
+  uint sceneIndices[];
 };
 uint loopBudget;  // see kPtLoopBudget
 const float kInf = 1.0 / 0.0;
 
 #ifdef RTGI_BVH_TEXTURES
 layout(std430, binding = kRtgiBvhTextureBinding) readonly buffer Textures { uvec4 textures[]; };
-layout(binding = kRtgiBvhUvUnit) uniform usamplerBuffer uvTexels;
 layout(binding = kRtgiBvhTexelUnit) uniform usamplerBuffer textureTexels;
 #define VOXGI_BVH_UVS
 #endif
@@ -60,7 +60,7 @@ vec3 cullDirection;  // the ray's direction, set before each trace
 
 #if defined(RTGI_BVH_ALPHA) || defined(RTGI_BVH_CULL)
 bool bvhHitStops(uint tri, vec2 bc) {
-  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+  GpuMaterial m = materials[triangleMaterial(tri)];
 #ifdef RTGI_BVH_CULL
   if ((m.flags & kMaterialDoubleSided) == 0u) {
     GpuPtTriangle T = loadTriangle(tri);

@@ -23,8 +23,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   vec2 bc;
   if (!trace(o, dir, kInf, false, h.t, tri, bc)) return false;
   GpuPtTriangle T = loadTriangle(tri);
-  GpuPtShading S = shading[tri];
-  GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+  GpuMaterial m = materials[floatBitsToUint(T.v0.w)];
 #ifdef RTGI_BVH_TEXTURES
   if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
                   kMaterialHasMetallicRoughnessTexture)) != 0u)
@@ -42,7 +41,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
 #ifndef VOXGI_NO_EMISSION
   if (front || (m.flags & kMaterialDoubleSided) != 0u) h.emission = m.emission.rgb;
 #endif
-  vec3 ns = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
+  vec3 ns = normalize(triangleNormal(tri, bc));
   if (!front) {
     ng = -ng;
     ns = -ns;

@@ -20,12 +20,12 @@ layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMateri
 layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = kPtNodeTexUnit) uniform usamplerBuffer nodeTexels;
 layout(binding = kPtTriangleTexUnit) uniform usamplerBuffer triangleTexels;
-layout(std430, binding = kPtShadingBinding) readonly buffer Shading { GpuPtShading shading[]; };
+layout(binding = kPtVertexTexUnit) uniform samplerBuffer sceneVertexTexels;
+layout(std430, binding = kPtIndexBinding) readonly buffer SceneIndices { uint sceneIndices[]; };
 layout(std430, binding = kPtEmissiveBinding) readonly buffer Emissive { GpuPtEmissive emissive[]; };
 layout(std430, binding = kPtCounterBinding) buffer Counters { uint truncatedPaths; };
 #ifndef VOXGI_NO_TEXTURES
 layout(std430, binding = kPtTextureBinding) readonly buffer Textures { uvec4 textures[]; };
-layout(binding = kPtUvTexUnit) uniform usamplerBuffer uvTexels;
 layout(binding = kPtTexelTexUnit) uniform usamplerBuffer textureTexels;
 #endif
 layout(binding = kPtSumImage, rgba32f) uniform image2D sumImage;
@@ -63,7 +63,7 @@ const float kInf = 1.0 / 0.0;
 #ifdef VOXGI_BVH_ALPHA
 // Alpha masks in traversal: a hit on a masked-out texel does not stop the ray.
 bool bvhHitStops(uint tri, vec2 bc) {
-  GpuMaterial m = materials[floatBitsToUint(shading[tri].n0.w)];
+  GpuMaterial m = materials[triangleMaterial(tri)];
 #ifndef VOXGI_NO_COLORS
   m.baseColor *= triangleColor(tri, bc);
 #endif
@@ -131,8 +131,7 @@ vec3 radiance(vec3 o, vec3 d) {
     vec2 bc;
     if (!trace(o, d, kInf, false, t, tri, bc)) break;  // black background
     GpuPtTriangle T = loadTriangle(tri);
-    GpuPtShading S = shading[tri];
-    GpuMaterial m = materials[floatBitsToUint(S.n0.w)];
+    GpuMaterial m = materials[floatBitsToUint(T.v0.w)];
 #ifndef VOXGI_NO_TEXTURES
     vec2 uv = vec2(0.0), uv2 = vec2(0.0);  // texture-coordinate channels 0 and 1
     if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
@@ -152,14 +151,14 @@ vec3 radiance(vec3 o, vec3 d) {
     bool front = dot(ng, d) < 0.0;
     if (m.emission.rgb != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0;
-      if (!lastDelta && lightsByNee && S.n1.w > 0.0)
-        w = emissionMisWeight(lastPdf, S.n1.w, t, abs(dot(ng, d)));
+      if (!lastDelta && lightsByNee && T.e1.w > 0.0)
+        w = emissionMisWeight(lastPdf, T.e1.w, t, abs(dot(ng, d)));
       result += throughput * m.emission.rgb * w;
     }
     if (depth == maxDepth) break;
 
     // Shade on the side the ray arrived from.
-    vec3 ns = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
+    vec3 ns = normalize(triangleNormal(tri, bc));
     if (!front) {
       ng = -ng;
       ns = -ns;

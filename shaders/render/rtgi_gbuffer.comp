@@ -55,8 +55,7 @@ void main() {
     return;
   }
   GpuPtTriangle T = loadTriangle(tri);
-  GpuPtShading S = shading[tri];
-  uint materialIndex = floatBitsToUint(S.n0.w);
+  uint materialIndex = floatBitsToUint(T.v0.w);
   GpuMaterial m = materials[materialIndex];
 #ifdef RTGI_BVH_TEXTURES
   vec2 uv = triangleUv(tri, bc);
@@ -72,7 +71,7 @@ void main() {
   vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
   bool front = dot(cross(T.e1.xyz, T.e2.xyz), dir) < 0.0;
   // The interpolated normal, turned as gbuffer.frag turns it.
-  vec3 n = normalize((1.0 - bc.x - bc.y) * S.n0.xyz + bc.x * S.n1.xyz + bc.y * S.n2.xyz);
+  vec3 n = normalize(triangleNormal(tri, bc));
   if (!(dot(n, n) > 0.5)) n = vec3(0.0, 1.0, 0.0);
   if ((m.flags & kMaterialDoubleSided) != 0u && !front) n = -n;
   float packedSurfaceNormal = 0.0;

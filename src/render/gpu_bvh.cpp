@@ -12,54 +12,6 @@
 namespace voxgi::render {
 namespace {
 
-// Per triangle slot in BVH order: its vertex normals, material and emitter pdf.
-void shadingInOrder(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
-                    gpu::GpuPtShading* shade) {
-  for (size_t slot = 0; slot < order.size(); ++slot) {
-    const uint32_t t = order[slot];
-    const uint32_t i = pt.firstIndex[t];
-    gpu::GpuPtShading& g = shade[slot];
-    g.n0 = glm::vec4(s.vertices[s.indices[i]].normal,
-                     std::bit_cast<float>(static_cast<uint32_t>(pt.material[t])));
-    g.n1 = glm::vec4(s.vertices[s.indices[i + 1]].normal, pt.emitterAreaPdf[t]);
-    g.n2 = glm::vec4(s.vertices[s.indices[i + 2]].normal, 0.0f);
-  }
-}
-
-// Whether some drawn material reads texture coordinates channel 1.
-int uvChannels(const scene::Scene& s) {
-  bool second = false;
-  for (const scene::Draw& d : s.draws)
-    second = second || s.materials[static_cast<size_t>(d.material)].hasUv2;
-  return second ? 2 : 1;
-}
-
-// The corner UVs of each triangle slot, two vec4 a triangle (a.xy b.xy, c.xy 0 0),
-// one block per channel.
-void cornerUvs(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
-               int channels, glm::vec4* uvs) {
-  for (int ch = 0; ch < channels; ++ch) {
-    const size_t first = 2 * order.size() * static_cast<size_t>(ch);
-    for (size_t slot = 0; slot < order.size(); ++slot) {
-      const uint32_t i = pt.firstIndex[order[slot]];
-      const glm::vec2 a = scene::channelUv(s.vertices[s.indices[i]], ch),
-                      b = scene::channelUv(s.vertices[s.indices[i + 1]], ch),
-                      c = scene::channelUv(s.vertices[s.indices[i + 2]], ch);
-      uvs[first + 2 * slot] = glm::vec4(a, b);
-      uvs[first + 2 * slot + 1] = glm::vec4(c, 0.0f, 0.0f);
-    }
-  }
-}
-
-// A per-vertex attribute at each triangle corner, three a triangle, BVH order.
-void cornerValues(const std::vector<glm::vec4>& perVertex, const scene::Scene& s, const PtScene& pt,
-                  const std::vector<uint32_t>& order, glm::vec4* values) {
-  for (size_t slot = 0; slot < order.size(); ++slot) {
-    const uint32_t i = pt.firstIndex[order[slot]];
-    for (uint32_t k = 0; k < 3; ++k) values[3 * slot + k] = perVertex[s.indices[i + k]];
-  }
-}
-
 template <typename Vector>
 void freeVector(Vector* v) {
   Vector().swap(*v);
@@ -82,7 +34,9 @@ gl::Buffer GpuBvh::uploadFilled(size_t count, Fill fill) {
   return b;
 }
 
-GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures(s, textures)) {
+GpuBvh::GpuBvh(const scene::GpuScene& gs, bool textures)
+    : textured_(ptReadsTextures(gs.scene(), textures)) {
+  const scene::Scene& s = gs.scene();
   const auto start = std::chrono::steady_clock::now();
   PtScene pt = buildPtScene(s, textured_);
   Bvh::Options options;
@@ -111,24 +65,34 @@ GpuBvh::GpuBvh(const scene::Scene& s, bool textures) : textured_(ptReadsTextures
   nodeTexels_ = bufferTexels(nodes_, nodeBytes, maxTexels);
   freeVector(&a.nodes);
   const std::vector<uint32_t>& order = a.order;
+  // Each triangle's record carries its material, emitter pdf and first index; the
+  // rest of what a hit reads comes from the scene's own buffers.
   triangles_ = uploadFilled<gpu::GpuPtTriangle>(order.size(), [&](gpu::GpuPtTriangle* out) {
-    for (size_t slot = 0; slot < order.size(); ++slot)
-      out[slot] = Bvh::gpuTriangle(pt.triangles[order[slot]]);
+    for (size_t slot = 0; slot < order.size(); ++slot) {
+      const uint32_t t = order[slot];
+      gpu::GpuPtTriangle& g = out[slot];
+      g = Bvh::gpuTriangle(pt.triangles[t]);
+      g.v0.w = std::bit_cast<float>(static_cast<uint32_t>(pt.material[t]));
+      g.e1.w = pt.emitterAreaPdf[t];
+      g.e2.w = std::bit_cast<float>(pt.firstIndex[t]);
+    }
   });
   triangleTexels_ = bufferTexels(triangles_, order.size() * sizeof(gpu::GpuPtTriangle), maxTexels);
   freeVector(&pt.triangles);
 
-  shading_ = uploadFilled<gpu::GpuPtShading>(
-      order.size(), [&](gpu::GpuPtShading* out) { shadingInOrder(s, pt, order, out); });
-  if (textured_) uploadTextures(s, pt, order, maxTexels);
-  if (s.hasVertexColors()) {
-    colors_ = uploadFilled<glm::vec4>(
-        3 * order.size(), [&](glm::vec4* out) { cornerValues(s.colors, s, pt, order, out); });
-  }
-  if (s.hasNormalMaps()) {
-    tangents_ = uploadFilled<glm::vec4>(
-        3 * order.size(), [&](glm::vec4* out) { cornerValues(s.tangents, s, pt, order, out); });
-  }
+  // scene::Vertex as 5 RG32F texels (its 40 bytes are not a whole number of RGBA32F).
+  static_assert(sizeof(scene::Vertex) == 5 * sizeof(glm::vec2));
+  if (5 * s.vertices.size() > static_cast<size_t>(maxTexels))
+    throw Error(
+        strf("bvh: the scene's %zu vertices need %zu texels, more than this GL's "
+             "buffer texture limit of %d",
+             s.vertices.size(), 5 * s.vertices.size(), maxTexels));
+  vertexTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
+  if (!s.vertices.empty()) glTextureBuffer(vertexTexels_.id(), GL_RG32F, gs.vertexBuffer());
+  indices_ = gs.indexBuffer();
+  if (s.hasVertexColors()) colors_ = gs.colorBuffer();
+  if (s.hasNormalMaps()) tangents_ = gs.tangentBuffer();
+  if (textured_) uploadTextures(s, maxTexels);
   emissiveCount_ = static_cast<int>(pt.emitters.size());
   emissive_ = upload(pt.emitters.data(), pt.emitters.size() * sizeof(gpu::GpuPtEmissive));
   logDebug(strf("bvh: %zu triangles, %zu nodes, depth %d, SAH %.1f, %.1f ms; %d emissive triangles",
@@ -151,10 +115,8 @@ gl::Texture GpuBvh::bufferTexels(const gl::Buffer& buffer, size_t bytes, GLint m
   return t;
 }
 
-void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt,
-                            const std::vector<uint32_t>& order, GLint maxTexels) {
-  // Corner UVs in BVH order, then every texture's texels in one buffer and where
-  // each starts.
+void GpuBvh::uploadTextures(const scene::Scene& s, GLint maxTexels) {
+  // Every texture's texels in one buffer and where each starts.
   std::vector<glm::uvec4> table;
   std::vector<uint32_t> pixels;
   buildPtTextures(s, &table, &pixels);
@@ -163,11 +125,6 @@ void GpuBvh::uploadTextures(const scene::Scene& s, const PtScene& pt,
         strf("bvh: the scene's textures hold %zu texels, more than this GL's "
              "buffer texture limit of %d",
              pixels.size(), maxTexels));
-  const int channels = uvChannels(s);
-  const size_t uvCount = 2 * order.size() * static_cast<size_t>(channels);
-  uvs_ = uploadFilled<glm::vec4>(uvCount,
-                                 [&](glm::vec4* out) { cornerUvs(s, pt, order, channels, out); });
-  uvTexels_ = bufferTexels(uvs_, uvCount * sizeof(glm::vec4), maxTexels);
   texels_ = upload(pixels.data(), pixels.size() * 4);
   textureTexels_ = gl::createTexture(GL_TEXTURE_BUFFER);
   glTextureBuffer(textureTexels_.id(), GL_R32UI, texels_.id());
@@ -179,20 +136,20 @@ void GpuBvh::bind(GLuint materials, bool colors, bool normalMaps) const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
   glBindTextureUnit(gpu::kRtgiBvhNodeUnit, nodeTexels());
   glBindTextureUnit(gpu::kRtgiBvhTriangleUnit, triangleTexels());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhShadingBinding, shading());
+  glBindTextureUnit(gpu::kRtgiBvhVertexUnit, vertexTexels());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhIndexBinding, indices());
   if (textured()) {
-    glBindTextureUnit(gpu::kRtgiBvhUvUnit, uvTexels());
     glBindTextureUnit(gpu::kRtgiBvhTexelUnit, textureTexels());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTextureBinding, textureTable());
   }
   if (colors && colored())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhColorBinding, this->colors());
-  if (normalMaps && textured() && tangentsUploaded())
+  if (normalMaps && textured() && hasTangents())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiBvhTangentBinding, tangents());
 }
 
 void GpuBvh::unbind() {
-  for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhUvUnit,
+  for (GLuint u : {gpu::kRtgiBvhNodeUnit, gpu::kRtgiBvhTriangleUnit, gpu::kRtgiBvhVertexUnit,
                    gpu::kRtgiBvhTexelUnit})
     glBindTextureUnit(u, 0);
 }
@@ -202,8 +159,7 @@ std::vector<std::string> GpuBvh::traceDefines(const scene::Scene& scene,
   std::vector<std::string> defines{"RTGI_BVH"};
   if (textured_) defines.emplace_back("RTGI_BVH_TEXTURES");
   if (features.colors && colored()) defines.emplace_back("RTGI_BVH_COLORS");
-  if (features.normalMaps && textured_ && tangentsUploaded())
-    defines.emplace_back("RTGI_BVH_TANGENTS");
+  if (features.normalMaps && textured_ && hasTangents()) defines.emplace_back("RTGI_BVH_TANGENTS");
   if (ptReadsAlphaMasks(scene, features.alpha)) defines.emplace_back("RTGI_BVH_ALPHA");
   return defines;
 }

@@ -1,17 +1,19 @@
 // The scene's exact triangles on the GPU for ray tracing: the BVH (render/bvh.h)
-// built on the CPU, and what a hit needs to be shaded (vertex normals, material,
-// emitter pdf; corner UVs and every texture's texels when textured), in
-// the layouts of shaders/include/pathtrace_shared.h. Traversed by
+// built on the CPU, and what a hit needs to be shaded beyond the scene's own vertex
+// and index buffers (GpuScene), which the triangles point into: the material and
+// emitter pdf in each triangle's record, and every texture's texels when textured,
+// in the layouts of shaders/include/pathtrace_shared.h. Traversed by
 // shaders/include/bvh_trace.glsl.
 //
-// Used by the path tracer (PathtracePass) and by rtgi's reflections (RtgiPass, when
-// the effect plan has the specular effect): the Renderer builds one and both passes
-// read it. A scene without mirrors or glossy surfaces, rendered by rtgi, builds none.
+// Used by the path tracer (PathtracePass), by rtgi's rays (RtgiPass) and by the
+// octree's exact rays: the Renderer builds one and they all read it.
 //
 // Costs at start-up: the binned SAH build (buildMs(); cornell_room's 3.5k triangles
-// take a few ms) and 64 + 48 + 48 bytes per triangle of GPU memory (nodes, triangles,
-// shading), plus 32 bytes per triangle and the texels when textured, and 48 bytes per
-// triangle when the scene has vertex colours, 48 more when it has normal maps.
+// take a few ms) and 64 + 48 bytes per triangle of GPU memory (nodes, triangles),
+// plus the texels when textured. Normals, texture coordinates, vertex colours and
+// tangents are read at a hit from the scene's buffers, through its index buffer: a
+// hit costs a few reads more, and the BVH no copy of them (80 bytes a triangle of a
+// textured scene, 176 with colours and normal maps).
 #ifndef VOXGI_RENDER_GPU_BVH_H
 #define VOXGI_RENDER_GPU_BVH_H
 
@@ -22,6 +24,7 @@
 #include "gl/handles.h"
 #include "render/bvh.h"
 #include "scene/effects.h"
+#include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace voxgi::render {
@@ -32,7 +35,8 @@ class GpuBvh {
  public:
   // `textures`: whether base-colour textures may be read (the effect plan's); the
   // BVH is textured() when so and some drawn material has a texture.
-  GpuBvh(const scene::Scene& scene, bool textures);
+  // Built from gs's scene (its meshes at their current pose); gs must outlive it.
+  GpuBvh(const scene::GpuScene& gs, bool textures);
 
   // The BVH's shape (render::Bvh's; no CPU copy of its arrays is kept).
   size_t triangleCount() const { return triangleCount_; }
@@ -41,34 +45,35 @@ class GpuBvh {
   double sahCost() const { return sah_; }
   double buildMs() const { return buildMs_; }
   bool textured() const { return textured_; }
-  // The scene has vertex colours: colors() holds them (vec4 per triangle corner,
-  // three a triangle, BVH order; 48 bytes a triangle); 0 otherwise.
-  bool colored() const { return colors_.id() != 0; }
-  GLuint colors() const { return colors_.id(); }
-  // The scene has normal maps: tangents() holds the tangents (vec4 per triangle
-  // corner, xyz and handedness, three a triangle, BVH order); 0 otherwise.
-  bool tangentsUploaded() const { return tangents_.id() != 0; }
-  GLuint tangents() const { return tangents_.id(); }
+  // The scene has vertex colours: colors() is its colour buffer (vec4 per vertex);
+  // 0 otherwise.
+  bool colored() const { return colors_ != 0; }
+  GLuint colors() const { return colors_; }
+  // The scene has normal maps: tangents() is its tangent buffer (vec4 per vertex, xyz
+  // and handedness); 0 otherwise.
+  bool hasTangents() const { return tangents_ != 0; }
+  GLuint tangents() const { return tangents_; }
   int emissiveTriangles() const { return emissiveCount_; }
   size_t gpuBytes() const { return gpuBytes_; }
   // Of gpuBytes(): the textures' texels and their table (0 unless textured()).
   size_t textureBytes() const { return textureBytes_; }
 
-  // Node and triangle texels (RGBA32UI buffer textures), the shading SSBO (one
-  // GpuPtShading per triangle, BVH order), the emissive triangles (GpuPtEmissive,
-  // alias table), and when textured the UV texels, the texel texels and the table
+  // Node and triangle texels (RGBA32UI buffer textures), the scene's vertices as
+  // RG32F texels (five a vertex) and its index buffer, the emissive triangles
+  // (GpuPtEmissive, alias table), and when textured the texel texels and the table
   // of textures (uvec4 per texture).
   GLuint nodeTexels() const { return nodeTexels_.id(); }
   GLuint triangleTexels() const { return triangleTexels_.id(); }
-  GLuint shading() const { return shading_.id(); }
+  GLuint vertexTexels() const { return vertexTexels_.id(); }
+  GLuint indices() const { return indices_; }
   GLuint emissive() const { return emissive_.id(); }
-  GLuint uvTexels() const { return uvTexels_.id(); }
   GLuint textureTexels() const { return textureTexels_.id(); }
   GLuint textureTable() const { return textureTable_.id(); }
 
   // Binds what a stage that traces the BVH reads (rtgi_bvh.glsl's bindings): the
-  // scene's `materials`, the nodes, triangles and shading, the textures when
-  // textured(), the vertex colours and tangents when asked for and present.
+  // scene's `materials`, the nodes and triangles, the scene's vertices and indices,
+  // the textures when textured(), the vertex colours and tangents when asked for
+  // and present.
   // unbind() releases the texture units.
   void bind(GLuint materials, bool colors, bool normalMaps) const;
   static void unbind();
@@ -88,9 +93,8 @@ class GpuBvh {
   gl::Buffer uploadFilled(size_t count, Fill fill);
   // `buffer` as RGBA32UI texels; throws beyond this GL's buffer texture limit.
   gl::Texture bufferTexels(const gl::Buffer& buffer, size_t bytes, GLint maxTexels) const;
-  // Corner UVs, every texture's texels and the table of where each starts.
-  void uploadTextures(const scene::Scene& s, const PtScene& pt, const std::vector<uint32_t>& order,
-                      GLint maxTexels);
+  // Every texture's texels and the table of where each starts.
+  void uploadTextures(const scene::Scene& s, GLint maxTexels);
 
   size_t triangleCount_ = 0, nodeCount_ = 0;
   int depth_ = 0;
@@ -99,10 +103,12 @@ class GpuBvh {
   bool textured_ = false;
   int emissiveCount_ = 0;
   size_t gpuBytes_ = 0, textureBytes_ = 0;
-  gl::Buffer nodes_, triangles_, shading_, emissive_;
-  gl::Texture nodeTexels_, triangleTexels_;  // nodes_ and triangles_ as RGBA32UI texels
-  gl::Buffer uvs_, texels_, textureTable_, colors_, tangents_;
-  gl::Texture uvTexels_, textureTexels_;
+  gl::Buffer nodes_, triangles_, emissive_;
+  gl::Texture nodeTexels_, triangleTexels_;         // nodes_ and triangles_ as RGBA32UI texels
+  gl::Texture vertexTexels_;                        // the scene's vertex buffer as RG32F texels
+  GLuint indices_ = 0, colors_ = 0, tangents_ = 0;  // the scene's buffers (not owned)
+  gl::Buffer texels_, textureTable_;
+  gl::Texture textureTexels_;
 };
 
 }  // namespace voxgi::render

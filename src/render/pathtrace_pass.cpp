@@ -29,7 +29,7 @@ PathtracePass::PathtracePass(gl::ProgramCache& programs, const GpuScene& gs,
                              const Settings& settings, std::shared_ptr<const GpuBvh> bvh)
     : settings_(settings),
       scene_(gs),
-      gpuBvh_(bvh ? std::move(bvh) : std::make_shared<GpuBvh>(gs.scene(), settings.textures)),
+      gpuBvh_(bvh ? std::move(bvh) : std::make_shared<GpuBvh>(gs, settings.textures)),
       textured_(gpuBvh_->textured()),
       program_(programs.get(
           {{"render/pathtrace.comp"}, kernelDefines(gs.scene(), settings, textured_)})),
@@ -95,15 +95,15 @@ void PathtracePass::dispatch(gl::FrameContext& ctx, GLuint hdrTexture, int x0, i
   const GpuBvh& bvh = *gpuBvh_;
   glBindTextureUnit(gpu::kPtNodeTexUnit, bvh.nodeTexels());
   glBindTextureUnit(gpu::kPtTriangleTexUnit, bvh.triangleTexels());
+  glBindTextureUnit(gpu::kPtVertexTexUnit, bvh.vertexTexels());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtIndexBinding, bvh.indices());
   if (textured_) {
-    glBindTextureUnit(gpu::kPtUvTexUnit, bvh.uvTexels());
     glBindTextureUnit(gpu::kPtTexelTexUnit, bvh.textureTexels());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTextureBinding, bvh.textureTable());
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtShadingBinding, bvh.shading());
   if (settings_.colors && bvh.colored())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtColorBinding, bvh.colors());
-  if (settings_.normalMaps && bvh.textured() && bvh.tangentsUploaded())
+  if (settings_.normalMaps && bvh.textured() && bvh.hasTangents())
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtTangentBinding, bvh.tangents());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtEmissiveBinding, bvh.emissive());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPtCounterBinding, counter_.id());
@@ -116,7 +116,7 @@ void PathtracePass::dispatch(gl::FrameContext& ctx, GLuint hdrTexture, int x0, i
   };
   glDispatchCompute(groups(w, gpu::kPtGroupX), groups(h, gpu::kPtGroupY), 1);
   for (GLuint unit :
-       {gpu::kPtNodeTexUnit, gpu::kPtTriangleTexUnit, gpu::kPtUvTexUnit, gpu::kPtTexelTexUnit})
+       {gpu::kPtNodeTexUnit, gpu::kPtTriangleTexUnit, gpu::kPtVertexTexUnit, gpu::kPtTexelTexUnit})
     glBindTextureUnit(unit, 0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                   GL_TEXTURE_UPDATE_BARRIER_BIT);

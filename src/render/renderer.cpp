@@ -223,7 +223,7 @@ void Renderer::createPasses() {
 
 std::shared_ptr<const GpuBvh> Renderer::sharedBvh() {
   if (!bvh_) {
-    bvh_ = std::make_shared<const GpuBvh>(gpuScene_.scene(), scene::shaderFeatures(plan_).textures);
+    bvh_ = std::make_shared<const GpuBvh>(gpuScene_, scene::shaderFeatures(plan_).textures);
     startup_.push_back({Stage::kBvh, 0.0, bvh_->buildMs()});
   }
   return bvh_;

@@ -689,10 +689,8 @@ TEST_F(PathtraceGlTest, SharedLayoutsMatchCpp) {
   const GLenum bv = GL_BUFFER_VARIABLE;
   // Nodes and triangles are buffer textures of 16-byte texels (pathtrace.comp's
   // loadNode / loadTriangle): their layout is the C++ one, asserted in the header.
-  EXPECT_EQ(query(bv, "shading[0].n0", GL_TOP_LEVEL_ARRAY_STRIDE),
-            static_cast<GLint>(sizeof(gpu::GpuPtShading)));
-  EXPECT_EQ(query(bv, "shading[0].n2", GL_OFFSET),
-            static_cast<GLint>(offsetof(gpu::GpuPtShading, n2)));
+  // The scene's indices, which each triangle's record points into, are a uint array.
+  EXPECT_EQ(query(bv, "sceneIndices[0]", GL_ARRAY_STRIDE), 4);
   EXPECT_EQ(query(bv, "emissive[0].v0", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(gpu::GpuPtEmissive)));
   EXPECT_EQ(query(bv, "emissive[0].radiance", GL_OFFSET),

@@ -207,21 +207,16 @@ TEST_F(SharedLayoutTest, SceneStructsMatchCpp) {
 TEST_F(SharedLayoutTest, PathtraceStructsMatchCpp) {
   using gpu::GpuPtEmissive;
   using gpu::GpuPtParams;
-  using gpu::GpuPtShading;
   const GLuint p = program("render/pathtrace.comp");
   const GLenum bv = GL_BUFFER_VARIABLE;
   expectOffsets(p, bv,
-                {VOXGI_MEMBER("shading[0].", GpuPtShading, n0, ""),
-                 VOXGI_MEMBER("shading[0].", GpuPtShading, n1, ""),
-                 VOXGI_MEMBER("shading[0].", GpuPtShading, n2, ""),
-                 VOXGI_MEMBER("emissive[0].", GpuPtEmissive, v0, ""),
+                {VOXGI_MEMBER("emissive[0].", GpuPtEmissive, v0, ""),
                  VOXGI_MEMBER("emissive[0].", GpuPtEmissive, e1, ""),
                  VOXGI_MEMBER("emissive[0].", GpuPtEmissive, e2, ""),
                  VOXGI_MEMBER("emissive[0].", GpuPtEmissive, radiance, ""),
                  VOXGI_MEMBER("emissive[0].", GpuPtEmissive, uv01, ""),
                  VOXGI_MEMBER("emissive[0].", GpuPtEmissive, uv2, "")});
-  EXPECT_EQ(query(p, bv, "shading[0].n0", GL_TOP_LEVEL_ARRAY_STRIDE),
-            static_cast<GLint>(sizeof(GpuPtShading)));
+  EXPECT_EQ(query(p, bv, "sceneIndices[0]", GL_ARRAY_STRIDE), 4);
   EXPECT_EQ(query(p, bv, "emissive[0].v0", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(GpuPtEmissive)));
   expectOffsets(p, GL_UNIFORM,

@@ -45,7 +45,7 @@ std::unique_ptr<Built> build(const scene::Scene& s, int n, bool light,
                                                   voxel::VoxelizePass::Settings{n, false});
   b->grid->execute(ctx, *b->gpuScene);
   if (exactRays) {
-    b->bvh = std::make_unique<render::GpuBvh>(s, false);
+    b->bvh = std::make_unique<render::GpuBvh>(*b->gpuScene, false);
     b->bvh->bind(b->gpuScene->materials(), false, false);
     settings.bvhDefines = {"RTGI_BVH"};
   }
