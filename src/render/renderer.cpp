@@ -290,7 +290,16 @@ bool Renderer::reprojects() const {
 }
 
 void Renderer::posed() {
-  if (scene_.meshesAnimated()) geometryChanged();
+  if (scene_.meshesAnimated()) {
+    geometryChanged();
+    // The path tracer traces the triangles of the pose its BVH (or the CPU device's
+    // scene) was built at: both are made again for the new one.
+    if (pathtrace_) {
+      pathtrace_.reset();
+      bvh_.reset();
+      createPasses();
+    }
+  }
   if (scene_.lightsAnimated()) {
     gpuScene_.updateLights();
     lightsMoved_ = true;
