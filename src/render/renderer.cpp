@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/log.h"
+#include "core/memory.h"
 #include "gl/debug.h"
 #include "render/pathtrace_cpu.h"
 #include "render/pathtrace_pass.h"
@@ -224,6 +225,7 @@ void Renderer::createPasses() {
 std::shared_ptr<const GpuBvh> Renderer::sharedBvh() {
   if (!bvh_) {
     bvh_ = std::make_shared<const GpuBvh>(gpuScene_, scene::shaderFeatures(plan_).textures);
+    releaseFreedMemory();  // the build's working arrays
     startup_.push_back({Stage::kBvh, 0.0, bvh_->buildMs()});
   }
   return bvh_;
