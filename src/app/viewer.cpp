@@ -556,6 +556,9 @@ void Viewer::drawRunControls() {
     const glm::ivec2 internal = renderer_->internalSize();
     ImGui::Text("render scale %.2f: %dx%d", static_cast<double>(renderer_->settings().renderScale),
                 internal.x, internal.y);
+    if (renderer_->rtgi())
+      ImGui::Text("primary visibility: %s",
+                  renderer_->rtgi()->primaryRays() ? "rays (BVH)" : "raster");
   }
   if (renderer_->settings().targetFps > 0.0 && renderer_->rtgi()) {
     ImGui::Text("budget %.1f fps: tracing %.1f%% of pixels", renderer_->settings().targetFps,
