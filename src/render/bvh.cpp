@@ -536,8 +536,11 @@ bool intersectTriangle(const BvhRay& ray, const glm::vec3& v0, const glm::vec3& 
   return true;
 }
 
-Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
-  const size_t n = triangles.size();
+Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options)
+    : Bvh(
+          triangles.size(), [&triangles](size_t i) { return triangles[i]; }, options) {}
+
+Bvh::Bvh(size_t n, const std::function<BvhTriangle(size_t)>& triangle, const Options& options) {
   if (n > size_t{std::numeric_limits<uint32_t>::max()} / 2)
     throw Error(strf("BVH of %zu triangles: more than a 32-bit index can address", n));
   std::vector<Prim> prims(n);
@@ -550,7 +553,7 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
       tbb::blocked_range<size_t>(0, n, 1u << 14), Bounds{},
       [&](const tbb::blocked_range<size_t>& r, Bounds acc) {
         for (size_t i = r.begin(); i < r.end(); ++i) {
-          const BvhTriangle& t = triangles[i];
+          const BvhTriangle t = triangle(i);
           Prim& p = prims[i];
           const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
           const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
@@ -597,8 +600,7 @@ Bvh::Bvh(const std::vector<BvhTriangle>& triangles, const Options& options) {
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i < r.end(); ++i) {
                         order_[i] = prims[i].index();
-                        if (options.keepTriangles)
-                          triangles_[i] = gpuTriangle(triangles[order_[i]]);
+                        if (options.keepTriangles) triangles_[i] = gpuTriangle(triangle(order_[i]));
                       }
                     });
 }

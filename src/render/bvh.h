@@ -15,6 +15,7 @@
 #define VOXGI_RENDER_BVH_H
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <new>
 #include <utility>
@@ -84,6 +85,10 @@ class Bvh {
 
   Bvh() = default;
   explicit Bvh(const std::vector<BvhTriangle>& triangles, const Options& options);
+  // The same from `count` triangles that `triangle(i)` returns (read from each
+  // triangle's source, such as a scene's vertices and indices, with no array of
+  // them kept: GpuBvh), called from several threads at once.
+  Bvh(size_t count, const std::function<BvhTriangle(size_t)>& triangle, const Options& options);
   explicit Bvh(const std::vector<BvhTriangle>& triangles) : Bvh(triangles, Options{}) {}
 
   // A triangle as the GPU reads it: v0 and two edges.

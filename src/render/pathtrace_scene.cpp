@@ -39,9 +39,14 @@ void buildAliasTable(const std::vector<double>& weights, std::vector<float>* pro
   // What is left holds (up to rounding) exactly 1.
 }
 
-PtScene buildPtScene(const scene::Scene& s, bool textured) {
+BvhTriangle sceneTriangle(const scene::Scene& s, uint32_t firstIndex) {
+  const uint32_t* idx = &s.indices[firstIndex];
+  return {s.vertices[idx[0]].position, s.vertices[idx[1]].position, s.vertices[idx[2]].position};
+}
+
+PtScene buildPtScene(const scene::Scene& s, bool textured, bool keepTriangles) {
   PtScene pt;
-  pt.triangles.reserve(s.triangleCount());
+  if (keepTriangles) pt.triangles.reserve(s.triangleCount());
   pt.material.reserve(s.triangleCount());
   pt.firstIndex.reserve(s.triangleCount());
   std::vector<glm::vec3> emission;  // per triangle: mean radiance
@@ -50,20 +55,18 @@ PtScene buildPtScene(const scene::Scene& s, bool textured) {
       const size_t t = (i - d.firstIndex) / 3;
       emission.push_back(textured ? scene::triangleEmission(s, d, t)
                                   : s.materials[static_cast<size_t>(d.material)].emission);
-      pt.triangles.push_back({s.vertices[s.indices[i]].position,
-                              s.vertices[s.indices[i + 1]].position,
-                              s.vertices[s.indices[i + 2]].position});
+      if (keepTriangles) pt.triangles.push_back(sceneTriangle(s, i));
       pt.material.push_back(d.material);
       pt.firstIndex.push_back(i);
     }
   }
-  pt.emitterAreaPdf.assign(pt.triangles.size(), 0.0f);
+  pt.emitterAreaPdf.assign(pt.material.size(), 0.0f);
   std::vector<double> power;
   std::vector<size_t> owner;  // triangle of each emitter
-  for (size_t t = 0; t < pt.triangles.size(); ++t) {
+  for (size_t t = 0; t < pt.material.size(); ++t) {
     const scene::Material& m = s.materials[static_cast<size_t>(pt.material[t])];
     if (!m.isEmissive()) continue;
-    const BvhTriangle& tri = pt.triangles[t];
+    const BvhTriangle tri = sceneTriangle(s, pt.firstIndex[t]);
     const glm::vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
     const float area = 0.5f * glm::length(glm::cross(e1, e2));
     const double p =

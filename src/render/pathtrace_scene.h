@@ -15,7 +15,8 @@
 namespace voxgi::render {
 
 struct PtScene {
-  // Triangle t is the t-th index triple over the scene's draws.
+  // Triangle t is the t-th index triple over the scene's draws (empty when built
+  // without; buildPtScene).
   std::vector<BvhTriangle> triangles;
   std::vector<int> material;         // per triangle
   std::vector<uint32_t> firstIndex;  // per triangle: its first index in scene.indices
@@ -35,7 +36,12 @@ struct PtScene {
 // triangle's chance follows its emissive texture's mean over it (Draw::emissiveMean;
 // black ones are not in the table) and its entry names the texture; otherwise the
 // material's emission alone.
-PtScene buildPtScene(const scene::Scene& scene, bool textured = true);
+// `keepTriangles` false: `triangles` stays empty (sceneTriangle reads them from the
+// scene through firstIndex; GpuBvh builds from them so).
+PtScene buildPtScene(const scene::Scene& scene, bool textured = true, bool keepTriangles = true);
+
+// The positions of the triangle whose first index in scene.indices is `firstIndex`.
+BvhTriangle sceneTriangle(const scene::Scene& scene, uint32_t firstIndex);
 
 // Whether the path tracer reads textures: `allowed` (the effect plan) and some
 // draw's material has one (base colour, emissive or metallic-roughness).
