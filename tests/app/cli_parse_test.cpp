@@ -138,6 +138,17 @@ TEST(CliParse, RenderScale) {
   EXPECT_THROW(parse({"render", "--render-scale"}), UsageError);
 }
 
+TEST(CliParse, Primary) {
+  using Primary = render::RtgiPass::Settings::Primary;
+  EXPECT_EQ(parse({"render"}).render.render.rtgi.primary, Primary::kAuto);
+  EXPECT_EQ(parse({"render", "--primary", "rays"}).render.render.rtgi.primary, Primary::kRays);
+  EXPECT_EQ(parse({"render", "--primary", "raster"}).render.render.rtgi.primary, Primary::kRaster);
+  EXPECT_EQ(parse({"view", "--primary", "rays"}).view.render.rtgi.primary, Primary::kRays);
+  EXPECT_EQ(parse({"render", "--primary", "auto"}).render.render.rtgi.primary, Primary::kAuto);
+  EXPECT_THROW(parse({"render", "--primary", "bogus"}), UsageError);
+  EXPECT_THROW(parse({"render", "--primary"}), UsageError);
+}
+
 TEST(CliParse, IndirectMethod) {
   using Method = render::RtgiPass::Settings::IndirectMethod;
   EXPECT_EQ(parse({"render"}).render.render.rtgi.indirectMethod, Method::kRays);
