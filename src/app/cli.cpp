@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
+#include <utility>
 
 namespace voxgi::app {
 namespace {
@@ -345,6 +347,18 @@ bool parseOnOff(const std::string& option, const std::string& v) {
   return v == "on";
 }
 
+// The value of `choices` named `v`; a usage error listing the names otherwise.
+template <typename T>
+T parseChoice(const std::string& option, const std::string& v,
+              std::initializer_list<std::pair<const char*, T>> choices) {
+  std::string names;
+  for (const auto& [name, value] : choices) {
+    if (v == name) return value;
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  }
+  throw UsageError(option + ": unknown '" + v + "' (" + names + ")");
+}
+
 // Mode, size and display: true if `a` was one of them.
 bool parseImageSetting(const std::string& a, const std::function<std::string()>& value,
                        render::RenderSettings* rs) {
@@ -439,23 +453,14 @@ bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& 
   } else if (a == "--voxel-rays") {
     rs->rtgi.exactRays = false;
   } else if (a == "--primary") {
-    const std::string v = value();
-    if (v == "auto")
-      rs->rtgi.primary = Settings::Primary::kAuto;
-    else if (v == "raster")
-      rs->rtgi.primary = Settings::Primary::kRaster;
-    else if (v == "rays")
-      rs->rtgi.primary = Settings::Primary::kRays;
-    else
-      throw UsageError("--primary: unknown '" + v + "' (auto, raster, rays)");
+    rs->rtgi.primary = parseChoice<Settings::Primary>("--primary", value(),
+                                                      {{"auto", Settings::Primary::kAuto},
+                                                       {"raster", Settings::Primary::kRaster},
+                                                       {"rays", Settings::Primary::kRays}});
   } else if (a == "--indirect") {
-    const std::string v = value();
-    if (v == "rays")
-      rs->rtgi.indirectMethod = Settings::IndirectMethod::kRays;
-    else if (v == "cones")
-      rs->rtgi.indirectMethod = Settings::IndirectMethod::kCones;
-    else
-      throw UsageError("--indirect: unknown method '" + v + "' (rays, cones)");
+    rs->rtgi.indirectMethod = parseChoice<Settings::IndirectMethod>(
+        "--indirect", value(),
+        {{"rays", Settings::IndirectMethod::kRays}, {"cones", Settings::IndirectMethod::kCones}});
   } else if (a == "--reproject") {
     rs->rtgi.reproject = parseOnOff("--reproject", value());
   } else if (a == "--light-reuse") {
@@ -465,13 +470,9 @@ bool parseRtgiSetting(const std::string& a, const std::function<std::string()>& 
   } else if (a == "--history-cap") {
     rs->rtgi.historyCap = parseInt("--history-cap", value(), 1, 1 << 20);
   } else if (a == "--budget-select") {
-    const std::string v = value();
-    if (v == "mask")
-      rs->rtgi.select = Settings::Select::kMask;
-    else if (v == "uniform")
-      rs->rtgi.select = Settings::Select::kUniform;
-    else
-      throw UsageError("--budget-select: unknown '" + v + "' (mask, uniform)");
+    rs->rtgi.select = parseChoice<Settings::Select>(
+        "--budget-select", value(),
+        {{"mask", Settings::Select::kMask}, {"uniform", Settings::Select::kUniform}});
   } else {
     return false;
   }

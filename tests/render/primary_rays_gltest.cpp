@@ -50,16 +50,7 @@ scene::Scene facesScene() {
   quad(0.3f, 1.3f, -0.2f, 0.8f, 1.0f, true, twoSided);
   quad(-0.4f, 0.4f, -1.0f, -0.5f, 1.0f, false, glowing);
   scene::Scene s = b.finish();
-  scene::Light sun;
-  sun.type = scene::LightType::kDirectional;
-  sun.direction = glm::vec3(0.0f, 0.0f, -1.0f);
-  sun.intensity = 3.0f;
-  s.lights = {sun};
-  s.camera.position = glm::vec3(0.0f, 0.0f, 4.0f) - glm::vec3(s.origin);
-  s.camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
-  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
-  s.camera.znear = 0.1f;
-  s.camera.zfar = 10.0f;
+  lightHeadOnFromZ(&s, 4.0f);
   s.camera.fromFile = true;
   return s;
 }

@@ -291,17 +291,21 @@ scene::Scene squareBeforeWall() {
   square(0.5f, 0.5f, white);
   square(3.0f, 0.0f, black);
   scene::Scene s = b.finish();
+  lightHeadOnFromZ(&s, 3.0f);
+  return s;
+}
+
+void lightHeadOnFromZ(scene::Scene* s, float distance) {
   scene::Light sun;
   sun.type = scene::LightType::kDirectional;
   sun.direction = glm::vec3(0.0f, 0.0f, -1.0f);
   sun.intensity = 3.0f;
-  s.lights = {sun};
-  s.camera.position = glm::vec3(0.0f, 0.0f, 3.0f) - glm::vec3(s.origin);
-  s.camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
-  s.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
-  s.camera.znear = 0.1f;
-  s.camera.zfar = 10.0f;
-  return s;
+  s->lights = {sun};
+  s->camera.position = glm::vec3(0.0f, 0.0f, distance) - glm::vec3(s->origin);
+  s->camera.forward = glm::vec3(0.0f, 0.0f, -1.0f);
+  s->camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  s->camera.znear = 0.1f;
+  s->camera.zfar = 10.0f;
 }
 
 }  // namespace voxgi::test

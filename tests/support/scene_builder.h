@@ -39,6 +39,10 @@ class SceneBuilder {
 // is a ghost.
 scene::Scene squareBeforeWall();
 
+// Lights s head-on by a directional light of 3 lux shining down -z and puts its
+// camera at (0, 0, distance), looking down -z (near 0.1, far 10).
+void lightHeadOnFromZ(scene::Scene* s, float distance);
+
 // Adds the quad p[0..3] (counter-clockwise seen from its front) to s as one draw of
 // two triangles, with its flat normal and the given corner UVs.
 void addQuad(scene::Scene* s, int material, const glm::vec3 (&p)[4],
