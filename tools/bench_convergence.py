@@ -9,6 +9,12 @@ the view's path-traced reference (FLIP on sRGB 8-bit, RMSE and mean luminance ra
 from `voxgi compare`). Time to the image is the render's total_ms: every frame
 accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
 
+With --against-mitsuba, Mitsuba 3 renders each view too (tools/mitsuba_scene.py: the
+same scene with voxgi's material model, its render time after a first run that
+compiles its kernels), at 16 and 64 spp, and rtgi renders as many frames as fit in
+each of Mitsuba's times (from its 16-frame run's time a frame): the race of the
+validation set's targets, rtgi's image within Mitsuba's time against Mitsuba's.
+
 Writes out/bench-convergence/table.md and convergence.png (FLIP against time per
 view, rtgi and the path tracer), and prints the table. References come from
 tests/data/reference/ (committed, 4096 spp) or out/reference/, the highest spp there;
@@ -77,6 +83,39 @@ def run(view, scene, extra, args, outdir, tag):
         return base, json.load(f)
 
 
+def mitsuba(view, scene, entry_flags, spps, outdir):
+    """[(spp, render ms, exr)] of Mitsuba 3 on the view (tools/mitsuba_scene.py)."""
+    prefix = os.path.join(outdir, "runs", f"{view}_mitsuba")
+    os.makedirs(os.path.dirname(prefix), exist_ok=True)
+    cmd = [sys.executable, os.path.join(ROOT, "tools", "mitsuba_scene.py"), "render", scene,
+           "--size", SIZE, "--spp", ",".join(map(str, spps)), "--out-prefix", prefix,
+           "--seed", str(SEED)] + entry_flags
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise SystemExit(f"bench-convergence: Mitsuba on {view} failed ({r.stderr.strip()[-600:]}); "
+                         "Mitsuba 3 comes with tools/setup --mitsuba")
+    out = []
+    for line in r.stdout.splitlines():
+        if line.startswith("{"):
+            d = json.loads(line)
+            if d["dropped"]:
+                print(f"bench-convergence: {view}: Mitsuba's copy leaves out "
+                      f"{', '.join(d['dropped'])}", flush=True)
+            out.append((d["spp"], d["ms"], d["exr"]))
+    return out
+
+
+def frames_within(view, scene, extra, budget_ms, frame_ms, outdir):
+    """rtgi with as many frames as fit in budget_ms: (frames, base, stats). The count
+    comes from frame_ms and is cut while the render takes longer."""
+    n = max(1, int(budget_ms // frame_ms))
+    while True:
+        base, stats = run(view, scene, extra, ["--frames", str(n)], outdir, f"rtgi_within_{n}")
+        if stats["total_ms"] <= budget_ms or n == 1:
+            return n, base, stats
+        n = max(1, min(n - 1, int(n * budget_ms / stats["total_ms"])))
+
+
 def measure(base, ref_exr, ref_png):
     import flip as fliptool
     m = json.loads(sweep.run_tool([voxgi(), "compare", base + ".exr", ref_exr, "--json"]))
@@ -95,7 +134,8 @@ def plot(rows, views, outdir):
         ax.set_visible(False)
     for ax, view in zip(axes.flat, views):
         for kind, style in (("rtgi", "o-"), ("rtgi, not denoised", "o:"), ("pathtrace", "s--"),
-                            ("rtgi, previous", "x")):
+                            ("rtgi, previous", "x"), ("Mitsuba 3", "^--"),
+                            ("rtgi within Mitsuba's time", "D")):
             pts = [(r["ms"], r["flip"]) for r in rows if r["view"] == view and r["kind"] == kind]
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], style, label=kind)
@@ -120,6 +160,8 @@ def main():
                     help="only this view of the validation set (repeatable; default: all)")
     ap.add_argument("--quick", action="store_true",
                     help="rtgi at 1, 16 and 64 frames and pathtrace at 16 and 64 spp only")
+    ap.add_argument("--against-mitsuba", action="store_true",
+                    help="also Mitsuba 3 at 16 and 64 spp, and rtgi within each of its times")
     a = ap.parse_args()
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
@@ -129,6 +171,18 @@ def main():
              "ratio |", "|---|---|---|---:|---:|---:|---:|"]
     frames, spps = ([1, 16, 64], [16, 64]) if a.quick else (FRAMES, SPP)
     views = validation_set.views(a.view)
+    race = ["| view | Mitsuba 3 | its time (ms) | its FLIP | rtgi within it | rtgi's time (ms) | "
+            "rtgi's FLIP | closer |", "|---|---|---:|---:|---|---:|---:|---|"]
+
+    def record(view, kind, setting, ms, m):
+        row = {"view": view, "kind": kind, "setting": setting, "ms": ms, **m}
+        rows.append(row)
+        line = (f"| {view} | {kind} | {setting} | {ms:.0f} | {m['flip']:.4f} | "
+                f"{m['rmse']:.4f} | {m['lum']:.3f} |")
+        lines.append(line)
+        print(line, flush=True)
+        return row
+
     for view, scene, extra in views:
         ref_exr, ref_png, ref_spp = reference(view, scene, extra, a.ref_spp)
         jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in frames]
@@ -137,18 +191,32 @@ def main():
         jobs.append(("rtgi, previous", "64 frames, " + " ".join(ANCHOR),
                      ["--frames", "64"] + ANCHOR))
         jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in spps]
+        frame_ms = None
         for kind, setting, args in jobs:
             tag = re.sub(r"[^a-z0-9]+", "_", f"{kind}_{setting}")
             base, stats = run(view, scene, extra, args, a.out, tag)
-            m = measure(base, ref_exr, ref_png)
-            row = {"view": view, "kind": kind, "setting": setting, "ms": stats["total_ms"], **m}
-            rows.append(row)
-            line = (f"| {view} | {kind} | {setting} | {row['ms']:.0f} | {m['flip']:.4f} | "
-                    f"{m['rmse']:.4f} | {m['lum']:.3f} |")
-            lines.append(line)
-            print(line, flush=True)
+            record(view, kind, setting, stats["total_ms"], measure(base, ref_exr, ref_png))
+            if kind == "rtgi" and setting == "16 frames":
+                frame_ms = stats["total_ms"] / 16
+        if a.against_mitsuba:
+            for spp, ms, exr in mitsuba(view, scene, extra, [16, 64], a.out):
+                png = exr[:-4] + ".png"
+                subprocess.run(["oiiotool", exr, "--ch", "R,G,B", "--colorconvert", "linear",
+                                "sRGB", "-d", "uint8", "-o", png], check=True, capture_output=True)
+                theirs = record(view, "Mitsuba 3", f"{spp} spp", ms, measure(exr[:-4], ref_exr,
+                                                                               ref_png))
+                n, base, stats = frames_within(view, scene, extra, ms, frame_ms, a.out)
+                ours = record(view, "rtgi within Mitsuba's time", f"{n} frames",
+                              stats["total_ms"], measure(base, ref_exr, ref_png))
+                closer = "rtgi" if ours["flip"] < theirs["flip"] else "Mitsuba"
+                if ours["ms"] > ms:  # one frame alone takes longer
+                    closer = "Mitsuba (rtgi's first frame comes later)"
+                race.append(f"| {view} | {spp} spp | {ms:.0f} | {theirs['flip']:.4f} | {n} frames "
+                            f"| {ours['ms']:.0f} | {ours['flip']:.4f} | {closer} |")
         lines.append(f"| {view} | reference | {ref_spp} spp, seed {REF_SEED} | | | | |")
     table = "\n".join(lines) + "\n"
+    if a.against_mitsuba:
+        table += "\nThe race: rtgi within Mitsuba's time\n\n" + "\n".join(race) + "\n"
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write(table)
     print(table)

@@ -33,7 +33,10 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+sys.path.insert(0, str(ROOT / "tools"))
+import mitsuba_scene  # noqa: E402  (read_gltf, LLVM)
+
+LLVM = mitsuba_scene.LLVM
 
 
 def parse_args(argv):
@@ -109,46 +112,7 @@ def mitsuba_worker(scene_path, size, out):
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
     width, height = (int(v) for v in size.split("x"))
-    path = Path(scene_path)
-    gltf = json.loads(path.read_text())
-    buffers = [np.fromfile(path.parent / b["uri"], dtype=np.uint8) for b in gltf["buffers"]]
-
-    def accessor(i):
-        a = gltf["accessors"][i]
-        view = gltf["bufferViews"][a["bufferView"]]
-        comps = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}[a["type"]]
-        dtype = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[
-            a["componentType"]]
-        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
-        stride = view.get("byteStride", 0) or comps * np.dtype(dtype).itemsize
-        raw = buffers[view["buffer"]][start:start + stride * (a["count"] - 1) +
-                                      comps * np.dtype(dtype).itemsize]
-        if stride == comps * np.dtype(dtype).itemsize:
-            return np.frombuffer(raw.tobytes(), dtype=dtype).reshape(a["count"], comps)
-        rows = np.lib.stride_tricks.as_strided(raw, (a["count"], comps * np.dtype(dtype).itemsize),
-                                               (stride, 1))
-        return np.frombuffer(rows.tobytes(), dtype=dtype).reshape(a["count"], comps)
-
-    def local(node):
-        if "matrix" in node:
-            return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T
-        t = node.get("translation", [0, 0, 0])
-        x, y, z, w = node.get("rotation", [0, 0, 0, 1])
-        s = node.get("scale", [1, 1, 1])
-        r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-        m = np.eye(4)
-        m[:3, :3] = r * np.array(s)
-        m[:3, 3] = t
-        return m
-
-    parents = {c: i for i, n in enumerate(gltf["nodes"]) for c in n.get("children", [])}
-
-    def world(i):
-        m = local(gltf["nodes"][i])
-        return world(parents[i]) @ m if i in parents else m
-
+    gltf, accessor, world = mitsuba_scene.read_gltf(scene_path)
     lights = gltf.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
     scene = {"type": "scene", "integrator": {"type": "path", "max_depth": 8}}
     ply_dir = Path(tempfile.mkdtemp(prefix="bench-scale-"))
