@@ -89,7 +89,9 @@ def mitsuba(view, scene, entry_flags, spps, outdir):
     os.makedirs(os.path.dirname(prefix), exist_ok=True)
     cmd = [sys.executable, os.path.join(ROOT, "tools", "mitsuba_scene.py"), "render", scene,
            "--size", SIZE, "--spp", ",".join(map(str, spps)), "--out-prefix", prefix,
-           "--seed", str(SEED)] + entry_flags
+           "--seed", str(SEED)]
+    # --look-at=-0.4,... : a value that starts with '-' joined to its flag.
+    cmd += [f"{f}={v}" for f, v in zip(entry_flags[::2], entry_flags[1::2])]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise SystemExit(f"bench-convergence: Mitsuba on {view} failed ({r.stderr.strip()[-600:]}); "
