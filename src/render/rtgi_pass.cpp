@@ -78,14 +78,15 @@ bool RtgiPass::reusesLights(const GpuScene& gs) const {
 }
 
 // How direct light treats the scene's lights (rtgi_direct_light.glsl): punctual
-// lights each with its shadow ray (RTGI_LIGHTS) or, beyond exactLights, one drawn
-// per pixel (RTGI_LIGHTS_SAMPLED); emitters summed (RTGI_EMITTERS_EXACT) or drawn
-// from the light tree (RTGI_EMITTERS_SAMPLED), with candidates resampled
-// (RTGI_EMITTER_CANDIDATES).
+// lights each with its shadow ray (RTGI_LIGHTS) or, beyond exactLights (at the
+// indirect hits exactLightsAtHits), one drawn per pixel (RTGI_LIGHTS_SAMPLED); emitters summed
+// (RTGI_EMITTERS_EXACT) or drawn from the light tree (RTGI_EMITTERS_SAMPLED), with candidates
+// resampled (RTGI_EMITTER_CANDIDATES).
 std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs, bool atHits) const {
   std::vector<std::string> defines;
   if (gs.lightCount() > 0) defines.emplace_back("RTGI_LIGHTS");
-  if (static_cast<int>(gs.lightCount()) > settings_.exactLights)
+  if (static_cast<int>(gs.lightCount()) >
+      (atHits ? settings_.exactLightsAtHits : settings_.exactLights))
     defines.emplace_back("RTGI_LIGHTS_SAMPLED");
   if (gs.emitterCount() > 0)
     defines.emplace_back(static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters

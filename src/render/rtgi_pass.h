@@ -56,8 +56,12 @@ class RtgiPass {
     // one drawn from the light tree (rtgi_direct_light.glsl).
     int exactEmitters = 4;
     // Up to this many punctual lights: each its own shadow ray; more: one per pixel
-    // and frame, drawn in proportion to its unshadowed contribution.
-    int exactLights = 4;
+    // and frame, drawn in proportion to its unshadowed contribution, which knows
+    // nothing of shadows: in a room lit by its own lamp, behind walls that hide a
+    // sun and the lights of the hall beside it, the lamp is drawn 1 time in 20.
+    int exactLights = 8;
+    // The same at the indirect rays' hits, whose light a cosine ray already scatters.
+    int exactLightsAtHits = 4;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
     // is resampled with its neighbours' (ReSTIR DI's spatial reuse,
     // rtgi_restir.glsl); false: each pixel draws from its own candidates only.
