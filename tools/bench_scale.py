@@ -156,28 +156,15 @@ def mitsuba_worker(scene_path, size, out):
             pos = (pos @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
             idx = accessor(prim["indices"]).reshape(-1, 3).astype(np.uint32)
             ply = ply_dir / f"m{count}.ply"
-            with open(ply, "wb") as f:
-                f.write((f"ply\nformat binary_little_endian 1.0\nelement vertex {len(pos)}\n"
-                         "property float x\nproperty float y\nproperty float z\n"
-                         f"element face {len(idx)}\nproperty list uchar int vertex_indices\n"
-                         "end_header\n").encode())
-                f.write(pos.tobytes())
-                faces = np.empty(len(idx), dtype=[("n", "u1"), ("v", "<i4", 3)])
-                faces["n"] = 3
-                faces["v"] = idx
-                f.write(faces.tobytes())
+            mitsuba_scene.write_ply(ply, pos, None, None, idx)
             mat = gltf["materials"][prim.get("material", 0)] if "materials" in gltf else {}
             base = mat.get("pbrMetallicRoughness", {}).get("baseColorFactor", [0.8, 0.8, 0.8, 1])
             shape = {"type": "ply", "filename": str(ply),
                      "bsdf": {"type": "twosided",
                               "bsdf": {"type": "diffuse",
                                        "reflectance": {"type": "rgb", "value": base[:3]}}}}
-            emission = np.array(mat.get("emissiveFactor", [0, 0, 0])) * mat.get(
-                "extensions", {}).get("KHR_materials_emissive_strength", {}).get(
-                    "emissiveStrength", 1.0)
-            if emission.max() > 0:
-                shape["emitter"] = {"type": "area",
-                                    "radiance": {"type": "rgb", "value": emission.tolist()}}
+            if mitsuba_scene.area_emitter(mat) is not None:
+                shape["emitter"] = mitsuba_scene.area_emitter(mat)
             scene[f"shape{count}"] = shape
             count += 1
     image = mi.render(mi.load_dict(scene))

@@ -211,6 +211,17 @@ def write_ply(path, pos, normals, uvs, idx):
         f.write(faces.tobytes())
 
 
+def area_emitter(mat):
+    """The glTF material's emission (emissiveFactor x KHR_materials_emissive_strength)
+    as a Mitsuba area emitter, or None."""
+    import numpy as np
+    emission = np.array(mat.get("emissiveFactor", [0, 0, 0])) * mat.get(
+        "extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
+    if not emission.max() > 0:
+        return None
+    return {"type": "area", "radiance": {"type": "rgb", "value": emission.tolist()}}
+
+
 def convert(mi, scene_path, width, height, ply_dir, look_from=None, look_at=None,
             max_depth=8, rr_depth=5):
     """(Mitsuba scene dict, [what was not carried over])."""
@@ -319,12 +330,8 @@ def convert(mi, scene_path, width, height, ply_dir, look_from=None, look_at=None
             mat = gltf["materials"][prim["material"]] if "material" in prim else {}
             # The PLY loader flips v (its origin bottom left), as glTF's is top left.
             shape = {"type": "ply", "filename": str(ply), "bsdf": bsdf(mat)}
-            emission = np.array(mat.get("emissiveFactor", [0, 0, 0])) * mat.get(
-                "extensions", {}).get("KHR_materials_emissive_strength", {}).get(
-                    "emissiveStrength", 1.0)
-            if emission.max() > 0:
-                shape["emitter"] = {"type": "area",
-                                    "radiance": {"type": "rgb", "value": emission.tolist()}}
+            if area_emitter(mat) is not None:
+                shape["emitter"] = area_emitter(mat)
             scene[f"shape{count}"] = shape
             count += 1
     if "sensor" not in scene:
