@@ -167,6 +167,10 @@ def main():
     a = ap.parse_args()
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
+    if a.against_mitsuba and subprocess.run([sys.executable, "-c", "import mitsuba"],
+                                            capture_output=True).returncode != 0:
+        raise SystemExit("bench-convergence: error: --against-mitsuba needs Mitsuba 3 in .venv "
+                         "(tools/setup --mitsuba)")
     os.makedirs(a.out, exist_ok=True)
     rows = []
     lines = ["| view | renderer | setting | time to the image (ms) | FLIP | RMSE | mean luminance "
