@@ -75,6 +75,7 @@ std::string mainHelp() {
          "  compare TEST REF error metrics of a linear image against a reference\n"
          "  check SCENE      load a glTF scene as render would, without a GL context\n"
          "\n"
+         "  An option's value follows it as the next word or after '=' (--size=640x360).\n"
          "  voxgi --help, voxgi render|view|bench|compare|check --help, voxgi --version\n";
 }
 
@@ -743,9 +744,28 @@ Invocation parseRender(const std::vector<std::string>& args) {
   return inv;
 }
 
+// GNU style: an option's value may follow it after '=' ("--size=640x360"), which
+// also passes a value that starts with '-' ("--look-at=-0.4,0.35,-0.5").
+std::vector<std::string> splitOptionValues(const std::vector<std::string>& args) {
+  std::vector<std::string> out;
+  out.reserve(args.size());
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const size_t eq = a.find('=');
+    if (i > 0 && a.rfind("--", 0) == 0 && eq != std::string::npos && eq > 2) {
+      out.push_back(a.substr(0, eq));
+      out.push_back(a.substr(eq + 1));
+    } else {
+      out.push_back(a);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
-Invocation parseCommandLine(const std::vector<std::string>& args) {
+Invocation parseCommandLine(const std::vector<std::string>& original) {
+  const std::vector<std::string> args = splitOptionValues(original);
   Invocation inv;
   if (args.empty()) return inv;
   const std::string& cmd = args[0];

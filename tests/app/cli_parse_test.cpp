@@ -40,6 +40,23 @@ TEST(CliParse, Defaults) {
   EXPECT_TRUE(inv.render.outputs.empty());
 }
 
+// --name=value is --name value, so a value that starts with '-' can follow its flag;
+// a positional argument with '=' in it is left as it is.
+TEST(CliParse, OptionValuesAfterAnEqualsSign) {
+  const Invocation inv = parse({"render", "a=b.gltf", "--size=64x32", "--look-from=0.75,1.5,1.1",
+                                "--look-at=-0.4,0.35,-0.5", "--frames=3"});
+  EXPECT_EQ(inv.render.scene, "a=b.gltf");
+  EXPECT_EQ(inv.render.render.width, 64);
+  EXPECT_EQ(inv.render.render.height, 32);
+  EXPECT_EQ(inv.render.frames, 3);
+  ASSERT_TRUE(inv.render.lookAt);
+  EXPECT_EQ(*inv.render.lookAt, glm::vec3(-0.4f, 0.35f, -0.5f));
+  EXPECT_EQ(parse({"view", "--render-scale=0.5"}).view.render.renderScale, 0.5f);
+  EXPECT_THROW(parse({"render", "--size="}), UsageError);
+  // A flag that takes no value leaves "1" as a second scene: an error.
+  EXPECT_THROW(parse({"render", "s.gltf", "--no-jitter=1"}), UsageError);
+}
+
 TEST(CliParse, AllOptions) {
   const Invocation inv = parse(
       {"render",    "s.gltf", "--size",   "640x360", "--out",     "a.png",  "--out",      "a.exr",
