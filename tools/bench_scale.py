@@ -163,8 +163,9 @@ def mitsuba_worker(scene_path, size, out):
                      "bsdf": {"type": "twosided",
                               "bsdf": {"type": "diffuse",
                                        "reflectance": {"type": "rgb", "value": base[:3]}}}}
-            if mitsuba_scene.area_emitter(mat) is not None:
-                shape["emitter"] = mitsuba_scene.area_emitter(mat)
+            emitter = mitsuba_scene.area_emitter(mat)
+            if emitter is not None:
+                shape["emitter"] = emitter
             scene[f"shape{count}"] = shape
             count += 1
     image = mi.render(mi.load_dict(scene))

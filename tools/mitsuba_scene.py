@@ -330,8 +330,9 @@ def convert(mi, scene_path, width, height, ply_dir, look_from=None, look_at=None
             mat = gltf["materials"][prim["material"]] if "material" in prim else {}
             # The PLY loader flips v (its origin bottom left), as glTF's is top left.
             shape = {"type": "ply", "filename": str(ply), "bsdf": bsdf(mat)}
-            if area_emitter(mat) is not None:
-                shape["emitter"] = area_emitter(mat)
+            emitter = area_emitter(mat)
+            if emitter is not None:
+                shape["emitter"] = emitter
             scene[f"shape{count}"] = shape
             count += 1
     if "sensor" not in scene:
@@ -359,8 +360,11 @@ def render_worker(argv):
     vec = (lambda s: [float(v) for v in s.split(",")]) if a.look_from else (lambda s: None)
     with tempfile.TemporaryDirectory(prefix="mitsuba-scene-") as ply_dir:
         t0 = time.perf_counter()
-        d, dropped = convert(mi, a.scene, width, height, ply_dir, vec(a.look_from),
-                             vec(a.look_at) if a.look_at else None, a.max_depth)
+        try:
+            d, dropped = convert(mi, a.scene, width, height, ply_dir, vec(a.look_from),
+                                 vec(a.look_at) if a.look_at else None, a.max_depth)
+        except (OSError, ValueError, KeyError, IndexError) as e:
+            raise SystemExit(f"mitsuba_scene: {a.scene}: cannot convert ({type(e).__name__}: {e})")
         scene = mi.load_dict(d)
         load_s = time.perf_counter() - t0
         for spp in (int(s) for s in a.spp.split(",")):
