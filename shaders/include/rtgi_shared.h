@@ -36,6 +36,7 @@ VOXGI_CONST uint kRtgiSparseStart = 1u;
 VOXGI_CONST uint kRtgiTraceGroup = 64u;  // tracing stages: 1D groups over packed pixels
 VOXGI_CONST uint kRtgiGroupX = 8u;
 VOXGI_CONST uint kRtgiGroupY = 8u;
+VOXGI_CONST uint kDenoisePrepareGroup = 16u;  // rtgi_denoise_prepare.comp: square groups
 
 // Which terms accumulate adds.
 VOXGI_CONST uint kRtgiHasDirect = 1u;

@@ -10,6 +10,11 @@
 // mean of their samples' variances; with one, the variance of their pooled moments
 // (Schied et al. 2017, sec. 4.2), which counts the light's change from pixel to
 // pixel as noise too. Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
+//
+// The 7x7 neighbourhood is read from shared memory: a group that has such a pixel
+// first loads its tile and a 3-pixel border once (what each neighbour's weight
+// needs: position, normal, material, sample count, moments), where each pixel
+// fetching its 48 neighbours' texels took half the first frame's denoise stage.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -17,7 +22,7 @@
 #include "rtgi_common.glsl"
 #include "rtgi_denoise.glsl"
 
-layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
+layout(local_size_x = kDenoisePrepareGroup, local_size_y = kDenoisePrepareGroup) in;
 
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
 layout(binding = kHistoryMomentsUnit) uniform sampler2D moments;
@@ -25,6 +30,14 @@ layout(binding = kHistoryDirectUnit) uniform sampler2D directMean;
 layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D prepared;
 layout(binding = kDenoiseOutImage2, rgba32f) uniform writeonly image2D prepared2;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform writeonly uimage2D keys;
+
+const int kTile = int(kDenoisePrepareGroup) + 6;  // the group and its 3-pixel border
+// Per tile pixel: position and sample count (-1: not drawn, or outside the image),
+// normal and material, moments.
+shared vec4 tilePosition[kTile * kTile];
+shared vec4 tileNormal[kTile * kTile];
+shared vec4 tileMoments[kTile * kTile];
+shared uint tileNeeded;
 
 DenoiseKey keyAt(ivec2 px) {
   DenoiseKey k;
@@ -35,12 +48,45 @@ DenoiseKey keyAt(ivec2 px) {
   return k;
 }
 
+// Loads the group's tile into shared memory when one of its pixels estimates its
+// variance from its neighbours. In uniform control flow: every invocation calls it.
+void loadTile(ivec2 size, bool needed) {
+  if (gl_LocalInvocationIndex == 0u) tileNeeded = 0u;
+  barrier();
+  if (needed) atomicOr(tileNeeded, 1u);
+  barrier();
+  if (tileNeeded == 0u) return;
+  ivec2 origin = ivec2(gl_WorkGroupID.xy * kDenoisePrepareGroup) - 3;
+  uint threads = kDenoisePrepareGroup * kDenoisePrepareGroup;
+  for (uint i = gl_LocalInvocationIndex; i < uint(kTile * kTile); i += threads) {
+    ivec2 q = origin + ivec2(int(i) % kTile, int(i) / kTile);
+    vec4 position = vec4(0.0, 0.0, 0.0, -1.0);
+    vec4 normal = vec4(0.0);
+    vec4 m = vec4(0.0);
+    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) {
+      vec4 p = texelFetch(gPosition, q, 0);
+      if (p.w >= 0.5) {
+        position = vec4(p.xyz, texelFetch(mean, q, 0).a);
+        normal = vec4(normalize(texelFetch(gNormal, q, 0).xyz), p.w);
+        m = texelFetch(moments, q, 0);
+      }
+    }
+    tilePosition[i] = position;
+    tileNormal[i] = normal;
+    tileMoments[i] = m;
+  }
+  barrier();
+}
+
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(rtgi.frame.zw);
-  if (px.x >= size.x || px.y >= size.y) return;
-  vec4 c = texelFetch(mean, px, 0);
-  if (denoiseKeeps(px)) {
+  bool inside = px.x < size.x && px.y < size.y;
+  vec4 c = inside ? texelFetch(mean, px, 0) : vec4(0.0);
+  bool keeps = !inside || denoiseKeeps(px);
+  loadTile(size, !keeps && c.a < kDenoiseTemporalSamples);
+  if (!inside) return;
+  if (keeps) {
     imageStore(prepared, px, vec4(c.rgb, -1.0));
     imageStore(prepared2, px, vec4(0.0, 0.0, 0.0, -1.0));
     return;
@@ -64,15 +110,19 @@ void main() {
     vec4 sum = n > 0.0 ? m : vec4(0.0);
     vec2 within = own ? max(m.yw - m.xz * m.xz, vec2(0.0)) * (n / (n - 1.0)) : vec2(0.0);
     float weight = n > 0.0 ? 1.0 : 0.0;
+    ivec2 local = ivec2(gl_LocalInvocationID.xy) + 3;
     for (int dy = -3; dy <= 3; ++dy)
       for (int dx = -3; dx <= 3; ++dx) {
-        ivec2 q = px + ivec2(dx, dy);
-        if ((dx == 0 && dy == 0) || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
-          continue;
-        float nq = texelFetch(mean, q, 0).a;
-        if (!(nq >= (own ? 2.0 : 1.0)) || texelFetch(gPosition, q, 0).w < 0.5) continue;
-        float w = exp(logEdgeWeight(p, keyAt(q), scale));
-        vec4 mq = texelFetch(moments, q, 0);
+        int i = (local.y + dy) * kTile + local.x + dx;
+        vec4 position = tilePosition[i];
+        float nq = position.w;  // -1 outside the image or where nothing is drawn
+        if ((dx == 0 && dy == 0) || !(nq >= (own ? 2.0 : 1.0))) continue;
+        DenoiseKey q;
+        q.position = position.xyz;
+        q.normal = tileNormal[i].xyz;
+        q.material = uint(tileNormal[i].w) & 1023u;
+        float w = exp(logEdgeWeight(p, q, scale));
+        vec4 mq = tileMoments[i];
         sum += w * mq;
         within += w * max(mq.yw - mq.xz * mq.xz, vec2(0.0)) * (nq / (nq - 1.0));
         weight += w;

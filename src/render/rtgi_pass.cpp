@@ -562,7 +562,11 @@ void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum
   bind(gpu::kDenoiseOutImage, denoiseScratch_[0].id(), GL_WRITE_ONLY);
   bind(gpu::kDenoiseOutImage2, denoiseScratch_[2].id(), GL_WRITE_ONLY);
   glUseProgram(programs_.get({{"render/rtgi_denoise_prepare.comp"}, {}}).id());
-  dispatch();
+  glDispatchCompute(
+      (static_cast<GLuint>(width_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
+      (static_cast<GLuint>(height_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
+      1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA32UI);
   glUseProgram(programs_.get({{"render/rtgi_denoise.comp"}, {}}).id());
