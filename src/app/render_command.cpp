@@ -261,6 +261,7 @@ void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
         {"checksum", strf("%016llx", static_cast<unsigned long long>(vs.checksum))},
         {"bytes", vs.bytes},
         {"peak_bytes", vs.peakBytes},
+        {"rounds", vs.rounds},
         {"revoxelize", o.render.revoxelize},
         {"small_triangles", o.render.smallTrianglesInCompute ? "compute" : "raster"}};
   }

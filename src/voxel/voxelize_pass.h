@@ -58,6 +58,12 @@ struct VoxelMemory {
 };
 VoxelMemory voxelMemory(int resolution);
 
+// The voxel list's first size for scene `s` on an n^3 grid of voxels `voxelSize`
+// wide: what its surfaces can occupy, with room to spare (see the .cpp), at most
+// initialListCapacity(n). Too few and voxelization takes another round with room for
+// what it found.
+uint32_t listEntriesFor(const scene::Scene& s, int n, float voxelSize);
+
 // Memory available for voxel data on the current context: the driver's report
 // where there is one (NVX_gpu_memory_info), half of physical RAM on software
 // rasterizers; `overrideBytes` > 0 overrides (app: VOXGI_VOXEL_BUDGET_MB).
@@ -100,6 +106,9 @@ class VoxelizePass {
     bool deferAll = false;
     // Tests: the pool's first size in bricks (0: what the grid may need, up to 2^16).
     uint32_t initialBricks = 0;
+    // Tests: the voxel list's first size in entries, its slots' too (0: estimated from
+    // the scene's surface area, listEntriesFor).
+    uint32_t initialListEntries = 0;
   };
 
   // Throws voxgi::Error if the resolution is out of range or will not fit.
@@ -174,6 +183,7 @@ class VoxelizePass {
   gpu::VoxelParams params_{};
   uint32_t epoch_ = 0;
   uint32_t capacity_ = 0;       // slots, and entries of list_
+  bool sized_ = false;          // capacity_ set for the scene (the first execute)
   uint32_t brickCapacity_ = 0;  // pool bricks
   uint32_t listed_ = 0;         // voxels listed (and resolved) by the last voxelization
   glm::vec3 gridOrigin_{0.0f};

@@ -186,6 +186,62 @@ TEST_F(VoxelizeTest, ARoundThatDidNotFitLeavesNothingInTheSums) {
   EXPECT_EQ(grown.albedo, roomy.albedo);
 }
 
+// The list and its slots are sized for the scene's surfaces (listEntriesFor), not
+// the dense grid: enough for what they occupy in one round, and a small part of the
+// grid. Overlapping surfaces make the estimate larger (never smaller): these scenes
+// have none.
+TEST_F(VoxelizeTest, ListSizedForTheSceneFitsInOneRound) {
+  struct Case {
+    const char* name;
+    scene::Scene scene;
+    int n;
+  };
+  std::vector<Case> cases;
+  const scene::Scene cornell = scene::loadGltf(cornellRoom());
+  for (int n : {64, 128}) cases.push_back({"cornell_room", cornell, n});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int i = 0; i < 4; ++i) {
+    SceneBuilder b;
+    const glm::mat4 t = glm::rotate(glm::mat4(1.0f), 3.0f * u(rng),
+                                    glm::normalize(glm::vec3(u(rng), u(rng), u(rng))));
+    const int m = b.addMaterial(glm::vec3(0.5f));
+    b.addBox({-1, -0.6f, -0.8f}, {1, 0.6f, 0.8f}, m, t);
+    b.addSphere(glm::vec3(0.3f), 0.25f, 48, m, t);  // small triangles
+    for (int n : {32, 128}) cases.push_back({"tilted box and sphere", b.finish(), n});
+  }
+  Voxelizer voxelizer;
+  for (const Case& c : cases) {
+    const float voxelSize = c.scene.scale.gridSize / static_cast<float>(c.n);
+    const uint32_t entries = voxel::listEntriesFor(c.scene, c.n, voxelSize);
+    const Voxelized v = voxelizer.run(c.scene, {c.n, false}, false);
+    const uint32_t n2 = static_cast<uint32_t>(c.n * c.n);
+    EXPECT_EQ(v.stats.rounds, 1) << c.name << " at " << c.n;
+    EXPECT_GE(entries, v.stats.occupied) << c.name << " at " << c.n;
+    // At most 2.5 times what they occupy (walls along the axes) plus a grid face,
+    // give or take the estimate's error; a small part of the dense grid's memory.
+    EXPECT_LE(entries, 3 * v.stats.occupied + n2) << c.name << " at " << c.n;
+    if (c.n >= 128) {
+      EXPECT_LT(v.stats.peakBytes, voxel::voxelMemory(c.n).peakBytes / 4) << c.name;
+    }
+  }
+}
+
+// A list too small for the scene grows and the raster runs again: the same grid.
+TEST_F(VoxelizeTest, AListTooSmallGrowsToTheSameGrid) {
+  const scene::Scene s = scene::loadGltf(cornellRoom());
+  Voxelizer voxelizer;
+  const Voxelized sized = voxelizer.run(s, {64, false}, true);
+  voxel::VoxelizePass::Settings tight{64, false};
+  tight.initialListEntries = 1000;
+  const Voxelized grown = voxelizer.run(s, tight, true);
+  EXPECT_EQ(sized.stats.rounds, 1);
+  EXPECT_GE(grown.stats.rounds, 2);
+  EXPECT_EQ(grown.stats.occupied, sized.stats.occupied);
+  EXPECT_EQ(grown.stats.checksum, sized.stats.checksum);
+  EXPECT_EQ(grown.albedo, sized.albedo);
+}
+
 struct Agreement {
   size_t gpu = 0, cpu = 0, both = 0;
   double recall() const { return cpu ? static_cast<double>(both) / static_cast<double>(cpu) : 1.0; }
