@@ -490,7 +490,7 @@ TEST_F(OctreeTest, TwoSidedLeavesKeepTheirSidesApart) {
 // meets in a shell is its inner one, a little nearer the light); a finite chain of 2
 // bounces stops at D (1 + a), 25-40% short. With the leaves' rays on the exact
 // triangles (rtgi's BVH; a bounce ray reads the leaf that stands for its hit), all
-// bounces come within 2% (+1.8% and +1.2%); without their light (no leaf found for
+// bounces come within 2% (+1.7% and +1.1%); without their light (no leaf found for
 // the hit) they would stop at D.
 TEST_F(OctreeTest, AllBouncesConvergeToTheClosedSphere) {
   constexpr float kIntensity = 10.0f;
