@@ -63,6 +63,27 @@ vec3 shade(Surface s, vec3 l, vec3 irradiance, float alphaMin) {
   return shadeDiffuse(s, l, irradiance) + shadeSpecular(s, l, irradiance, alphaMin);
 }
 
+// The directional albedo of the GGX lobe (Schlick's Fresnel, Smith's masking) seen
+// at n.v = nv, as f0 x a + b: B. Karis's analytic fit of the split-sum integral
+// ("Physically Based Shading on Mobile", 2014), roughness as in glTF.
+vec2 specularAlbedoFit(float nv, float roughness) {
+  const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
+  const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
+  vec4 r = roughness * c0 + c1;
+  float a004 = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;
+  return vec2(-1.04, 1.04) * a004 + r.zw;
+}
+
+// What s reflects towards s.v of light arriving evenly from every direction: the
+// GGX lobe's albedo, and the Lambert part less what that lobe takes. The diffuse
+// albedo alone for pure Lambert.
+vec3 directionalAlbedo(Surface s, float roughness) {
+  if (s.specular == 0.0) return s.diffuse;
+  vec2 ab = specularAlbedoFit(clamp(dot(s.n, s.v), 0.0, 1.0), roughness);
+  vec3 spec = clamp(s.f0 * ab.x + ab.y, 0.0, 1.0);
+  return s.diffuse * (1.0 - spec) + spec;
+}
+
 vec3 punctualLight(GpuLight light, Surface s) {
   uint type = uint(light.positionType.w);
   vec3 l;

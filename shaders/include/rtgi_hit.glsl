@@ -14,6 +14,7 @@ struct TriangleHit {
   vec3 below;       // ng where a normal map tilts s.n, else 0 (the leak rule)
   vec3 emission;    // what the hit emits towards the ray (0 under VOXGI_NO_EMISSION)
   float roughness;  // kMirrorRoughness and below: a mirror
+  vec3 base;        // base colour (the voxels' albedo: what they reflect as Lambert)
 };
 
 // Traces the ray from o along unit dir; false where it leaves the scene. Set
@@ -61,6 +62,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   float metallic = m.params.x;
   h.roughness = clamp(m.params.y, 0.0, 1.0);
   vec3 base = m.baseColor.rgb;
+  h.base = base;
   h.s.p = p;
   h.s.n = ns;
   h.s.v = -dir;

@@ -91,19 +91,26 @@ vec3 hitRadiance(vec3 o, vec3 dir) {
     TriangleHit h;
     if (!traceSurface(o, dir, h)) break;
     int node = voxelAt(o, dir, h.t);
-    if (h.roughness < kMirrorRoughness) h.s.specular = 0.0;
+    bool mirror = h.roughness < kMirrorRoughness;
+    if (mirror) h.s.specular = 0.0;
     vec3 from = h.s.p + h.ng * bvhEpsilon();
     result += throughput * directLight(h.s, from, h.below);
+    // The voxels reflect their light as Lambert surfaces of the base colour; a glTF
+    // material reflects the bounces, which arrive from all about, by its directional
+    // albedo towards the ray (a rough tiled floor seen at a grazing angle sends less
+    // than its base colour says).
+    vec3 albedo = directionalAlbedo(h.s, h.roughness);
+    vec3 toMaterial = h.s.specular != 0.0 ? albedo / max(h.base, vec3(1e-4)) : vec3(1.0);
     if (!goOn || k + 1 == kMaxIndirectVertices || voxelStandsFor(node, h.ng)) {
       if (node >= 0)
-        result +=
-            throughput * max(bounce[lightSlot(uint(node), material[node].y, h.ng)].rgb, vec3(0.0));
+        result += throughput * toMaterial *
+                  max(bounce[lightSlot(uint(node), material[node].y, h.ng)].rgb, vec3(0.0));
       break;
     }
-    if (!any(greaterThan(h.s.diffuse, vec3(0.0)))) break;
+    if (!any(greaterThan(albedo, vec3(0.0)))) break;
     dir = cosineSample(h.s.n, vec2(rand01(), rand01()));
     if (dot(dir, h.ng) <= 0.0 || dot(dir, h.below) < 0.0) break;
-    throughput *= h.s.diffuse;
+    throughput *= albedo;
     o = from;
   }
   return result;
@@ -112,6 +119,12 @@ vec3 hitRadiance(vec3 o, vec3 dir) {
 #ifdef RTGI_CONES
 #include "rtgi_cones.glsl"
 #endif
+
+// A glTF material the specular stage skips (isSpecular: a dielectric of roughness
+// kGlossyRoughness and up) that is not pure Lambert.
+bool roughDielectric(Pixel p) {
+  return !isSpecular(p.metallic, p.roughness) && !isLambertian(p.metallic, p.roughness);
+}
 
 void main() {
   ivec2 px;
@@ -123,20 +136,40 @@ void main() {
     result = p.s.diffuse * coneIrradiance(surfaceRayOrigin(px, p.s), p.s.n, surfaceNormal(px));
 #else
     seedPixel(px, 2u);
-    vec3 dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
+    vec3 dir;
+    vec3 weight = p.s.diffuse;  // the BSDF x cosine / pdf of the direction drawn
+    if (roughDielectric(p)) {
+      // The specular stage leaves it out: the whole BSDF here, drawn as the path
+      // tracer draws it (its GGX lobe and the Lambert part less what Fresnel takes).
+      Bsdf b = makeBsdf(p.base, p.metallic, p.roughness, max(dot(p.s.n, p.s.v), 1e-4));
+      vec2 u = vec2(rand01(), rand01());
+      if (rand01() >= b.specularChance) {
+        dir = cosineSample(p.s.n, u);
+      } else {
+        vec3 t, bt;
+        basis(p.s.n, t, bt);
+        vec3 ve = vec3(dot(p.s.v, t), dot(p.s.v, bt), dot(p.s.v, p.s.n));
+        vec3 m = sampleVndf(ve, b.alpha, u);
+        dir = reflect(-p.s.v, normalize(t * m.x + bt * m.y + p.s.n * m.z));
+      }
+      float pdf;
+      vec3 f = evalBsdf(b, p.s.n, p.s.v, dir, pdf);
+      weight = pdf > 0.0 ? f / pdf : vec3(0.0);
+    } else {
+      dir = cosineSample(p.s.n, vec2(rand01(), rand01()));
+    }
     // A ray below the surface itself (a normal map tilts n) brings nothing: no leaks.
     vec3 ng = surfaceNormal(px);
-    if (dot(dir, ng) >= 0.0) {
+    if (dot(dir, ng) >= 0.0 && any(greaterThan(weight, vec3(0.0)))) {
 #ifdef RTGI_BVH
       vec3 o = p.s.p + (ng != vec3(0.0) ? ng : p.s.n) * bvhEpsilon();
-      result =
-          p.s.diffuse * (samplesSoFar(px) < 1.0 ? voxelLightAlong(o, dir) : hitRadiance(o, dir));
+      result = weight * (samplesSoFar(px) < 1.0 ? voxelLightAlong(o, dir) : hitRadiance(o, dir));
 #else
       MarchHit h =
           octreeTrace(octreeWorldRay(surfaceRayOrigin(px, p.s), dir, 3.0e38), 0.0, kRaySteps);
       uint word = h.hit ? material[h.node].y : 0u;
       if (h.hit && !seenFromBehind(word, dir))
-        result = p.s.diffuse * unpackRgb9e5(radiance[lightSlot(h.node, word, -dir)]);
+        result = weight * unpackRgb9e5(radiance[lightSlot(h.node, word, -dir)]);
 #endif
     }
 #endif
