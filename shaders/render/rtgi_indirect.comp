@@ -4,7 +4,9 @@
 // injected direct light plus the voxel bounces, bounces - 1 of them), so the pixel
 // sees `bounces` bounces in all. Emission of the surface hit is left out: light from
 // emitters reaches the pixel through the shadows stage (no double counting).
-// Cosine sampling: the Lambertian estimate is albedo x L.
+// Cosine sampling: the Lambertian estimate is albedo x L. A rough dielectric (a glTF
+// material the specular stage skips) draws its ray from the path tracer's BSDF
+// instead, weighed by BSDF x cosine / pdf.
 //
 // RTGI_BVH: the ray finds its hit on the exact triangles (rtgi_bvh.glsl), which is
 // shaded as the path tracer would shade it: its exact direct light (the shadows
