@@ -170,20 +170,26 @@ TEST_F(VoxelizeTest, DeferredFragmentsAddWhatTheyWouldHave) {
     EXPECT_EQ(voxelizer.run(s, impatient, false).stats.checksum, reference.stats.checksum);
 }
 
-// A raster that ran out of pool bricks runs again in a fresh epoch; what the first
-// round added to the sums must not stay there.
+// A raster that ran out of pool bricks, or of voxel slots, runs again in a fresh
+// epoch with room for what it found; what the first round added to the sums must
+// not stay there.
 TEST_F(VoxelizeTest, ARoundThatDidNotFitLeavesNothingInTheSums) {
   const scene::Scene s = scene::loadGltf(cornellRoom());
   Voxelizer voxelizer;
   const Voxelized roomy = voxelizer.run(s, {64, false}, true);
-  voxel::VoxelizePass::Settings tight{64, false};
-  tight.initialBricks = 16;
-  const Voxelized grown = voxelizer.run(s, tight, true);
   EXPECT_EQ(roomy.stats.rounds, 1);
-  EXPECT_GE(grown.stats.rounds, 2);
-  EXPECT_EQ(grown.stats.occupied, roomy.stats.occupied);
-  EXPECT_EQ(grown.stats.checksum, roomy.stats.checksum);
-  EXPECT_EQ(grown.albedo, roomy.albedo);
+  for (bool bricks : {true, false}) {
+    voxel::VoxelizePass::Settings tight{64, false};
+    if (bricks)
+      tight.initialBricks = 16;
+    else
+      tight.initialListEntries = 1000;
+    const Voxelized grown = voxelizer.run(s, tight, true);
+    EXPECT_GE(grown.stats.rounds, 2) << (bricks ? "bricks" : "slots");
+    EXPECT_EQ(grown.stats.occupied, roomy.stats.occupied);
+    EXPECT_EQ(grown.stats.checksum, roomy.stats.checksum);
+    EXPECT_EQ(grown.albedo, roomy.albedo);
+  }
 }
 
 // The list and its slots are sized for the scene's surfaces (listEntriesFor), not
@@ -225,21 +231,6 @@ TEST_F(VoxelizeTest, ListSizedForTheSceneFitsInOneRound) {
       EXPECT_LT(v.stats.peakBytes, voxel::voxelMemory(c.n).peakBytes / 4) << c.name;
     }
   }
-}
-
-// A list too small for the scene grows and the raster runs again: the same grid.
-TEST_F(VoxelizeTest, AListTooSmallGrowsToTheSameGrid) {
-  const scene::Scene s = scene::loadGltf(cornellRoom());
-  Voxelizer voxelizer;
-  const Voxelized sized = voxelizer.run(s, {64, false}, true);
-  voxel::VoxelizePass::Settings tight{64, false};
-  tight.initialListEntries = 1000;
-  const Voxelized grown = voxelizer.run(s, tight, true);
-  EXPECT_EQ(sized.stats.rounds, 1);
-  EXPECT_GE(grown.stats.rounds, 2);
-  EXPECT_EQ(grown.stats.occupied, sized.stats.occupied);
-  EXPECT_EQ(grown.stats.checksum, sized.stats.checksum);
-  EXPECT_EQ(grown.albedo, sized.albedo);
 }
 
 struct Agreement {
