@@ -36,13 +36,15 @@ layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint dir
 #define RTGI_VOXEL_AT_ONLY
 #include "rtgi_voxel_light.glsl"
 
-// The leaf the ray from p along unit dir brings the light of: the first voxel within
-// kNearFieldVoxels (where p's place about the surface is known only to a voxel, as
-// in octree_inject.comp), else the leaf that stands for the nearest triangle (-1:
-// none, or no hit).
-int hitLeaf(vec3 p, vec3 dir, float start) {
-  MarchHit h = octreeTrace(octreeWorldRay(p, dir, kNearFieldVoxels), start, kRaySteps);
-  if (h.hit) return int(h.node);
+// The leaf the ray from p along unit dir brings the light of: with `nearField`, the
+// first voxel within kNearFieldVoxels (where p's place about the surface is known
+// only to a voxel, as in octree_inject.comp); else, or if none, the leaf that stands
+// for the nearest triangle (-1: none, or no hit).
+int hitLeaf(vec3 p, vec3 dir, float start, bool nearField) {
+  if (nearField) {
+    MarchHit h = octreeTrace(octreeWorldRay(p, dir, kNearFieldVoxels), start, kRaySteps);
+    if (h.hit) return int(h.node);
+  }
   float t;
   uint tri;
   vec2 bc;
@@ -107,16 +109,7 @@ vec3 gatheredAt(vec3 centre, vec3 n, bool oriented) {
       dir = vec3(s * cos(2.0 * kPi * u.y), s * sin(2.0 * kPi * u.y), z);
     }
 #ifdef OCTREE_BVH
-    int leaf;
-    if (exact) {
-      float t;
-      uint tri;
-      vec2 bc;
-      loopBudget = kPtLoopBudget;
-      leaf = trace(p, dir, kInf, false, t, tri, bc) ? voxelAt(p, dir, t) : -1;
-    } else {
-      leaf = hitLeaf(p, dir, start);
-    }
+    int leaf = hitLeaf(p, dir, start, !exact);
     if (leaf < 0) continue;
     uint hitNode = uint(leaf);
 #else
