@@ -77,7 +77,10 @@ size_t texelCentreMean(const EmissiveTexels& e, const glm::vec2 q[3], glm::dvec3
   const double box =
       (std::floor(static_cast<double>(hi.x)) - std::ceil(static_cast<double>(lo.x)) + 1.0) *
       (std::floor(static_cast<double>(hi.y)) - std::ceil(static_cast<double>(lo.y)) + 1.0);
-  if (area2 != 0.0f && std::isfinite(area2) && box < 16.0 * 1024.0 * 1024.0) {
+  // Texel coordinates far from the texture (a malformed UV) would overflow int below.
+  const bool near = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(hi.x), std::abs(hi.y)}) <
+                    static_cast<float>(1 << 30);
+  if (area2 != 0.0f && std::isfinite(area2) && near && box < 16.0 * 1024.0 * 1024.0) {
     const float sign = area2 > 0.0f ? 1.0f : -1.0f;
     for (int y = static_cast<int>(std::ceil(lo.y)); y <= static_cast<int>(std::floor(hi.y)); ++y)
       for (int x = static_cast<int>(std::ceil(lo.x)); x <= static_cast<int>(std::floor(hi.x));
