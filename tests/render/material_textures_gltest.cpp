@@ -214,6 +214,22 @@ TEST(MaterialTexturesCpuTest, BlackTexelsAreNoEmitters) {
   EXPECT_EQ(render::buildPtScene(s, false).emitters.size(), 4u);
 }
 
+// Texture coordinates far beyond the texture (about 3e9 texels out, past int's
+// range, where floats step by 256) must not be cast to int when the texels under a
+// triangle are counted: the texture is sampled over it instead, and wraps there to
+// the same texels as near the origin (the texture is one texel high, so v does not
+// matter). A fuzzer's find; UBSan reports the overflow in CI's sanitizer build.
+TEST(MaterialTexturesCpuTest, FarOffTextureCoordinatesAreSampled) {
+  scene::Scene s = halfLitEmitter();
+  for (int k = 0; k < 4; ++k)
+    s.vertices[static_cast<size_t>(k)].uv.y = k < 2 ? 3.0e9f + 256.0f : 3.0e9f;
+  scene::measureEmissiveTextures(&s);
+  ASSERT_EQ(s.draws[0].emissiveMean.size(), 2u);
+  const float mean0 = 1.0f + (kGrey - 1.0f) * 2.0f / 3.0f, mean1 = 1.0f + (kGrey - 1.0f) / 3.0f;
+  EXPECT_NEAR(s.draws[0].emissiveMean[0].r, mean0, 0.02f);
+  EXPECT_NEAR(s.draws[0].emissiveMean[1].r, mean1, 0.02f);
+}
+
 // The Khronos LightsPunctualLamp: two materials with emission factor 1 cover the
 // whole lamp; their emissive texture lights only the bulb.
 TEST(MaterialTexturesCpuTest, LampLightsOnlyItsBulb) {
