@@ -96,16 +96,7 @@ scene::Scene loadScene(const std::string& scenePath, const RenderOptions& o) {
   scene::Scene scene = scene::loadGltf(scenePath);
   scene.loopAnimation = o.loop;
   scene.pose(o.time);
-  if (o.lookFrom) {
-    scene::Camera& c = scene.camera;
-    const glm::vec3 origin(scene.origin);
-    c.position = *o.lookFrom - origin;
-    c.forward = glm::normalize(*o.lookAt - *o.lookFrom);
-    c.up =
-        std::abs(c.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
-    scene.fitClipPlanes();
-    scene.poseCamera = false;  // the viewpoint stays put; meshes and lights still move
-  }
+  if (o.lookFrom) scene.lookAt(*o.lookFrom, *o.lookAt);
   return scene;
 }
 

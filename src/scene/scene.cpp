@@ -112,6 +112,15 @@ void Scene::fitClipPlanes() {
   scene::fitClipPlanes(&camera, bounds);
 }
 
+void Scene::lookAt(const glm::vec3& from, const glm::vec3& at) {
+  camera.position = from - glm::vec3(origin);
+  camera.forward = glm::normalize(at - from);
+  camera.up = std::abs(camera.forward.y) > 0.999f ? glm::vec3(0.0f, 0.0f, -1.0f)
+                                                  : glm::vec3(0.0f, 1.0f, 0.0f);
+  fitClipPlanes();
+  poseCamera = false;  // the viewpoint stays put; meshes and lights still move
+}
+
 void fitClipPlanes(Camera* camera, const Bounds& bounds) {
   const float diag = std::max(bounds.diagonal(), 1e-30f);
   const glm::vec3 closest = glm::clamp(camera->position, bounds.min, bounds.max);

@@ -301,6 +301,11 @@ struct Scene {
   void finalize();
   // Sets near/far planes from the camera position and the bounds.
   void fitClipPlanes();
+  // Puts the camera at `from`, looking at `at` (the file's coordinates, before the
+  // origin shift; distinct points), up along +y (-z looking straight up or down),
+  // refits the clip planes and keeps the camera there through pose() (render
+  // --look-from/--look-at).
+  void lookAt(const glm::vec3& from, const glm::vec3& at);
   // Adds a directional light when there is no punctual light and no emissive
   // material, so an unlit file never renders black by surprise.
   void addDefaultLightIfUnlit();
