@@ -88,6 +88,11 @@ VOXGI_CONST uint kOctreeRadianceBinding = 6u;
 VOXGI_CONST uint kOctreeMaterialBinding = 7u;
 VOXGI_CONST uint kOctreeEmissionBinding = 8u;
 VOXGI_CONST uint kOctreeCounterBinding = 9u;
+// uint per light slot, octree_bounce.comp (OCTREE_BVH): the triangle an oriented
+// leaf's side lies on, plus 1 (0: not looked for yet; kOctreeNoSurface: none). The
+// build's counters are done with by then: it takes their number.
+VOXGI_CONST uint kOctreeSurfaceBinding = 9u;
+VOXGI_CONST uint kOctreeNoSurface = 0xFFFFFFFFu;
 VOXGI_CONST uint kOctreeScratchBinding = 10u;  // radiance of the previous bounce; the estimate
                                                // the average pass blends in
 VOXGI_CONST uint kOctreeLightCdfBinding = 11u;

@@ -28,6 +28,12 @@ const int kRaySteps = 1024;
 // so they do not hit the voxels of the light they aim at.
 const float kSurfaceOffsetVoxels = 1.5;
 
+// How far from a leaf's ray origin (voxels) the octree's passes march the voxels
+// before they trust rays on the exact triangles (OCTREE_BVH): the origin's place
+// about the surface is known only to a voxel (octree_inject.comp,
+// lightVisibleExact).
+const float kNearFieldVoxels = 2.0;
+
 // How far along a surface's unit normal n the voxels it touches reach: a voxel
 // touches the plane when its centre is within this support of it (half the cube's
 // extent along n, in voxels: 0.5 for an axis-aligned plane, 0.87 for a diagonal

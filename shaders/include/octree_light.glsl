@@ -9,12 +9,6 @@ layout(std430, binding = kLightBinding) readonly buffer Lights { GpuLight lights
 layout(std430, binding = kEmitterBinding) readonly buffer Emitters { GpuEmitter emitters[]; };
 layout(std430, binding = kOctreeLightCdfBinding) readonly buffer EmitterCdf { float emitterCdf[]; };
 
-// How far from a leaf's ray origin (voxels) the octree's passes march the voxels
-// before they trust rays on the exact triangles (OCTREE_BVH): the origin's place
-// about the surface is known only to a voxel (octree_inject.comp,
-// lightVisibleExact).
-const float kNearFieldVoxels = 2.0;
-
 // 1 if no voxel lies on the segment from p along unit dir, dist world units long,
 // between startVoxels and dist - endVoxels (in voxels).
 float octreeVisible(vec3 p, vec3 dir, float dist, float startVoxels, float endVoxels) {

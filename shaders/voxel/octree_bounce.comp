@@ -23,7 +23,6 @@
 #include "lighting.glsl"
 #include "sampling.glsl"
 #include "octree.glsl"
-#include "octree_light.glsl"
 
 layout(local_size_x = kOctreeGroupSize) in;
 layout(std430, binding = kVoxelListBinding) readonly buffer List { uint voxels[]; };
@@ -54,20 +53,32 @@ int hitLeaf(vec3 p, vec3 dir, float start, bool nearField) {
 #endif
 
 #ifdef OCTREE_BVH
-// Where the leaf's own surface lies: the first triangle that a ray from a voxel
-// above the centre, down along -n, meets within two voxels, and its normal turned to
-// n's side; false where none does.
-bool surfaceBelow(vec3 centre, vec3 n, out vec3 p) {
+layout(std430, binding = kOctreeSurfaceBinding) buffer Surfaces { uint surfaces[]; };
+
+// Where the leaf's own surface lies, for its light slot `slot`: on the first
+// triangle that a ray from a voxel above the centre, down along -n, meets within two
+// voxels, that ray's point on the triangle's plane, the normal turned to n's side;
+// false where none does. The triangle is looked for once per slot and kept (the
+// bounce passes and every refinement ask again: one ray less per leaf and pass).
+bool surfaceBelow(vec3 centre, vec3 n, uint slot, out vec3 p) {
   float h = octreeVoxelSize();
   vec3 o = centre + n * h;
-  float t;
-  uint tri;
-  vec2 bc;
-  loopBudget = kPtLoopBudget;
-  if (!trace(o, -n, 2.0 * h, false, t, tri, bc)) return false;
+  uint cached = surfaces[slot];
+  if (cached == kOctreeNoSurface) return false;
+  uint tri = cached - 1u;
+  if (cached == 0u) {
+    float t;
+    vec2 bc;
+    loopBudget = kPtLoopBudget;
+    bool hit = trace(o, -n, 2.0 * h, false, t, tri, bc);
+    surfaces[slot] = hit ? tri + 1u : kOctreeNoSurface;
+    if (!hit) return false;
+  }
   GpuPtTriangle T = loadTriangle(tri);
   vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
   if (dot(ng, n) < 0.0) ng = -ng;
+  // The hit's distance along -n, from the plane (the same in every pass).
+  float t = dot(o - T.v0.xyz, ng) / max(dot(n, ng), 1e-6);
   p = o - n * t + ng * bvhEpsilon();
   return true;
 }
@@ -87,12 +98,12 @@ bool surfaceBelow(vec3 centre, vec3 n, out vec3 p) {
 // rays start on its surface itself (surfaceBelow) and run on the exact triangles
 // from there, as the pixels' rays do: the gallery's mean 1.0098 -> 0.9967 (16
 // frames), and FLIP at 64 frames lower on 9 of the set's 10 views.
-vec3 gatheredAt(vec3 centre, vec3 n, bool oriented) {
+vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot) {
   vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
 #ifdef OCTREE_BVH
   vec3 onSurface;
-  bool exact = oriented && surfaceBelow(centre, n, onSurface);
+  bool exact = oriented && surfaceBelow(centre, n, slot, onSurface);
   if (exact) p = onSurface;
 #endif
 
@@ -144,7 +155,7 @@ void main() {
   for (int side = 0; side < (axis >= 0 ? 2 : 1); ++side) {
     if (axis >= 0) n = sideNormal(axis, side == 1);
     uint slot = side == 0 ? node : backSlot(m.y);
-    vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0);
+    vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0, slot);
     vec3 direct = unpackRgb9e5(directIn[slot]);
     radiance[slot] = packRgb9e5(direct + albedo.rgb * gathered);
   }

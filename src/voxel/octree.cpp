@@ -18,6 +18,7 @@ constexpr uint32_t kMaxNodes = (128u << 20) / 4u;
 constexpr uint32_t kMaxTwoSided = 0xFFFFFFu;
 // Per light slot (one a node, one more a two-sided leaf: allocateLight) and per node.
 constexpr uint64_t kRadianceBytes = 4;
+constexpr uint64_t kSurfaceBytes = 4;          // the triangle under a side (kOctreeSurfaceBinding)
 constexpr uint64_t kDataBytesPerNode = 8 + 4;  // material, emission
 constexpr uint64_t kBounceBytes = 16;          // Settings::keepBounces
 // The light's refinement: this estimate, its direct light, the previous bounce, the mean.
@@ -146,6 +147,9 @@ void Octree::allocateLight(uint32_t backSlots) {
   direct_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   previous_ = gl::createBuffer(n * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
   mean_ = gl::createBuffer(n * 16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  if (!settings_.bvhDefines.empty())
+    surface_ = gl::createBuffer(n * static_cast<GLsizeiptr>(kSurfaceBytes), nullptr,
+                                GL_DYNAMIC_STORAGE_BIT);
 }
 
 // Allocates the node structure into `nodes` (capacity in paramsData_.info.w); false
@@ -232,6 +236,9 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
     allocateLight(stats_.twoSidedLeaves + stats_.twoSidedLeaves / 16 + 64);
   paramsData_.sides = glm::uvec4(capacity_, 0u, 0u, 0u);
   clearBuffer(radiance_.id(), static_cast<GLsizeiptr>(lightSlots_) * 4);
+  // The surfaces under the leaves are found again: the leaves may be others.
+  if (surface_.id() != 0)
+    clearBuffer(surface_.id(), static_cast<GLsizeiptr>(lightSlots_ * kSurfaceBytes));
 
   stats_.leaves = listed;
   listBuffer_ = grid.list();
@@ -241,7 +248,8 @@ void Octree::build(gl::FrameContext& ctx, const VoxelizePass& grid) {
                                 levelStart_[static_cast<size_t>(l)]);
   stats_.bytes =
       uint64_t{capacity_} * (4 + kDataBytesPerNode) +
-      uint64_t{lightSlots_} * (kRadianceBytes + (settings_.keepBounces ? kBounceBytes : 0));
+      uint64_t{lightSlots_} * (kRadianceBytes + (settings_.keepBounces ? kBounceBytes : 0) +
+                               (surface_.id() != 0 ? kSurfaceBytes : 0));
   stats_.refineBytes = uint64_t{lightSlots_} * kRefineBytes;
   const uint64_t nn = static_cast<uint64_t>(n);
   stats_.denseBytes = nn * nn * nn * (4 + 4 + 8);  // albedo rgba8, normal rgba8, emission rgba16f
@@ -356,6 +364,8 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, passList_);
   setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
   dispatch(inject_, count);
+  if (surface_.id() != 0)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeSurfaceBinding, surface_.id());
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
   const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
   const auto backBytes = static_cast<GLsizeiptr>(stats_.twoSidedLeaves) * 4;

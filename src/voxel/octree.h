@@ -174,7 +174,8 @@ class Octree {
   gl::Buffer nonfinite_;   // uint: values replaced (kNonfiniteCountBinding)
   // Refinement: this estimate, its direct light, the previous bounce, the mean.
   gl::Buffer estimate_, direct_, previous_, mean_;
-  gl::Buffer sliceList_;              // the voxel codes slice by slice
+  gl::Buffer surface_;    // with the BVH: the triangle under each side (kOctreeSurfaceBinding)
+  gl::Buffer sliceList_;  // the voxel codes slice by slice
   std::vector<uint32_t> sliceStart_;  // first code of each slice; the last = leaves
   GLuint passList_ = 0;               // the list the next passes read
   int refinements_ = 0;               // refine() calls since inject()

@@ -81,6 +81,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kOctreeMaterialBinding),
       VOXGI_ENTRY(Ssbo, kOctreeEmissionBinding),
       VOXGI_ENTRY(Ssbo, kOctreeCounterBinding),
+      VOXGI_ENTRY(Ssbo, kOctreeSurfaceBinding),
       VOXGI_ENTRY(Ssbo, kOctreeScratchBinding),
       VOXGI_ENTRY(Ssbo, kOctreeLightCdfBinding),
       VOXGI_ENTRY(Ssbo, kOctreeDirectBinding),
