@@ -84,6 +84,20 @@ vec3 directionalAlbedo(Surface s, float roughness) {
   return s.diffuse * (1.0 - spec) + spec;
 }
 
+// The voxels reflect their light as Lambert surfaces of the base colour; a glTF
+// material reflects light that arrives from all about by its directional albedo
+// towards s.v (a rough tiled floor seen at a grazing angle sends less than its base
+// colour says). Their ratio, per channel, turns a voxel's light into the material's:
+// 1 for pure Lambert. Used where a pixel's ray meets the material; the leaves'
+// gather does not (octree_bounce.comp): the light there comes mostly from above,
+// and the GGX lobe sends little of it towards the grazing directions a neighbour
+// sees the floor from, less than light from all about would (the night hall came out
+// 0.7% too bright with it; docs/history.md).
+vec3 voxelToMaterial(Surface s, float roughness, vec3 base) {
+  if (s.specular == 0.0) return vec3(1.0);
+  return directionalAlbedo(s, roughness) / max(base, vec3(1e-4));
+}
+
 vec3 punctualLight(GpuLight light, Surface s) {
   uint type = uint(light.positionType.w);
   vec3 l;

@@ -97,12 +97,10 @@ vec3 hitRadiance(vec3 o, vec3 dir) {
     if (mirror) h.s.specular = 0.0;
     vec3 from = h.s.p + h.ng * bvhEpsilon();
     result += throughput * directLight(h.s, from, h.below);
-    // The voxels reflect their light as Lambert surfaces of the base colour; a glTF
-    // material reflects the bounces, which arrive from all about, by its directional
-    // albedo towards the ray (a rough tiled floor seen at a grazing angle sends less
-    // than its base colour says).
+    // The bounces arrive from all about: the material's directional albedo, not the
+    // voxels' Lambert (voxelToMaterial).
     vec3 albedo = directionalAlbedo(h.s, h.roughness);
-    vec3 toMaterial = h.s.specular != 0.0 ? albedo / max(h.base, vec3(1e-4)) : vec3(1.0);
+    vec3 toMaterial = voxelToMaterial(h.s, h.roughness, h.base);
     if (!goOn || k + 1 == kMaxIndirectVertices || voxelStandsFor(node, h.ng)) {
       if (node >= 0)
         result += throughput * toMaterial *
