@@ -246,14 +246,13 @@ VOXGI_CONST uint kMomentsImage = 4u;
 VOXGI_CONST uint kDirectMeanImage = 5u;
 VOXGI_CONST uint kReprojectedMomentsImage = 4u;
 VOXGI_CONST uint kReprojectedDirectImage = 5u;
-// The denoise stage's own images (rgba32f), one pair per term: light divided by base
-// colour with the variance of its luminance in alpha, ping-ponged between the
-// filter's passes; the last pass writes the denoised image on the first term's out.
+// The denoise stage's own images: both terms of a pixel in one rgba32ui texel
+// (rtgi_denoise.glsl, packDenoiseTerms), ping-ponged between the filter's passes;
+// the last pass writes the denoised image (rgba32f).
 VOXGI_CONST uint kDenoiseInImage = 0u;
 VOXGI_CONST uint kDenoiseOutImage = 1u;
 VOXGI_CONST uint kDenoiseKeyImage = 2u;  // rgba32ui: what the edge stops compare
-VOXGI_CONST uint kDenoiseInImage2 = 3u;  // the second term's
-VOXGI_CONST uint kDenoiseOutImage2 = 4u;
+VOXGI_CONST uint kDenoisedImage = 3u;
 // The temporal upsampler's output history (rgba32f, the output size: per pixel the
 // sum of the samples that landed in it and their count), on a unit the rtgi
 // stages' images leave free (it reads the direct, indirect and specular images and

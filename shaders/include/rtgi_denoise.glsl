@@ -43,6 +43,26 @@ uvec4 packDenoiseKey(vec4 position, vec3 n) {
   return uvec4(floatBitsToUint(position.xyz), (q.x << 21u) | (q.y << 10u) | material);
 }
 
+// The two terms the a-trous passes filter (each light over base colour, rgb, and the
+// variance of its luminance, or -1 where the filter keeps the pixel) in one rgba32ui
+// texel of half floats, so that a tap reads both in one load: rgba16f where each
+// term took an rgba32f image of its own, with the square root of the variance kept
+// (a variance's own range, from 1e-8 to 1e5, falls outside a half's). Light beyond
+// a half's range is clamped to it.
+uvec4 packDenoiseTerms(vec4 a, vec4 b) {
+  const float kMax = 65504.0;
+  a = vec4(min(a.rgb, vec3(kMax)), a.a < 0.0 ? -1.0 : min(sqrt(a.a), kMax));
+  b = vec4(min(b.rgb, vec3(kMax)), b.a < 0.0 ? -1.0 : min(sqrt(b.a), kMax));
+  return uvec4(packHalf2x16(a.rg), packHalf2x16(a.ba), packHalf2x16(b.rg), packHalf2x16(b.ba));
+}
+
+void unpackDenoiseTerms(uvec4 t, out vec4 a, out vec4 b) {
+  a = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
+  b = vec4(unpackHalf2x16(t.z), unpackHalf2x16(t.w));
+  if (a.a >= 0.0) a.a *= a.a;
+  if (b.a >= 0.0) b.a *= b.a;
+}
+
 struct DenoiseKey {
   vec3 position;
   vec3 normal;

@@ -24,10 +24,9 @@
 layout(local_size_x = kRtgiGroupX, local_size_y = kRtgiGroupY) in;
 layout(location = kDenoisePassLocation) uniform vec2 denoisePass;  // spacing, last
 
-layout(binding = kDenoiseInImage, rgba32f) uniform readonly image2D source;
-layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D filtered;
-layout(binding = kDenoiseInImage2, rgba32f) uniform readonly image2D source2;
-layout(binding = kDenoiseOutImage2, rgba32f) uniform writeonly image2D filtered2;
+layout(binding = kDenoiseInImage, rgba32ui) uniform readonly uimage2D source;
+layout(binding = kDenoiseOutImage, rgba32ui) uniform writeonly uimage2D filtered;
+layout(binding = kDenoisedImage, rgba32f) uniform writeonly image2D denoised;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform readonly uimage2D keys;
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
 
@@ -78,13 +77,14 @@ void main() {
   ivec2 size = ivec2(rtgi.frame.zw);
   if (px.x >= size.x || px.y >= size.y) return;
   bool last = denoisePass.y > 0.5;
-  vec4 c = imageLoad(source, px), c2 = imageLoad(source2, px);
+  uvec4 terms = imageLoad(source, px);
+  vec4 c, c2;
+  unpackDenoiseTerms(terms, c, c2);
   if (c.a < 0.0) {
     if (last) {
-      imageStore(filtered, px, texelFetch(mean, px, 0));
+      imageStore(denoised, px, texelFetch(mean, px, 0));
     } else {
-      imageStore(filtered, px, c);
-      imageStore(filtered2, px, c2);
+      imageStore(filtered, px, terms);
     }
     return;
   }
@@ -102,17 +102,15 @@ void main() {
     } else if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
       taps[k] = taps2[k] = vec4(-1.0);
     } else {
-      taps[k] = imageLoad(source, q);
-      taps2[k] = imageLoad(source2, q);
+      unpackDenoiseTerms(imageLoad(source, q), taps[k], taps2[k]);
       if (taps[k].a >= 0.0) edge[k] = logEdgeWeight(p, unpackDenoiseKey(imageLoad(keys, q)), scale);
     }
   }
   vec4 out1 = filterTerm(taps, edge, true), out2 = filterTerm(taps2, edge, false);
   if (last) {
-    imageStore(filtered, px,
+    imageStore(denoised, px,
                vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
   } else {
-    imageStore(filtered, px, out1);
-    imageStore(filtered2, px, out2);
+    imageStore(filtered, px, packDenoiseTerms(out1, out2));
   }
 }

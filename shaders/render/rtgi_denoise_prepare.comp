@@ -27,8 +27,7 @@ layout(local_size_x = kDenoisePrepareGroup, local_size_y = kDenoisePrepareGroup)
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
 layout(binding = kHistoryMomentsUnit) uniform sampler2D moments;
 layout(binding = kHistoryDirectUnit) uniform sampler2D directMean;
-layout(binding = kDenoiseOutImage, rgba32f) uniform writeonly image2D prepared;
-layout(binding = kDenoiseOutImage2, rgba32f) uniform writeonly image2D prepared2;
+layout(binding = kDenoiseOutImage, rgba32ui) uniform writeonly uimage2D prepared;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform writeonly uimage2D keys;
 
 const int kTile = int(kDenoisePrepareGroup) + 6;  // the group and its 3-pixel border
@@ -87,8 +86,7 @@ void main() {
   loadTile(size, !keeps && c.a < kDenoiseTemporalSamples);
   if (!inside) return;
   if (keeps) {
-    imageStore(prepared, px, vec4(c.rgb, -1.0));
-    imageStore(prepared2, px, vec4(0.0, 0.0, 0.0, -1.0));
+    imageStore(prepared, px, packDenoiseTerms(vec4(c.rgb, -1.0), vec4(0.0, 0.0, 0.0, -1.0)));
     return;
   }
   vec4 position = texelFetch(gPosition, px, 0);
@@ -130,12 +128,14 @@ void main() {
     if (weight > 0.0) m = sum / weight;
     if (own && weight > 0.0) {
       vec2 variance = within / weight / n;
-      imageStore(prepared, px, vec4(direct / albedo, variance.x));
-      imageStore(prepared2, px, vec4((c.rgb - direct) / albedo, variance.y));
+      imageStore(prepared, px,
+                 packDenoiseTerms(vec4(direct / albedo, variance.x),
+                                  vec4((c.rgb - direct) / albedo, variance.y)));
       return;
     }
   }
   vec2 variance = max(m.yw - m.xz * m.xz, vec2(0.0)) / max(n, 1.0);
-  imageStore(prepared, px, vec4(direct / albedo, variance.x));
-  imageStore(prepared2, px, vec4((c.rgb - direct) / albedo, variance.y));
+  imageStore(prepared, px,
+             packDenoiseTerms(vec4(direct / albedo, variance.x),
+                              vec4((c.rgb - direct) / albedo, variance.y)));
 }

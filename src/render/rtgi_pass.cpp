@@ -210,10 +210,10 @@ void RtgiPass::makeDenoiserImages() {
   make(historyMoments_, GL_RGBA32F);
   make(directMean_, GL_RGBA32F);
   make(historyDirect_, GL_RGBA32F);
-  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32F);
+  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32UI);
   make(denoisedImage_, GL_RGBA32F);
   make(denoiseKeys_, GL_RGBA32UI);
-  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) * (4 * 16 + 6 * 16);
+  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) * (4 * 16 + 4 * 16);
 }
 
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
@@ -549,18 +549,18 @@ void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum
   glBindTextureUnit(gpu::kHistoryDirectUnit, directMean_.id());
   // Accumulate wrote the mean, moments and direct mean as images.
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  // Both terms of a pixel in one texel of half floats (rtgi_denoise.glsl).
   auto bind = [](GLuint unit, GLuint texture, GLenum access) {
-    glBindImageTexture(unit, texture, 0, GL_FALSE, 0, access, GL_RGBA32F);
+    glBindImageTexture(unit, texture, 0, GL_FALSE, 0, access, GL_RGBA32UI);
   };
   auto dispatch = [&] {
     glDispatchCompute(gx, gy, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   };
-  // The two terms' images: scratch [0, 1] ping-pong the direct term, [2, 3] the rest.
+  // The terms ping-pong between the two scratch images.
   glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32UI);
   bind(gpu::kDenoiseOutImage, denoiseScratch_[0].id(), GL_WRITE_ONLY);
-  bind(gpu::kDenoiseOutImage2, denoiseScratch_[2].id(), GL_WRITE_ONLY);
   glUseProgram(programs_.get({{"render/rtgi_denoise_prepare.comp"}, {}}).id());
   glDispatchCompute(
       (static_cast<GLuint>(width_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
@@ -570,16 +570,15 @@ void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum
   glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
                      GL_RGBA32UI);
   glUseProgram(programs_.get({{"render/rtgi_denoise.comp"}, {}}).id());
+  glBindImageTexture(gpu::kDenoisedImage, denoisedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32F);
   // The pass's spacing and whether it is the last go in a uniform: updating the
   // parameter block between dispatches stalls a software rasterizer.
   for (int i = 0; i < gpu::kDenoisePasses; ++i) {
     const bool last = i + 1 == gpu::kDenoisePasses;
     const int in = i & 1, out = in ^ 1;
     bind(gpu::kDenoiseInImage, denoiseScratch_[in].id(), GL_READ_ONLY);
-    bind(gpu::kDenoiseInImage2, denoiseScratch_[2 + in].id(), GL_READ_ONLY);
-    bind(gpu::kDenoiseOutImage, last ? denoisedImage_.id() : denoiseScratch_[out].id(),
-         GL_WRITE_ONLY);
-    bind(gpu::kDenoiseOutImage2, denoiseScratch_[2 + out].id(), GL_WRITE_ONLY);
+    bind(gpu::kDenoiseOutImage, denoiseScratch_[out].id(), GL_WRITE_ONLY);
     glUniform2f(gpu::kDenoisePassLocation, static_cast<float>(1 << i), last ? 1.0f : 0.0f);
     dispatch();
   }

@@ -314,7 +314,7 @@ class RtgiPass {
   // mean, and their reprojection (rgba32f), the filter's scratch images (two per
   // term) and its output (rgba32f), and its edge stops' keys.
   gl::Texture moments_, historyMoments_, directMean_, historyDirect_;
-  gl::Texture denoiseScratch_[4], denoisedImage_, denoiseKeys_;
+  gl::Texture denoiseScratch_[2], denoisedImage_, denoiseKeys_;
   bool denoised_ = false;
   bool shown_ = true;
   int width_ = 0, height_ = 0;
