@@ -92,6 +92,15 @@ inline Texture createTexture(GLenum target) {
   glCreateTextures(target, 1, &id);
   return Texture(id);
 }
+// A width x height 2D texture of one level, read texel by texel (nearest): an image
+// a compute stage writes and the next reads.
+inline Texture createImage2D(GLenum format, int width, int height) {
+  Texture t = createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.id(), 1, format, width, height);
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return t;
+}
 inline Framebuffer createFramebuffer() {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);

@@ -20,7 +20,8 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
       bvh_(std::move(bvh)),
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
-      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})) {
+      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})),
+      denoiser_(programs) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   const uint32_t zero = 0;
   nonfinite_ = gl::createBuffer(sizeof(zero), &zero);
@@ -133,22 +134,10 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   return programs_.get({{"render/rtgi_specular.comp"}, defines});
 }
 
-namespace {
-
-// A width x height image of one level, read texel by texel.
-void makeImage(gl::Texture& t, GLenum format, int width, int height) {
-  t = gl::createTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(t.id(), 1, format, width, height);
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-}
-
-}  // namespace
-
 void RtgiPass::resize(int width, int height) {
   width_ = width;
   height_ = height;
-  auto make = [&](gl::Texture& t, GLenum format) { makeImage(t, format, width, height); };
+  auto make = [&](gl::Texture& t, GLenum format) { t = gl::createImage2D(format, width, height); };
   for (int i = 0; i < 2; ++i) {
     make(position_[i], GL_RGBA32F);
     make(normal_[i], GL_RGBA16F);
@@ -162,11 +151,9 @@ void RtgiPass::resize(int width, int height) {
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
   // The denoiser's images are made on the first frame that denoises
-  // (makeDenoiserImages).
-  for (gl::Texture* t :
-       {&moments_, &historyMoments_, &directMean_, &historyDirect_, &denoisedImage_, &denoiseKeys_})
-    t->reset();
-  for (gl::Texture& t : denoiseScratch_) t.reset();
+  // (makeMomentImages, RtgiDenoiser::execute).
+  for (gl::Texture* t : {&moments_, &historyMoments_, &directMean_, &historyDirect_}) t->reset();
+  denoiser_.resize(width, height);
   denoised_ = false;
   make(maskKeyImage_, GL_RGBA32UI);
   make(edgeImage_, GL_R16F);
@@ -203,24 +190,24 @@ void RtgiPass::resize(int width, int height) {
     targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
 }
 
-void RtgiPass::makeDenoiserImages() {
+void RtgiPass::makeMomentImages() {
   if (moments_) return;
-  auto make = [&](gl::Texture& t, GLenum format) { makeImage(t, format, width_, height_); };
+  auto make = [&](gl::Texture& t, GLenum format) {
+    t = gl::createImage2D(format, width_, height_);
+  };
   make(moments_, GL_RGBA32F);
   make(historyMoments_, GL_RGBA32F);
   make(directMean_, GL_RGBA32F);
   make(historyDirect_, GL_RGBA32F);
-  for (gl::Texture& t : denoiseScratch_) make(t, GL_RGBA32UI);
-  make(denoisedImage_, GL_RGBA32F);
-  make(denoiseKeys_, GL_RGBA32UI);
-  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) * (4 * 16 + 4 * 16);
+  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) *
+                  (4 * 16 + RtgiDenoiser::kBytesPerPixel);
 }
 
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                        const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
-  if (settings_.denoise) makeDenoiserImages();
+  if (settings_.denoise) makeMomentImages();
   // The G-buffer drawn last frame becomes the previous one.
   current_ ^= 1;
   buildOptionalStages();
@@ -236,8 +223,8 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   traceLight(ctx, gs, plan);
   accumulateFrame(ctx, plan);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  denoised_ = false;
-  if (settings_.denoise && shown_) denoise(ctx, plan.gx, plan.gy, accum);
+  denoised_ = settings_.denoise && shown_;
+  if (denoised_) denoiser_.execute(ctx, plan.gx, plan.gy, accum, moments_.id(), directMean_.id());
   finishFrame(plan);
 }
 
@@ -542,51 +529,6 @@ void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint acc
     glBindTextureUnit(u, 0);
 }
 
-void RtgiPass::denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum) {
-  gl::StageScope stage(ctx.timer, Stage::kDenoise);
-  glBindTextureUnit(gpu::kHistoryUnit, accum);
-  glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
-  glBindTextureUnit(gpu::kHistoryDirectUnit, directMean_.id());
-  // Accumulate wrote the mean, moments and direct mean as images.
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-  // Both terms of a pixel in one texel of half floats (rtgi_denoise.glsl).
-  auto bind = [](GLuint unit, GLuint texture, GLenum access) {
-    glBindImageTexture(unit, texture, 0, GL_FALSE, 0, access, GL_RGBA32UI);
-  };
-  auto dispatch = [&] {
-    glDispatchCompute(gx, gy, 1);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  };
-  // The terms ping-pong between the two scratch images.
-  glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                     GL_RGBA32UI);
-  bind(gpu::kDenoiseOutImage, denoiseScratch_[0].id(), GL_WRITE_ONLY);
-  glUseProgram(programs_.get({{"render/rtgi_denoise_prepare.comp"}, {}}).id());
-  glDispatchCompute(
-      (static_cast<GLuint>(width_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
-      (static_cast<GLuint>(height_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
-      1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glBindImageTexture(gpu::kDenoiseKeyImage, denoiseKeys_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                     GL_RGBA32UI);
-  glUseProgram(programs_.get({{"render/rtgi_denoise.comp"}, {}}).id());
-  glBindImageTexture(gpu::kDenoisedImage, denoisedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                     GL_RGBA32F);
-  // The pass's spacing and whether it is the last go in a uniform: updating the
-  // parameter block between dispatches stalls a software rasterizer.
-  for (int i = 0; i < gpu::kDenoisePasses; ++i) {
-    const bool last = i + 1 == gpu::kDenoisePasses;
-    const int in = i & 1, out = in ^ 1;
-    bind(gpu::kDenoiseInImage, denoiseScratch_[in].id(), GL_READ_ONLY);
-    bind(gpu::kDenoiseOutImage, denoiseScratch_[out].id(), GL_WRITE_ONLY);
-    glUniform2f(gpu::kDenoisePassLocation, static_cast<float>(1 << i), last ? 1.0f : 0.0f);
-    dispatch();
-  }
-  for (GLuint u : {gpu::kHistoryUnit, gpu::kHistoryMomentsUnit, gpu::kHistoryDirectUnit})
-    glBindTextureUnit(u, 0);
-  denoised_ = true;
-}
-
 void RtgiPass::runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy) {
   gl::StageScope stage(ctx.timer, Stage::kMask);
   glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
@@ -625,7 +567,7 @@ float RtgiPass::maskThreshold(uint64_t extra) const {
 
 void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   if (ctx.width != outputWidth_ || ctx.height != outputHeight_) {
-    makeImage(upsampleHistory_, GL_RGBA32F, ctx.width, ctx.height);
+    upsampleHistory_ = gl::createImage2D(GL_RGBA32F, ctx.width, ctx.height);
     if (outputWidth_ == 0) {
       upsampleParams_ =
           gl::createBuffer(sizeof(gpu::UpsampleParams), nullptr, GL_DYNAMIC_STORAGE_BIT);

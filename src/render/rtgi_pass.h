@@ -37,6 +37,7 @@
 #include "render/frame_context.h"
 #include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
+#include "render/rtgi_denoiser.h"
 #include "rtgi_shared.h"
 #include "scene/effects.h"
 #include "scene/scene.h"
@@ -149,7 +150,7 @@ class RtgiPass {
   GLuint upsampleHistory() const { return upsampleHistory_.id(); }
   // The internal image shown (the denoised mean, or the mean `accum`), and the
   // bilinear sampler the output reads it through.
-  GLuint upsampleShown(GLuint accum) const { return denoised_ ? denoisedImage_.id() : accum; }
+  GLuint upsampleShown(GLuint accum) const { return denoised_ ? denoiser_.image() : accum; }
   GLuint linearSampler() const { return linear_.id(); }
   // The internal image's weight in what is shown, in samples of the output pixel's
   // own: it fills in where they are few and fades as they come. A single sample is
@@ -183,7 +184,7 @@ class RtgiPass {
   size_t targetBytes() const { return targetBytes_; }
   // The denoised image of the last frame (rgba32f, the accumulation target's layout),
   // or 0 when the denoiser is off: what the renderer shows in place of the mean.
-  GLuint denoisedTexture() const { return denoised_ ? denoisedImage_.id() : 0; }
+  GLuint denoisedTexture() const { return denoised_ ? denoiser_.image() : 0; }
   // Whether the next frames are shown (default): the denoiser filters only those.
   // `voxgi render` shows only the last frame it accumulates, so only that one pays
   // for the filter; the moments it needs are kept every frame.
@@ -251,9 +252,9 @@ class RtgiPass {
   // The traced share of a listed frame, and the units the frame bound, unbound.
   void finishFrame(const FramePlan& plan);
   void resize(int width, int height);
-  // The denoiser's images, at the current size, unless made already: only a pass
-  // that denoises pays their 160 bytes a pixel.
-  void makeDenoiserImages();
+  // The moments the denoiser reads, at the current size, unless made already: only a
+  // pass that denoises pays for them.
+  void makeMomentImages();
   // The mask stage (edges, blur, histogram), and the threshold that selects at most
   // `extra` pixels of it.
   void runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy);
@@ -261,8 +262,6 @@ class RtgiPass {
   // of them emit).
   void reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
   float maskThreshold(uint64_t extra) const;
-  // The denoise stage (see above): `accum` filtered into denoisedImage_.
-  void denoise(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum);
   static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   // `restir`: the variant of the direct stage's reservoir resampling, "" none.
@@ -310,12 +309,11 @@ class RtgiPass {
   int current_ = 0;
   gl::Texture history_;  // the reprojected mean, on a frame after a camera move
   gl::Texture directImage_, indirectImage_, specularImage_;
-  // Denoiser: the moments of both terms and the mean of the direct term beside the
-  // mean, and their reprojection (rgba32f), the filter's scratch images (two per
-  // term) and its output (rgba32f), and its edge stops' keys.
+  // What the denoiser reads beside the mean: the moments of both terms and the mean
+  // of the direct term, and their reprojection (rgba32f).
   gl::Texture moments_, historyMoments_, directMean_, historyDirect_;
-  gl::Texture denoiseScratch_[2], denoisedImage_, denoiseKeys_;
-  bool denoised_ = false;
+  RtgiDenoiser denoiser_;
+  bool denoised_ = false;  // denoiser_ filtered this frame
   bool shown_ = true;
   int width_ = 0, height_ = 0;
   size_t targetBytes_ = 0;
