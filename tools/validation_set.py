@@ -4,6 +4,7 @@ place its camera)."""
 import json
 import os
 import subprocess
+import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SET = os.path.join(ROOT, "scenes", "validation_set.json")
@@ -39,7 +40,8 @@ def views(names=None, make=True):
         if not os.path.exists(path):
             if not (make and "make" in e):
                 continue
-            print(f"validation set: making {e['scene']} ({e['make']})", flush=True)
+            # On stderr: stdout is the scene and flags tools/make-reference reads.
+            print(f"validation set: making {e['scene']} ({e['make']})", file=sys.stderr, flush=True)
             subprocess.run(e["make"].split(), cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
         out.append((e["view"], path, camera_flags(e)))
     return out
@@ -51,6 +53,5 @@ def names():
 
 if __name__ == "__main__":
     # tools/make-reference's lookup: a view's scene and flags, one per line.
-    import sys
     for view, scene, flags in views(sys.argv[1:]):
         print("\n".join([scene] + flags))
