@@ -21,6 +21,7 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})),
+      mask_(programs),
       denoiser_(programs) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   const uint32_t zero = 0;
@@ -155,17 +156,12 @@ void RtgiPass::resize(int width, int height) {
   for (gl::Texture* t : {&moments_, &historyMoments_, &directMean_, &historyDirect_}) t->reset();
   denoiser_.resize(width, height);
   denoised_ = false;
-  make(maskKeyImage_, GL_RGBA32UI);
-  make(edgeImage_, GL_R16F);
-  make(maskImage_, GL_R16F);
+  mask_.resize(width, height);
   make(tracedImage_, GL_R8UI);
-  maskValid_ = false;
-  histogramBins_.clear();
   pixelList_ = gl::createBuffer(
       static_cast<GLsizeiptr>(sizeof(gpu::PixelListHeader) +
                               4 * static_cast<size_t>(width) * static_cast<size_t>(height)),
       nullptr, GL_DYNAMIC_STORAGE_BIT);
-  histogram_ = gl::createBuffer(4 * gpu::kMaskBins, nullptr, GL_DYNAMIC_STORAGE_BIT);
   for (int i = 0; i < 2; ++i) {
     fbo_[i] = gl::createFramebuffer();
     const GLuint f = fbo_[i].id();
@@ -377,16 +373,15 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
     // chosen by the mask, so it is not made; it is made again, up to date, on the
     // next frame that chooses by it (once a period at most, as when it is made on
     // every period). What is selected: none beyond the pattern.
-    maskStale_ = maskStale_ || frameIndex % kMaskPeriod == 1;
+    mask_.skip(frameIndex);
     level = 0.0f;
   } else if (settings_.select == Settings::Select::kMask) {
     kind = gpu::kSelectMask;
-    // The mask changes slowly as the image converges: it is recomputed every
-    // kMaskPeriod frames; the threshold follows the budget every frame.
-    if (!maskValid_ || maskStale_ || histogramBins_.empty() || frameIndex % kMaskPeriod == 1)
-      runMask(ctx, plan.gx, plan.gy);
+    // The mask changes slowly as the image converges: it is made again every
+    // RtgiWorkMask::kPeriod frames; the threshold follows the budget every frame.
+    mask_.update(ctx, plan.gx, plan.gy, frameIndex);
     level = traceFraction_ >= 1.0 ? -1.0f  // every pixel
-                                  : maskThreshold(static_cast<uint64_t>(
+                                  : mask_.threshold(static_cast<uint64_t>(
                                         extraShare * static_cast<double>(plan.pixelsTotal)));
   } else {
     level = static_cast<float>(std::min(1.0, extraShare / (1.0 - patternShare)));
@@ -398,7 +393,7 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
   glNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
-  glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
+  glBindImageTexture(gpu::kMaskImage, mask_.image(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
   glUseProgram(programs_.get({{"render/rtgi_select.comp"}, {}}).id());
   glDispatchCompute(plan.gx, plan.gy, 1);
@@ -529,42 +524,6 @@ void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint acc
     glBindTextureUnit(u, 0);
 }
 
-void RtgiPass::runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy) {
-  gl::StageScope stage(ctx.timer, Stage::kMask);
-  glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
-                            GL_UNSIGNED_INT, nullptr);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaskHistogramBinding, histogram_.id());
-  glBindImageTexture(gpu::kEdgeImage, edgeImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R16F);
-  glBindImageTexture(gpu::kMaskImage, maskImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-  glBindImageTexture(gpu::kMaskKeyImage, maskKeyImage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
-                     GL_RGBA32UI);
-  glUseProgram(programs_.get({{"render/rtgi_mask_key.comp"}, {}}).id());
-  glDispatchCompute(gx, gy, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glUseProgram(programs_.get({{"render/rtgi_mask.comp"}, {}}).id());
-  glDispatchCompute(gx, gy, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glUseProgram(programs_.get({{"render/rtgi_mask_blur.comp"}, {}}).id());
-  glDispatchCompute(gx, gy, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
-                  GL_SHADER_STORAGE_BARRIER_BIT);
-  maskValid_ = true;
-  maskStale_ = false;
-  histogramBins_.resize(gpu::kMaskBins);
-  glGetNamedBufferSubData(histogram_.id(), 0, 4 * gpu::kMaskBins, histogramBins_.data());
-}
-
-// The lowest bin edge with at most `extra` pixels of the last mask above it.
-float RtgiPass::maskThreshold(uint64_t extra) const {
-  uint64_t above = 0;
-  for (int b = static_cast<int>(histogramBins_.size()) - 1; b >= 0; --b) {
-    if (above + histogramBins_[static_cast<size_t>(b)] > extra)
-      return static_cast<float>(b + 1) / static_cast<float>(gpu::kMaskBins);
-    above += histogramBins_[static_cast<size_t>(b)];
-  }
-  return -1.0f;  // every pixel
-}
-
 void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   if (ctx.width != outputWidth_ || ctx.height != outputHeight_) {
     upsampleHistory_ = gl::createImage2D(GL_RGBA32F, ctx.width, ctx.height);
@@ -609,23 +568,6 @@ void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   glBindTextureUnit(gpu::kGEmissionUnit, 0);
   for (GLuint unit = 0; unit < gpu::kMinImageUnits; ++unit)
     glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-}
-
-std::vector<float> RtgiPass::readMask() const {
-  std::vector<float> out;
-  if (!maskValid_) return out;
-  out.resize(static_cast<size_t>(width_) * static_cast<size_t>(height_));
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTextureImage(maskImage_.id(), 0, GL_RED, GL_FLOAT,
-                    static_cast<GLsizei>(out.size() * sizeof(float)), out.data());
-  // Bottom-up rows to top-left origin.
-  const size_t w = static_cast<size_t>(width_);
-  for (size_t y = 0; y < static_cast<size_t>(height_) / 2; ++y)
-    std::swap_ranges(
-        out.begin() + static_cast<std::ptrdiff_t>(y * w),
-        out.begin() + static_cast<std::ptrdiff_t>((y + 1) * w),
-        out.begin() + static_cast<std::ptrdiff_t>((static_cast<size_t>(height_) - 1 - y) * w));
-  return out;
 }
 
 RtgiPass::Settings::Primary resolvePrimary(RtgiPass::Settings::Primary primary, bool software,

@@ -38,6 +38,7 @@
 #include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
 #include "render/rtgi_denoiser.h"
+#include "render/rtgi_work_mask.h"
 #include "rtgi_shared.h"
 #include "scene/effects.h"
 #include "scene/scene.h"
@@ -177,10 +178,10 @@ class RtgiPass {
   // (nonfinite.glsl); reads back from the GPU.
   uint32_t nonfiniteTerms() const;
   // The last work mask, [0, 1) per pixel, top-left origin (empty before one ran).
-  std::vector<float> readMask() const;
-  GLuint maskTexture() const { return maskValid_ ? maskImage_.id() : 0; }
-  int maskWidth() const { return maskValid_ ? width_ : 0; }
-  int maskHeight() const { return maskValid_ ? height_ : 0; }
+  std::vector<float> readMask() const { return mask_.read(); }
+  GLuint maskTexture() const { return mask_.valid() ? mask_.image() : 0; }
+  int maskWidth() const { return mask_.valid() ? mask_.width() : 0; }
+  int maskHeight() const { return mask_.valid() ? mask_.height() : 0; }
   size_t targetBytes() const { return targetBytes_; }
   // The denoised image of the last frame (rgba32f, the accumulation target's layout),
   // or 0 when the denoiser is off: what the renderer shows in place of the mean.
@@ -255,14 +256,9 @@ class RtgiPass {
   // The moments the denoiser reads, at the current size, unless made already: only a
   // pass that denoises pays for them.
   void makeMomentImages();
-  // The mask stage (edges, blur, histogram), and the threshold that selects at most
-  // `extra` pixels of it.
-  void runMask(gl::FrameContext& ctx, GLuint gx, GLuint gy);
   // The reproject stage (see above), into `accum`; `materials`: the scene's (which
   // of them emit).
   void reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
-  float maskThreshold(uint64_t extra) const;
-  static constexpr int kMaskPeriod = 4;  // frames between mask updates
 
   // `restir`: the variant of the direct stage's reservoir resampling, "" none.
   const gl::Program& directProgram(const GpuScene& gs, const char* restir = "");
@@ -292,11 +288,9 @@ class RtgiPass {
   double traceFraction_ = 1.0;
   bool meshesMoved_ = false;
   double lastTraced_ = 1.0;
-  bool maskValid_ = false;
-  bool maskStale_ = false;  // a period passed while the mask was not needed
-  gl::Texture maskKeyImage_, edgeImage_, maskImage_, tracedImage_;
-  gl::Buffer pixelList_, histogram_;
-  std::vector<uint32_t> histogramBins_;
+  RtgiWorkMask mask_;
+  gl::Texture tracedImage_;
+  gl::Buffer pixelList_;
   gl::Buffer params_;
   gl::Buffer nonfinite_;  // uint: terms dropped by accumulate (kNonfiniteCountBinding)
   // The shadows stage's reservoirs (kRtgiReservoirBinding), made on first use.
