@@ -23,8 +23,10 @@
 //   accumulate  emission + the three terms, into each pixel's running mean.
 //   denoise     with Settings::denoise: the image shown is the running mean filtered
 //               by a variance-guided, edge-avoiding wavelet (Schied et al. 2017,
-//               rtgi_denoise.glsl), the direct light and the rest each against its
-//               own noise; the mean itself stays as it was.
+//               rtgi_denoise.glsl; RtgiDenoiser), the direct light and the rest each
+//               against its own noise; the mean itself stays as it was.
+//   mask, select  with a frame budget: which pixels trace beyond the pattern, by
+//               the work mask (RtgiWorkMask) or uniformly (rtgi_select.comp).
 // Every stage draws its random numbers from a hash of (seed, pixel, frame, stage):
 // each frame brings new samples, so accumulation converges.
 #ifndef VOXGI_RENDER_RTGI_PASS_H
