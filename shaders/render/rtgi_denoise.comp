@@ -5,7 +5,7 @@
 // and by how far its luminance lies from the pixel's, against the noise of the
 // noisier of the two (the square root of its variance); light moves between two
 // pixels by the same weight both ways, so the filter keeps the image's light
-// (filterTerm). The variance is filtered along with the light, by the squared
+// (exchange). The variance is filtered along with the light, by the squared
 // weights. Each pass filters both terms (the direct light, and the rest:
 // rtgi_denoise_prepare.comp), with the same edge stops but each against its own
 // noise, so the sharp shadows of the direct light keep their edges where the noisier
@@ -13,7 +13,7 @@
 // multiplies them by the base colour again and writes the image shown; pixels the
 // filter keeps (alpha < 0) show their mean. SVGF's 5x5 kernel over 5 passes reads
 // 125 taps a pixel: here a 3x3 kernel over 5 passes spans as far (62 pixels) with 45
-// taps: on a software rasterizer the filter's cost is its loads.
+// taps.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -34,9 +34,11 @@ const float kKernel[2] = float[2](1.0 / 2.0, 1.0 / 4.0);
 
 float kernel(int k) { return kKernel[abs(k % 3 - 1)] * kKernel[abs(k / 3 - 1)]; }
 
-// One term at one pixel: its 3x3 taps (alpha < 0 where outside or kept), the log of
-// each tap's edge stops; `direct`: the direct light's term. Returns the filtered
-// light and its variance.
+// What one term of a pixel takes from one of its taps: `light` gathers the light
+// (rgb) and the share of its own light the pixel keeps (alpha, from 1), `variance`
+// the taps' part of the result's variance. c: the pixel's term, cq: the tap's (alpha:
+// the variance of its luminance), logEdge: the log of the tap's edge stops, kernel:
+// its kernel weight; `direct`: the direct light's term.
 //
 // Written as an exchange between pixels, not as a normalised average: the pixel
 // keeps its light and takes w_pq (L_q - L_p) from each tap q, w_pq the kernel (the
@@ -53,23 +55,18 @@ float kernel(int k) { return kKernel[abs(k % 3 - 1)] * kKernel[abs(k / 3 - 1)]; 
 // filtered image was darker than the mean it filtered by 5.6% in the hall gallery
 // after one frame and 2.2% after 16, by 12.6% and 3.1% in the sealed room; now by
 // 0.07% at most.
-vec4 filterTerm(vec4 taps[9], float edge[9], bool direct) {
-  vec4 c = taps[4];
-  float lp = luminance(c.rgb);
-  vec3 sum = c.rgb;
-  float keep = 1.0, variance = 0.0;
-  for (int k = 0; k < 9; ++k) {
-    vec4 cq = taps[k];
-    if (k == 4 || cq.a < 0.0) continue;
-    float v = direct ? min(c.a, cq.a) : max(c.a, cq.a);
-    if (!(v > 0.0)) continue;  // no noise on either side: nothing to exchange
-    float noise = rtgi.denoise.x * sqrt(v) + 1e-6;
-    float w = (4.0 / 3.0) * kernel(k) * exp(edge[k] - abs(luminance(cq.rgb) - lp) / noise);
-    sum += w * (cq.rgb - c.rgb);
-    keep -= w;
-    variance += w * w * cq.a;
-  }
-  return vec4(sum, variance + keep * keep * c.a);
+//
+// The taps are taken one at a time, with nothing kept in arrays: a software
+// rasterizer keeps a local array indexed in a loop in memory, one lane at a time,
+// and the 3x3 taps held in arrays made each pass twice as slow.
+void exchange(vec4 c, vec4 cq, float logEdge, float kernel, bool direct, inout vec4 light,
+              inout float variance) {
+  float v = direct ? min(c.a, cq.a) : max(c.a, cq.a);
+  if (!(v > 0.0)) return;  // no noise on either side: nothing to exchange
+  float noise = rtgi.denoise.x * sqrt(v) + 1e-6;
+  float w = kernel * exp(logEdge - abs(luminance(cq.rgb) - luminance(c.rgb)) / noise);
+  light += vec4(w * (cq.rgb - c.rgb), -w);
+  variance += w * w * cq.a;
 }
 
 void main() {
@@ -89,24 +86,24 @@ void main() {
     return;
   }
   int step = int(denoisePass.x);
-  vec4 taps[9], taps2[9];
-  float edge[9];
   DenoiseKey p = unpackDenoiseKey(imageLoad(keys, px));
   float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+  vec4 light = vec4(c.rgb, 1.0), light2 = vec4(c2.rgb, 1.0);
+  float variance = 0.0, variance2 = 0.0;
   for (int k = 0; k < 9; ++k) {
     ivec2 q = px + (ivec2(k % 3, k / 3) - 1) * step;
-    edge[k] = 0.0;
-    if (k == 4) {
-      taps[k] = c;
-      taps2[k] = c2;
-    } else if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
-      taps[k] = taps2[k] = vec4(-1.0);
-    } else {
-      unpackDenoiseTerms(imageLoad(source, q), taps[k], taps2[k]);
-      if (taps[k].a >= 0.0) edge[k] = logEdgeWeight(p, unpackDenoiseKey(imageLoad(keys, q)), scale);
-    }
+    if (k == 4 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+    vec4 cq, cq2;
+    unpackDenoiseTerms(imageLoad(source, q), cq, cq2);
+    if (cq.a < 0.0) continue;  // kept: both terms are
+    float logEdge = logEdgeWeight(p, unpackDenoiseKey(imageLoad(keys, q)), scale);
+    float w = (4.0 / 3.0) * kernel(k);
+    exchange(c, cq, logEdge, w, true, light, variance);
+    exchange(c2, cq2, logEdge, w, false, light2, variance2);
   }
-  vec4 out1 = filterTerm(taps, edge, true), out2 = filterTerm(taps2, edge, false);
+  // The pixel's own variance counts by the square of the share of its light it kept.
+  vec4 out1 = vec4(light.rgb, variance + light.a * light.a * c.a);
+  vec4 out2 = vec4(light2.rgb, variance2 + light2.a * light2.a * c2.a);
   if (last) {
     imageStore(denoised, px,
                vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
