@@ -45,8 +45,8 @@ uvec4 packDenoiseKey(vec4 position, vec3 n) {
 
 // The two terms the a-trous passes filter (each light over base colour, rgb, and the
 // variance of its luminance, or -1 where the filter keeps the pixel) in one rgba32ui
-// texel of half floats, so that a tap reads both in one load: rgba16f where each
-// term took an rgba32f image of its own, with the square root of the variance kept
+// texel of half floats, so that a tap reads both in one load (each term took an
+// rgba32f image of its own before), with the square root of the variance kept
 // (a variance's own range, from 1e-8 to 1e5, falls outside a half's). Light beyond
 // a half's range is clamped to it.
 uvec4 packDenoiseTerms(vec4 a, vec4 b) {

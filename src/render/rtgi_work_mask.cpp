@@ -18,7 +18,7 @@ void RtgiWorkMask::resize(int width, int height) {
 }
 
 void RtgiWorkMask::update(gl::FrameContext& ctx, GLuint gx, GLuint gy, int frameIndex) {
-  if (valid_ && !stale_ && !bins_.empty() && frameIndex % kPeriod != 1) return;
+  if (valid_ && !stale_ && frameIndex % kPeriod != 1) return;
   gl::StageScope stage(ctx.timer, Stage::kMask);
   glClearNamedBufferSubData(histogram_.id(), GL_R32UI, 0, 4 * gpu::kMaskBins, GL_RED_INTEGER,
                             GL_UNSIGNED_INT, nullptr);
