@@ -22,6 +22,7 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
       accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})),
       mask_(programs),
+      history_(programs),
       denoiser_(programs) {
   params_ = gl::createBuffer(sizeof(gpu::RtgiParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   const uint32_t zero = 0;
@@ -143,7 +144,6 @@ void RtgiPass::resize(int width, int height) {
     make(position_[i], GL_RGBA32F);
     make(normal_[i], GL_RGBA16F);
   }
-  make(history_, GL_RGBA32F);
   make(albedo_, GL_RGBA8);
   make(emission_, GL_RGBA16F);
   make(motion_, GL_RGBA16F);
@@ -152,8 +152,8 @@ void RtgiPass::resize(int width, int height) {
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
   // The denoiser's images are made on the first frame that denoises
-  // (makeMomentImages, RtgiDenoiser::execute).
-  for (gl::Texture* t : {&moments_, &historyMoments_, &directMean_, &historyDirect_}) t->reset();
+  // (RtgiHistory::makeMoments, RtgiDenoiser::execute).
+  history_.resize(width, height);
   denoiser_.resize(width, height);
   denoised_ = false;
   mask_.resize(width, height);
@@ -186,24 +186,15 @@ void RtgiPass::resize(int width, int height) {
     targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
 }
 
-void RtgiPass::makeMomentImages() {
-  if (moments_) return;
-  auto make = [&](gl::Texture& t, GLenum format) {
-    t = gl::createImage2D(format, width_, height_);
-  };
-  make(moments_, GL_RGBA32F);
-  make(historyMoments_, GL_RGBA32F);
-  make(directMean_, GL_RGBA32F);
-  make(historyDirect_, GL_RGBA32F);
-  targetBytes_ += static_cast<size_t>(width_) * static_cast<size_t>(height_) *
-                  (4 * 16 + RtgiDenoiser::kBytesPerPixel);
-}
-
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
                        const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
                        const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
-  if (settings_.denoise) makeMomentImages();
+  if (settings_.denoise && !history_.hasMoments()) {
+    // The first frame that denoises makes the moments, and the denoiser its images.
+    const size_t pixels = static_cast<size_t>(width_) * static_cast<size_t>(height_);
+    targetBytes_ += history_.makeMoments() + pixels * RtgiDenoiser::kBytesPerPixel;
+  }
   // The G-buffer drawn last frame becomes the previous one.
   current_ ^= 1;
   buildOptionalStages();
@@ -213,14 +204,18 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
   drawGBuffer(ctx, gs);
   bindFrameInputs(gs, octree, accum);
-  if (plan.reprojecting) reproject(ctx, plan.gx, plan.gy, accum, gs.materials());
+  if (plan.reprojecting)
+    history_.reproject(ctx, plan.gx, plan.gy, accum,
+                       {position_[current_ ^ 1].id(), normal_[current_ ^ 1].id(), motion_.id()},
+                       gs.materials(), settings_.denoise, settings_.features.defines());
   lastTraced_ = plan.everyPixel ? 1.0 : 1.0 / plan.interleave;
   if (plan.listed) selectPixels(ctx, frameIndex, plan, &p);
   traceLight(ctx, gs, plan);
   accumulateFrame(ctx, plan);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   denoised_ = settings_.denoise && shown_;
-  if (denoised_) denoiser_.execute(ctx, plan.gx, plan.gy, accum, moments_.id(), directMean_.id());
+  if (denoised_)
+    denoiser_.execute(ctx, plan.gx, plan.gy, accum, history_.moments(), history_.directMean());
   finishFrame(plan);
 }
 
@@ -440,8 +435,8 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
     // The indirect stage reads each pixel's count of samples so far (a first sample
     // reads the voxels): after a camera move, in the reprojected mean.
     if (plan.reprojecting)
-      glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                         GL_RGBA32F);
+      glBindImageTexture(gpu::kReprojectedImage, history_.reprojectedMean(), 0, GL_FALSE, 0,
+                         GL_READ_ONLY, GL_RGBA32F);
     runStage(ctx, Stage::kIndirect, indirectProgram(gs), plan);
   }
   if (settings_.specular) runStage(ctx, Stage::kSpecular, specularProgram(gs), plan);
@@ -454,12 +449,12 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
     // The moments and the direct term's mean use the mask's image units
     // (bindings_shared.h): bound here, after it ran; so does the reprojected mean
     // (below).
-    glBindImageTexture(gpu::kMomentsImage, moments_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+    glBindImageTexture(gpu::kMomentsImage, history_.moments(), 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_RGBA32F);
-    glBindImageTexture(gpu::kDirectMeanImage, directMean_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+    glBindImageTexture(gpu::kDirectMeanImage, history_.directMean(), 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_RGBA32F);
-    glBindTextureUnit(gpu::kReprojectedMomentsUnit, historyMoments_.id());
-    glBindTextureUnit(gpu::kReprojectedDirectUnit, historyDirect_.id());
+    glBindTextureUnit(gpu::kReprojectedMomentsUnit, history_.reprojectedMoments());
+    glBindTextureUnit(gpu::kReprojectedDirectUnit, history_.reprojectedDirect());
   }
   if (plan.lends || plan.reprojecting || settings_.denoise) {
     std::vector<std::string> defines = settings_.features.defines();
@@ -468,8 +463,8 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
     if (plan.relight) defines.emplace_back("RTGI_RELIGHT");
     if (plan.reprojecting) {
       defines.emplace_back("RTGI_REPROJECTED");
-      glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_READ_ONLY,
-                         GL_RGBA32F);
+      glBindImageTexture(gpu::kReprojectedImage, history_.reprojectedMean(), 0, GL_FALSE, 0,
+                         GL_READ_ONLY, GL_RGBA32F);
     }
     const gl::Program& variant = programs_.get({{"render/rtgi_accumulate.comp"}, defines});
     accumulateVariant_ = &variant;
@@ -492,35 +487,6 @@ void RtgiPass::finishFrame(const FramePlan& plan) {
   for (GLuint u = 0; u < gpu::kMinImageUnits; ++u)
     glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
   for (GLuint u : {gpu::kGPositionUnit, gpu::kGNormalUnit, gpu::kGAlbedoUnit, gpu::kGEmissionUnit})
-    glBindTextureUnit(u, 0);
-}
-
-void RtgiPass::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum,
-                         GLuint materials) {
-  gl::StageScope stage(ctx.timer, Stage::kReproject);
-  glBindTextureUnit(gpu::kHistoryUnit, accum);
-  glBindTextureUnit(gpu::kGPreviousPositionUnit, position_[current_ ^ 1].id());
-  glBindTextureUnit(gpu::kGPreviousNormalUnit, normal_[current_ ^ 1].id());
-  glBindTextureUnit(gpu::kGMotionUnit, motion_.id());
-  glBindImageTexture(gpu::kReprojectedImage, history_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                     GL_RGBA32F);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
-  std::vector<std::string> defines = settings_.features.defines();
-  if (settings_.denoise) {
-    defines.emplace_back("RTGI_MOMENTS");
-    glBindTextureUnit(gpu::kHistoryMomentsUnit, moments_.id());
-    glBindTextureUnit(gpu::kHistoryDirectUnit, directMean_.id());
-    glBindImageTexture(gpu::kReprojectedMomentsImage, historyMoments_.id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(gpu::kReprojectedDirectImage, historyDirect_.id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA32F);
-  }
-  glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, defines}).id());
-  glDispatchCompute(gx, gy, 1);
-  // Accumulate reads the reprojected moments and direct mean as textures.
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  for (GLuint u : {gpu::kHistoryUnit, gpu::kGPreviousPositionUnit, gpu::kGPreviousNormalUnit,
-                   gpu::kGMotionUnit, gpu::kHistoryMomentsUnit, gpu::kHistoryDirectUnit})
     glBindTextureUnit(u, 0);
 }
 

@@ -19,7 +19,8 @@
 //               indirect light; without one, the light of the voxel the ray meets;
 //   reproject   after a camera move, first of all: each pixel's running mean follows
 //               the surface it shows from the previous frame's pixels, dropped where
-//               they showed another surface, its count capped (rtgi_reproject.comp);
+//               they showed another surface, its count capped (rtgi_reproject.comp,
+//               RtgiHistory);
 //   accumulate  emission + the three terms, into each pixel's running mean.
 //   denoise     with Settings::denoise: the image shown is the running mean filtered
 //               by a variance-guided, edge-avoiding wavelet (Schied et al. 2017,
@@ -40,6 +41,7 @@
 #include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
 #include "render/rtgi_denoiser.h"
+#include "render/rtgi_history.h"
 #include "render/rtgi_work_mask.h"
 #include "rtgi_shared.h"
 #include "scene/effects.h"
@@ -255,12 +257,6 @@ class RtgiPass {
   // The traced share of a listed frame, and the units the frame bound, unbound.
   void finishFrame(const FramePlan& plan);
   void resize(int width, int height);
-  // The moments the denoiser reads, at the current size, unless made already: only a
-  // pass that denoises pays for them.
-  void makeMomentImages();
-  // The reproject stage (see above), into `accum`; `materials`: the scene's (which
-  // of them emit).
-  void reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint accum, GLuint materials);
 
   // `restir`: the variant of the direct stage's reservoir resampling, "" none.
   const gl::Program& directProgram(const GpuScene& gs, const char* restir = "");
@@ -303,11 +299,9 @@ class RtgiPass {
   gl::Texture position_[2], normal_[2], albedo_, emission_, motion_, depth_;
   gl::Framebuffer fbo_[2];
   int current_ = 0;
-  gl::Texture history_;  // the reprojected mean, on a frame after a camera move
   gl::Texture directImage_, indirectImage_, specularImage_;
-  // What the denoiser reads beside the mean: the moments of both terms and the mean
-  // of the direct term, and their reprojection (rgba32f).
-  gl::Texture moments_, historyMoments_, directMean_, historyDirect_;
+  // The moments and direct mean beside the mean, and the reprojected history.
+  RtgiHistory history_;
   RtgiDenoiser denoiser_;
   bool denoised_ = false;  // denoiser_ filtered this frame
   bool shown_ = true;
