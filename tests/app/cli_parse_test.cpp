@@ -1,7 +1,14 @@
 // Command-line parsing, without a GL context.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
 #include "app/cli.h"
+#include "app/cli_options.h"
+#include "support/test_paths.h"
 
 namespace voxgi::app {
 namespace {
@@ -309,6 +316,48 @@ TEST(CliParse, ViewRejects) {
        }) {
     EXPECT_THROW(parse(args), UsageError) << args.back();
   }
+}
+
+// The option table is the one source of the parser and the help: no option is in
+// it twice for one command (the second would never be reached), every one is in its
+// commands' help, and each command accepts it.
+TEST(CliOptions, EachOptionOnceInItsCommandsHelpAndParser) {
+  std::set<std::pair<std::string, unsigned>> seen;
+  for (const CliOption& o : cliOptions()) {
+    for (unsigned command : {unsigned{kRenderOption}, unsigned{kViewOption}}) {
+      if ((o.commands & command) == 0) continue;
+      EXPECT_TRUE(seen.insert({o.name, command}).second) << o.name << " twice";
+      const std::string help = command == kRenderOption ? renderHelp() : viewHelp();
+      EXPECT_NE(help.find(o.name), std::string::npos) << o.name;
+      const auto which = static_cast<OptionCommands>(command);
+      EXPECT_EQ(findCliOption(o.name, which), &o) << o.name;
+      if (o.alias) {
+        EXPECT_EQ(findCliOption(o.alias, which), &o) << o.alias;
+      }
+    }
+  }
+  EXPECT_EQ(findCliOption("--screenshot", kRenderOption), nullptr);
+  EXPECT_EQ(findCliOption("--spp", kViewOption), nullptr);
+}
+
+// The README's option table names only options the table holds, so it cannot keep
+// one that was renamed or removed.
+TEST(CliOptions, ReadmeNamesOnlyOptionsThatExist) {
+  std::ifstream in(test::sourceDir() + "/README.md");
+  ASSERT_TRUE(in) << "README.md";
+  const std::regex option("--[a-z][a-z-]*");
+  std::string line;
+  int named = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("| `--", 0) != 0) continue;
+    const std::string first = line.substr(0, line.find(" | ", 1));
+    for (auto it = std::sregex_iterator(first.begin(), first.end(), option);
+         it != std::sregex_iterator(); ++it) {
+      ++named;
+      EXPECT_NE(findCliOption(it->str(), kBothOptions), nullptr) << it->str();
+    }
+  }
+  EXPECT_GE(named, 20);
 }
 
 }  // namespace
