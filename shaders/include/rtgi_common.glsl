@@ -61,9 +61,9 @@ bool belowSurface(ivec2 px, vec3 d) {
 // repeat the same samples every frame, and accumulation would converge to a biased
 // image.
 void seedPixel(ivec2 px, uint stage) {
-  uint pixelIndex = uint(px.y) * rtgi.frame.z + uint(px.x);
+  uint pixelIndex = uint(px.y) * rtgi.width + uint(px.x);
   rngState =
-      pcgHash(pcgHash(pcgHash(rtgi.frame.y + stage * 0x9e3779b9u) + pixelIndex) + rtgi.frame.x);
+      pcgHash(pcgHash(pcgHash(rtgi.seed + stage * 0x9e3779b9u) + pixelIndex) + rtgi.frameIndex);
 }
 
 // Where rays leave the surface: off it along the normal, past the voxels the surface
@@ -85,14 +85,15 @@ vec3 surfaceRayOrigin(ivec2 px, Surface s) {
 // N-th frame only, in a 4x4 ordered order. Accumulation keeps a sample count per
 // pixel, so the image converges to the same mean, N times slower per frame.
 bool tracesEveryPixel() {
-  return interleaveEveryPixel(rtgi.work.x, rtgi.frame.x, (rtgi.work.w & kRtgiSparseStart) != 0u);
+  return interleaveEveryPixel(rtgi.interleave, rtgi.frameIndex,
+                              (rtgi.workFlags & kRtgiSparseStart) != 0u);
 }
 
 // The rank of this frame's turn: the pixels of rank r with (r + frame) % N == 0 trace.
-uint turnRank() { return interleaveTurn(rtgi.work.x, rtgi.frame.x); }
+uint turnRank() { return interleaveTurn(rtgi.interleave, rtgi.frameIndex); }
 
 bool tracesThisFrame(ivec2 px) {
-  return tracesEveryPixel() || interleaveTraces(px, rtgi.work.x, rtgi.frame.x);
+  return tracesEveryPixel() || interleaveTraces(px, rtgi.interleave, rtgi.frameIndex);
 }
 
 #ifdef RTGI_PIXEL_LIST
@@ -105,10 +106,10 @@ layout(std430, binding = kPixelListBinding) readonly buffer PixelList {
 layout(binding = kTracedImage, r8ui) uniform readonly uimage2D tracedIn;
 #endif
 
-bool selectedByList() { return rtgi.work.z != kSelectPattern && rtgi.frame.x != 0u; }
+bool selectedByList() { return rtgi.selectKind != kSelectPattern && rtgi.frameIndex != 0u; }
 
 bool outside(ivec2 px) {
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return true;
+  if (px.x >= int(rtgi.width) || px.y >= int(rtgi.height)) return true;
 #ifdef RTGI_TRACED_IMAGE
   if (selectedByList()) return imageLoad(tracedIn, px).x == 0u;
 #endif
@@ -131,7 +132,7 @@ bool tracePixel(out ivec2 px) {
     return true;
   }
 #endif
-  return interleavePixel(i, rtgi.frame.z, rtgi.frame.w, rtgi.work.x, rtgi.frame.x,
+  return interleavePixel(i, rtgi.width, rtgi.height, rtgi.interleave, rtgi.frameIndex,
                          tracesEveryPixel(), px);
 }
 

@@ -26,7 +26,7 @@ bool denoiseKeeps(ivec2 px) {
   if (texelFetch(gPosition, px, 0).w < 0.5) return true;
   if (any(greaterThan(texelFetch(gEmission, px, 0).rgb, vec3(0.0)))) return true;
   float roughness = texelFetch(gNormal, px, 0).w;
-  return (rtgi.counts.z & kRtgiHasSpecular) != 0u && roughness < kMirrorRoughness;
+  return (rtgi.flags & kRtgiHasSpecular) != 0u && roughness < kMirrorRoughness;
 }
 
 // What the edge stops compare, one rgba32ui texel per pixel (kDenoiseKeyImage),

@@ -142,7 +142,7 @@ vec3 punctualDirect(Surface s, vec3 o, vec3 ng) {
     // contribution c_k (the same one-pass draw as the emitters' below), and its
     // c_k x visibility / P_k, P_k = c_k / sum: the unshadowed sum where the light is
     // seen, unbiased, at the cost of one shadow ray however many lights there are.
-    int lightCount = int(rtgi.counts.x);
+    int lightCount = int(rtgi.lightCount);
     float total = 0.0;
     float picked = 0.0;
     vec3 pickedLight = vec3(0.0);
@@ -175,7 +175,7 @@ vec3 punctualDirect(Surface s, vec3 o, vec3 ng) {
     }
   }
 #elif defined(RTGI_LIGHTS)
-  int lightCount = int(rtgi.counts.x);
+  int lightCount = int(rtgi.lightCount);
   for (int k = 0; k < lightCount; ++k) {
     vec3 c = punctualLight(lights[k], s);
     if (all(equal(c, vec3(0.0)))) continue;
@@ -192,7 +192,7 @@ vec3 punctualDirect(Surface s, vec3 o, vec3 ng) {
 vec3 directLight(Surface s, vec3 o, vec3 ng) {
   vec3 result = punctualDirect(s, o, ng);
 #ifndef VOXGI_NO_EMISSION
-  int emitterCount = int(rtgi.counts.y);
+  int emitterCount = int(rtgi.emitterCount);
 #ifdef VOXGI_NO_SHADOWS
   // Unshadowed: the exact sum of every emitter's contribution.
   for (int k = 0; k < emitterCount; ++k) result += areaLight(emitters[k], s);

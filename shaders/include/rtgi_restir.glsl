@@ -73,17 +73,17 @@ void stream(inout Reservoir r, int y, float h, vec3 spec, float w, float m) {
   }
 }
 
-uint reservoirIndex(ivec2 px) { return uint(px.y) * rtgi.frame.z + uint(px.x); }
+uint reservoirIndex(ivec2 px) { return uint(px.y) * rtgi.width + uint(px.x); }
 
 vec4 packReservoir(int y, float w, float h) {
-  return vec4(intBitsToFloat(y), w, h, uintBitsToFloat(rtgi.frame.x));
+  return vec4(intBitsToFloat(y), w, h, uintBitsToFloat(rtgi.frameIndex));
 }
 
 // The emitter a stored reservoir holds, -1 for none (or an index past the emitters:
 // a buffer from before a scene change).
 int storedEmitter(vec4 stored) {
   int y = floatBitsToInt(stored.x);
-  return y < int(rtgi.counts.y) && stored.y > 0.0 ? y : -1;
+  return y < int(rtgi.emitterCount) && stored.y > 0.0 ? y : -1;
 }
 
 // Whether a surface at position p with normal n, seen from the camera, is like s
@@ -99,7 +99,7 @@ void restirInitial(ivec2 px, Pixel p) {
   Surface s = p.s;
   if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
   Reservoir r = emptyReservoir();
-  int emitterCount = int(rtgi.counts.y);
+  int emitterCount = int(rtgi.emitterCount);
   for (int i = 0; i < kRestirCandidates && emitterCount > 0; ++i) {
     float pmf;
     int k = pickLightTree(rand01(), floatBitsToUint(rand01()), s.p, s.n, pmf);
@@ -147,16 +147,16 @@ vec3 restirDirect(ivec2 px, Surface s, vec3 o, vec3 ng) {
   // The neighbours that traced this frame, on a like surface.
   ivec2 near[kRestirNeighbours];
   int k = 0;
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   for (int i = 0; i < kRestirNeighbours; ++i) {
     float a = 2.0 * kPi * rand01();
-    float rad = max(kRestirRadius * float(rtgi.frame.w), kRestirMinRadius) * sqrt(rand01());
+    float rad = max(kRestirRadius * float(rtgi.height), kRestirMinRadius) * sqrt(rand01());
     ivec2 q = px + ivec2(round(rad * vec2(cos(a), sin(a))));
     if (q == px || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
     vec4 qp = texelFetch(gPosition, q, 0);
     if (qp.w < 0.5) continue;
     vec4 stored = reservoirs[reservoirIndex(q)];
-    if (floatBitsToUint(stored.w) != rtgi.frame.x ||
+    if (floatBitsToUint(stored.w) != rtgi.frameIndex ||
         !likeSurface(s, qp.xyz, normalize(texelFetch(gNormal, q, 0).xyz), 0.05))
       continue;
     near[k++] = q;

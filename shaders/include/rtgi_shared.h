@@ -22,13 +22,13 @@ VOXGI_CONST int kDenoisePassLocation = 0;
 VOXGI_CONST int kDenoisePasses = 5;
 // Below this many samples a pixel's variance is estimated from its neighbours'.
 VOXGI_CONST float kDenoiseTemporalSamples = 4.0f;
-// How the pixels that trace are chosen (RtgiParams::work.z).
+// How the pixels that trace are chosen (RtgiParams::selectKind).
 VOXGI_CONST uint kSelectPattern = 0u;   // every interleave-th frame, Bayer order
-VOXGI_CONST uint kSelectMask = 1u;      // the pattern, plus pixels whose mask exceeds work.y
-VOXGI_CONST uint kSelectUniform = 2u;   // the pattern, plus a random work.y of the others
+VOXGI_CONST uint kSelectMask = 1u;      // the pattern, plus pixels whose mask exceeds selectLevel
+VOXGI_CONST uint kSelectUniform = 2u;   // the pattern, plus a random selectLevel of the others
 VOXGI_CONST int kMaxExactEmitters = 8;  // RtgiPass::Settings::exactEmitters at most
 VOXGI_CONST uint kMaxInterleave = 16u;  // a 4x4 ordered pattern
-// RtgiParams::work.w flags.
+// RtgiParams::workFlags.
 // The first frame of an accumulation traces the pattern only, like the others, and
 // a pixel that has not traced yet shows the light of traced neighbours on its surface
 // (RtgiPass::Settings::sparseStart).
@@ -38,7 +38,7 @@ VOXGI_CONST uint kRtgiGroupX = 8u;
 VOXGI_CONST uint kRtgiGroupY = 8u;
 VOXGI_CONST uint kDenoisePrepareGroup = 16u;  // rtgi_denoise_prepare.comp: square groups
 
-// Which terms accumulate adds.
+// RtgiParams::flags: which terms accumulate adds.
 VOXGI_CONST uint kRtgiHasDirect = 1u;
 VOXGI_CONST uint kRtgiHasIndirect = 2u;
 VOXGI_CONST uint kRtgiHasSpecular = 4u;
@@ -57,23 +57,41 @@ VOXGI_CONST float kMirrorRoughness = 0.05f;
 VOXGI_CONST int kMaxMirrorChain = 4;
 
 struct RtgiParams {
-  uvec4 frame;         // x frame index since accumulation restarted, y seed, z width, w height
-  uvec4 counts;        // x lights, y emitters, z flags (kRtgiHas*), w emitters sampled exactly (<=)
+  // The frame: its index since accumulation restarted, the seed, the image's size.
+  uint frameIndex;
+  uint seed;
+  uint width;
+  uint height;
+  // The scene's punctual lights and emitters, and the kRtgi* flags above.
+  uint lightCount;
+  uint emitterCount;
+  uint flags;
+  uint pad0;
   vec4 camera;         // xyz position
   vec4 cameraRight;    // right * tan(fov/2) * aspect (dvr camera rays)
   vec4 cameraUp;       // up * tan(fov/2)
   vec4 cameraForward;  // w: opacity at which dvr stops
-  uvec4 work;          // x: interleave N (1, 2, 4, 8, 16): a pixel traces every N-th frame;
-                       // y: mask threshold or uniform fraction (float bits); z: kSelect*;
-                       // w: flags (kRtgiSparseStart)
+  // Which pixels trace: every interleave-th frame (1, 2, 4, 8, 16), and beyond that
+  // pattern those selectKind (kSelect*) picks by selectLevel (the mask's threshold
+  // or the uniform share, as float bits); workFlags: kRtgiSparseStart.
+  uint interleave;
+  uint selectLevel;
+  uint selectKind;
+  uint workFlags;
   // Reprojection: the previous frame's view-projection (without its jitter), and
-  // the history a pixel keeps when the camera moved: x at most this many frames,
-  // y for glossy surfaces, z for mirrors, w on edges between surfaces.
+  // the history a pixel keeps when the camera moved, in frames: at most historyCap,
+  // glossyHistory on glossy surfaces, mirrorHistory on mirrors, edgeHistory on
+  // edges between surfaces.
   vec4 previousViewProj[4];
-  vec4 history;
-  // Denoise: x the luminance edge stop's scale (sigma_l), y the plane-distance
-  // edge stop's (RtgiPass::Settings).
-  vec4 denoise;
+  float historyCap;
+  float glossyHistory;
+  float mirrorHistory;
+  float edgeHistory;
+  // The denoiser's edge stops (RtgiPass::Settings::denoiseLuminance, denoisePlane).
+  float denoiseLuminance;
+  float denoisePlane;
+  float pad1;
+  float pad2;
 };
 
 // The temporal upsampler (rtgi_upsample.comp, RenderSettings::renderScale < 1):

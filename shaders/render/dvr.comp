@@ -20,8 +20,8 @@ const int kMaxLeaves = 64;  // leaves composited per ray at most
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
-  vec2 ndc = (vec2(px) + 0.5) / vec2(rtgi.frame.zw) * 2.0 - 1.0;
+  if (px.x >= int(rtgi.width) || px.y >= int(rtgi.height)) return;
+  vec2 ndc = (vec2(px) + 0.5) / vec2(rtgi.width, rtgi.height) * 2.0 - 1.0;
   vec3 dir =
       normalize(rtgi.cameraForward.xyz + ndc.x * rtgi.cameraRight.xyz + ndc.y * rtgi.cameraUp.xyz);
   MarchRay r = octreeWorldRay(rtgi.camera.xyz, dir, 3.0e38);

@@ -46,7 +46,7 @@ vec4 previousMoments(ivec2 px) {
 #ifdef RTGI_REPROJECTED
   return texelFetch(reprojectedMoments, px, 0);
 #else
-  return rtgi.frame.x > 0u ? imageLoad(moments, px) : vec4(0.0);
+  return rtgi.frameIndex > 0u ? imageLoad(moments, px) : vec4(0.0);
 #endif
 }
 
@@ -54,7 +54,7 @@ vec3 previousDirect(ivec2 px) {
 #ifdef RTGI_REPROJECTED
   return texelFetch(reprojectedDirect, px, 0).rgb;
 #else
-  return rtgi.frame.x > 0u ? imageLoad(directMean, px).rgb : vec3(0.0);
+  return rtgi.frameIndex > 0u ? imageLoad(directMean, px).rgb : vec3(0.0);
 #endif
 }
 
@@ -70,7 +70,7 @@ vec4 previousMean(ivec2 px) {
 #ifdef RTGI_REPROJECTED
   return imageLoad(reprojected, px);
 #else
-  return rtgi.frame.x > 0u ? imageLoad(accum, px) : vec4(0.0);
+  return rtgi.frameIndex > 0u ? imageLoad(accum, px) : vec4(0.0);
 #endif
 }
 
@@ -78,7 +78,7 @@ vec4 previousMean(ivec2 px) {
 // direct term alone.
 vec3 tracedLight(ivec2 q, out vec3 direct) {
   vec3 c = vec3(0.0);
-  uint flags = rtgi.counts.z;
+  uint flags = rtgi.flags;
   direct = (flags & kRtgiHasDirect) != 0u ? finiteOrZero(imageLoad(directIn, q).rgb) : vec3(0.0);
   if ((flags & kRtgiHasIndirect) != 0u) c += finiteOrZero(imageLoad(indirectIn, q).rgb);
   if ((flags & kRtgiHasSpecular) != 0u) c += finiteOrZero(imageLoad(specularIn, q).rgb);
@@ -98,7 +98,7 @@ vec3 tracedLight(ivec2 q) {
 // (covered alike, normals within 25 degrees, depth within 5%), or, when none is,
 // every covered one. `direct`: the direct term of what it returns.
 vec3 borrowedLight(ivec2 px, out vec3 direct) {
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   uint cell = interleaveCell(turnRank());
   ivec2 c = ivec2(cell & 3u, cell >> 2u);
   ivec2 block0 = (px - c) >> 2;  // the block whose traced pixel is at or before px
@@ -191,7 +191,7 @@ bool historyStale(ivec2 px, vec4 previous) {
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
+  if (px.x >= int(rtgi.width) || px.y >= int(rtgi.height)) return;
   bool traced = !outside(px);
   vec4 previous = previousMean(px);
 #ifndef RTGI_SPARSE_START

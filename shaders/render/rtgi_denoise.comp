@@ -63,7 +63,7 @@ void exchange(vec4 c, vec4 cq, float logEdge, float kernel, bool direct, inout v
               inout float variance) {
   float v = direct ? min(c.a, cq.a) : max(c.a, cq.a);
   if (!(v > 0.0)) return;  // no noise on either side: nothing to exchange
-  float noise = rtgi.denoise.x * sqrt(v) + 1e-6;
+  float noise = rtgi.denoiseLuminance * sqrt(v) + 1e-6;
   float w = kernel * exp(logEdge - abs(luminance(cq.rgb) - luminance(c.rgb)) / noise);
   light += vec4(w * (cq.rgb - c.rgb), -w);
   variance += w * w * cq.a;
@@ -71,7 +71,7 @@ void exchange(vec4 c, vec4 cq, float logEdge, float kernel, bool direct, inout v
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   if (px.x >= size.x || px.y >= size.y) return;
   bool last = denoisePass.y > 0.5;
   uvec4 terms = imageLoad(source, px);
@@ -87,7 +87,7 @@ void main() {
   }
   int step = int(denoisePass.x);
   DenoiseKey p = unpackDenoiseKey(imageLoad(keys, px));
-  float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+  float scale = rtgi.denoisePlane * length(p.position - rtgi.camera.xyz) + 1e-6;
   vec4 light = vec4(c.rgb, 1.0), light2 = vec4(c2.rgb, 1.0);
   float variance = 0.0, variance2 = 0.0;
   for (int k = 0; k < 9; ++k) {

@@ -79,7 +79,7 @@ void loadTile(ivec2 size, bool needed) {
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   bool inside = px.x < size.x && px.y < size.y;
   vec4 c = inside ? texelFetch(mean, px, 0) : vec4(0.0);
   bool keeps = !inside || denoiseKeeps(px);
@@ -99,7 +99,7 @@ void main() {
     // Too few samples of its own: the moments of the pixels around it on its surface
     // that have samples.
     DenoiseKey p = keyAt(px);
-    float scale = rtgi.denoise.y * length(p.position - rtgi.camera.xyz) + 1e-6;
+    float scale = rtgi.denoisePlane * length(p.position - rtgi.camera.xyz) + 1e-6;
     // With two samples or more, each pixel's own samples' variance, averaged: the
     // light's change from pixel to pixel is not noise (the moments pooled over the
     // pixels would count a hard shadow's edge as noise, and the filter would carry

@@ -51,8 +51,8 @@ layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojecte
 
 // Samples in the pixel's mean before this frame's (accumulate's count).
 float samplesSoFar(ivec2 px) {
-  if ((rtgi.counts.z & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
-  return rtgi.frame.x > 0u ? imageLoad(accumIn, px).a : 0.0;
+  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
+  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
 }
 #endif
 
@@ -86,7 +86,7 @@ bool voxelStandsFor(int node, vec3 ng) {
 // of the last one count whatever its voxel.
 vec3 hitRadiance(vec3 o, vec3 dir) {
   loopBudget = kPtLoopBudget;
-  bool goOn = (rtgi.counts.z & kRtgiAllBounces) != 0u;
+  bool goOn = (rtgi.flags & kRtgiAllBounces) != 0u;
   vec3 throughput = vec3(1.0);
   vec3 result = vec3(0.0);
   for (int k = 0; k < kMaxIndirectVertices; ++k) {

@@ -14,7 +14,7 @@ layout(binding = kEdgeImage, r16f) uniform writeonly image2D edgeOut;
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   if (px.x >= size.x || px.y >= size.y) return;
   uvec4 k0 = imageLoad(keys, px);
   float centre = uintBitsToFloat(k0.x);

@@ -12,7 +12,7 @@ layout(std430, binding = kMaskHistogramBinding) buffer Histogram { uint histogra
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   if (px.x >= size.x || px.y >= size.y) return;
   float sum = 0.0;
   for (int dy = -2; dy <= 2; ++dy)

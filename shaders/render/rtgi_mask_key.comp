@@ -15,7 +15,7 @@ layout(binding = kMaskKeyImage, rgba32ui) uniform writeonly uimage2D keyOut;
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
+  if (px.x >= int(rtgi.width) || px.y >= int(rtgi.height)) return;
   vec4 p = texelFetch(gPosition, px, 0);
   vec3 n = texelFetch(gNormal, px, 0).xyz;
   vec3 c = imageLoad(accum, px).rgb;

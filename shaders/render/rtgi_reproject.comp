@@ -10,11 +10,11 @@
 // fails the test everywhere (a disocclusion) starts again with a count of 0.
 //
 // The count (alpha) is the pixel's history length; while the camera moves it is
-// capped (rtgi.history.x frames; fewer, y, for glossy surfaces and z for mirrors,
-// whose light changes with the view; w at edges), so the image follows the view within a few
-// frames; once the camera stops, accumulation goes on without a cap, as before.
-// Reads the accumulation target (as kHistoryUnit) and writes the reprojected mean
-// into its own image, which accumulate (RTGI_REPROJECTED) reads in its place.
+// capped (rtgi.historyCap frames; fewer, glossyHistory and mirrorHistory, for glossy
+// surfaces and mirrors, whose light changes with the view; edgeHistory at edges), so
+// the image follows the view within a few frames; once the camera stops, accumulation goes on
+// without a cap, as before. Reads the accumulation target (as kHistoryUnit) and writes the
+// reprojected mean into its own image, which accumulate (RTGI_REPROJECTED) reads in its place.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -48,9 +48,9 @@ void store(ivec2 px, vec4 mean, vec4 m, vec3 direct) {
 
 // The history a pixel of this material keeps across a camera move.
 float historyCap(float metallic, float roughness) {
-  if ((rtgi.counts.z & kRtgiHasSpecular) == 0u || isLambertian(metallic, roughness))
-    return rtgi.history.x;
-  return roughness < kMirrorRoughness ? rtgi.history.z : rtgi.history.y;
+  if ((rtgi.flags & kRtgiHasSpecular) == 0u || isLambertian(metallic, roughness))
+    return rtgi.historyCap;
+  return roughness < kMirrorRoughness ? rtgi.mirrorHistory : rtgi.glossyHistory;
 }
 
 // Whether the material of a covered G-buffer texel (w: 1 + its index) emits.
@@ -64,7 +64,7 @@ bool emits(float w) {
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(rtgi.frame.zw);
+  ivec2 size = ivec2(rtgi.width, rtgi.height);
   if (px.x >= size.x || px.y >= size.y) return;
   vec4 p = texelFetch(gPosition, px, 0);
   if (p.w < 0.5) {
@@ -123,7 +123,7 @@ void main() {
   // grid: it is kept short, and the edge converges again from this frame's samples.
   // Along an emitter's edge, whose light outshines what surrounds it many times
   // over, none is kept.
-  if (edge) cap = lampEdge || emits(p.w) ? 0.0 : min(cap, rtgi.history.w);
+  if (edge) cap = lampEdge || emits(p.w) ? 0.0 : min(cap, rtgi.edgeHistory);
   float n1 = min(count / weight, cap);
   if (n1 > 0.0)
     store(px, vec4(sum / weight, n1), moments / weight, direct / weight);

@@ -21,12 +21,12 @@ layout(std430, binding = kPixelListBinding) buffer PixelList {
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-  if (px.x >= int(rtgi.frame.z) || px.y >= int(rtgi.frame.w)) return;
-  float level = uintBitsToFloat(rtgi.work.y);
+  if (px.x >= int(rtgi.width) || px.y >= int(rtgi.height)) return;
+  float level = uintBitsToFloat(rtgi.selectLevel);
   bool trace = tracesThisFrame(px);
-  if (!trace && rtgi.work.z == kSelectMask) trace = imageLoad(maskIn, px).x > level;
-  if (!trace && rtgi.work.z == kSelectUniform) {
-    uint h = pcgHash(pcgHash(uint(px.y) * rtgi.frame.z + uint(px.x)) ^ pcgHash(rtgi.frame.x));
+  if (!trace && rtgi.selectKind == kSelectMask) trace = imageLoad(maskIn, px).x > level;
+  if (!trace && rtgi.selectKind == kSelectUniform) {
+    uint h = pcgHash(pcgHash(uint(px.y) * rtgi.width + uint(px.x)) ^ pcgHash(rtgi.frameIndex));
     trace = float(h >> 8u) * (1.0 / 16777216.0) < level;
   }
   imageStore(tracedOut, px, uvec4(trace ? 1u : 0u));

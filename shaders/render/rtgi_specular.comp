@@ -77,7 +77,7 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     }
     vec3 p = h.s.p, ng = h.ng, ns = h.s.n, below = h.below;
     result += throughput * directLight(h.s, p + ng * eps, below);
-    if ((rtgi.counts.z & kRtgiHasIndirect) != 0u && any(greaterThan(h.s.diffuse, vec3(0.0)))) {
+    if ((rtgi.flags & kRtgiHasIndirect) != 0u && any(greaterThan(h.s.diffuse, vec3(0.0)))) {
       vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
 #ifdef RTGI_BVH_RAYS
       // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
@@ -143,7 +143,7 @@ void main() {
         // Lights seen in a mirror: the exact emitters, unless a voxel closer than
         // the emitter's own voxels (kSurfaceOffsetVoxels in front) hides them.
         float tVoxel = hit.hit ? (hit.t + 2.0 * kSurfaceOffsetVoxels) * octreeVoxelSize() : 3.0e38;
-        vec3 e = emitterAlongRay(o, dir, tVoxel, int(rtgi.counts.y));
+        vec3 e = emitterAlongRay(o, dir, tVoxel, int(rtgi.emitterCount));
         if (any(greaterThan(e, vec3(0.0)))) l = e;
       }
       result = f * l;

@@ -37,7 +37,7 @@ vec3 freshSample(ivec2 q) {
 #else
   vec3 c = finiteOrZero(texelFetch(gEmission, q, 0).rgb);
 #endif
-  uint flags = rtgi.counts.z;
+  uint flags = rtgi.flags;
   if ((flags & kRtgiHasDirect) != 0u) c += finiteOrZero(imageLoad(directIn, q).rgb);
   if ((flags & kRtgiHasIndirect) != 0u) c += finiteOrZero(imageLoad(indirectIn, q).rgb);
   if ((flags & kRtgiHasSpecular) != 0u) c += finiteOrZero(imageLoad(specularIn, q).rgb);
@@ -46,7 +46,7 @@ vec3 freshSample(ivec2 q) {
 
 void main() {
   ivec2 q = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 lowSize = ivec2(rtgi.frame.zw);
+  ivec2 lowSize = ivec2(rtgi.width, rtgi.height);
   if (q.x >= lowSize.x || q.y >= lowSize.y || outside(q)) return;
   ivec2 outSize = ivec2(up.size.xy);
   // q's sample lies at q + 0.5 - jitter, in internal pixels.

@@ -15,7 +15,8 @@ void DvrPass::execute(gl::FrameContext& ctx, const voxel::Octree& octree,
                       const scene::Camera& camera, GLuint target) {
   gl::StageScope stage(ctx.timer, Stage::kDvr);
   gpu::RtgiParams p{};
-  p.frame = glm::uvec4(0u, 0u, static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
+  p.width = static_cast<uint32_t>(ctx.width);
+  p.height = static_cast<uint32_t>(ctx.height);
   const float aspect = static_cast<float>(ctx.width) / static_cast<float>(ctx.height);
   const float t = std::tan(camera.yfov * 0.5f);
   const glm::vec3 forward = glm::normalize(camera.forward);

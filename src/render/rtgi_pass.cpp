@@ -200,7 +200,7 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   buildOptionalStages();
   const FramePlan plan = planFrame(ctx, gs, frameIndex, previousViewProj != nullptr);
   gpu::RtgiParams p = frameParams(ctx, gs, cameraPosition, frameIndex, previousViewProj, plan);
-  if (octree && octree->allBounces()) p.counts.z |= gpu::kRtgiAllBounces;
+  if (octree && octree->allBounces()) p.flags |= gpu::kRtgiAllBounces;
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
   drawGBuffer(ctx, gs);
   bindFrameInputs(gs, octree, accum);
@@ -271,24 +271,28 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
                                       const glm::mat4* previousViewProj,
                                       const FramePlan& plan) const {
   gpu::RtgiParams p{};
-  p.frame = glm::uvec4(static_cast<uint32_t>(frameIndex), settings_.seed,
-                       static_cast<uint32_t>(ctx.width), static_cast<uint32_t>(ctx.height));
-  const uint32_t flags = (plan.direct ? gpu::kRtgiHasDirect : 0u) |
-                         (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
-                         (settings_.specular ? gpu::kRtgiHasSpecular : 0u) |
-                         (plan.reprojecting ? gpu::kRtgiReprojecting : 0u);
-  p.counts = glm::uvec4(
-      static_cast<uint32_t>(gs.lightCount()), static_cast<uint32_t>(gs.emitterCount()), flags,
-      static_cast<uint32_t>(std::clamp(settings_.exactEmitters, 0, gpu::kMaxExactEmitters)));
+  p.frameIndex = static_cast<uint32_t>(frameIndex);
+  p.seed = settings_.seed;
+  p.width = static_cast<uint32_t>(ctx.width);
+  p.height = static_cast<uint32_t>(ctx.height);
+  p.lightCount = static_cast<uint32_t>(gs.lightCount());
+  p.emitterCount = static_cast<uint32_t>(gs.emitterCount());
+  p.flags = (plan.direct ? gpu::kRtgiHasDirect : 0u) |
+            (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
+            (settings_.specular ? gpu::kRtgiHasSpecular : 0u) |
+            (plan.reprojecting ? gpu::kRtgiReprojecting : 0u);
   p.camera = glm::vec4(cameraPosition, 1.0f);
-  p.denoise = glm::vec4(settings_.denoiseLuminance, settings_.denoisePlane, 0.0f, 0.0f);
-  p.work = glm::uvec4(static_cast<uint32_t>(plan.interleave), 0u, 0u,
-                      settings_.sparseStart ? gpu::kRtgiSparseStart : 0u);
+  p.denoiseLuminance = settings_.denoiseLuminance;
+  p.denoisePlane = settings_.denoisePlane;
+  p.interleave = static_cast<uint32_t>(plan.interleave);
+  p.workFlags = settings_.sparseStart ? gpu::kRtgiSparseStart : 0u;
   if (plan.reprojecting) {
     for (int i = 0; i < 4; ++i) p.previousViewProj[i] = (*previousViewProj)[i];
     const auto cap = static_cast<float>(std::max(settings_.historyCap, 0));
-    p.history = glm::vec4(cap, std::min(cap, static_cast<float>(kGlossyHistory)), 0.0f,
-                          std::min(cap, static_cast<float>(kEdgeHistory)));
+    p.historyCap = cap;
+    p.glossyHistory = std::min(cap, static_cast<float>(kGlossyHistory));
+    p.mirrorHistory = 0.0f;
+    p.edgeHistory = std::min(cap, static_cast<float>(kEdgeHistory));
   }
   return p;
 }
@@ -381,8 +385,8 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   } else {
     level = static_cast<float>(std::min(1.0, extraShare / (1.0 - patternShare)));
   }
-  p->work.y = std::bit_cast<uint32_t>(level);
-  p->work.z = kind;
+  p->selectLevel = std::bit_cast<uint32_t>(level);
+  p->selectKind = kind;
   glNamedBufferSubData(params_.id(), 0, sizeof(*p), p);
   gl::StageScope stage(ctx.timer, Stage::kSelect);
   const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};

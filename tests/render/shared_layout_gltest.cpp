@@ -95,17 +95,29 @@ TEST_F(SharedLayoutTest, OctreeCountersMatchCpp) {
 TEST_F(SharedLayoutTest, RtgiParamsMatchCpp) {
   using gpu::RtgiParams;
   const GLuint p = program("render/rtgi_mask.comp");
-  expectOffsets(
-      p, GL_UNIFORM,
-      {VOXGI_MEMBER("rtgi.", RtgiParams, frame, ""), VOXGI_MEMBER("rtgi.", RtgiParams, counts, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, camera, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, cameraRight, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, cameraUp, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, cameraForward, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, work, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, previousViewProj, "[0]"),
-       VOXGI_MEMBER("rtgi.", RtgiParams, history, ""),
-       VOXGI_MEMBER("rtgi.", RtgiParams, denoise, "")});
+  expectOffsets(p, GL_UNIFORM,
+                {VOXGI_MEMBER("rtgi.", RtgiParams, frameIndex, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, seed, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, width, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, height, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, lightCount, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, emitterCount, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, flags, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, camera, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, cameraRight, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, cameraUp, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, cameraForward, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, interleave, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, selectLevel, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, selectKind, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, workFlags, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, previousViewProj, "[0]"),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, historyCap, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, glossyHistory, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, mirrorHistory, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, edgeHistory, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, denoiseLuminance, ""),
+                 VOXGI_MEMBER("rtgi.", RtgiParams, denoisePlane, "")});
   EXPECT_EQ(query(p, GL_UNIFORM, "rtgi.previousViewProj[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(gpu::vec4)));
   EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "RtgiBlock", GL_BUFFER_DATA_SIZE),
