@@ -40,7 +40,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   bool front = dot(ng, dir) < 0.0;
   h.emission = vec3(0.0);
 #ifndef VOXGI_NO_EMISSION
-  if (front || (m.flags & kMaterialDoubleSided) != 0u) h.emission = m.emission.rgb;
+  if (front || (m.flags & kMaterialDoubleSided) != 0u) h.emission = m.emission;
 #endif
   vec3 ns = normalize(triangleNormal(tri, bc));
   if (!front) {
@@ -59,8 +59,8 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
     ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), -dir);
   }
 #endif
-  float metallic = m.params.x;
-  h.roughness = clamp(m.params.y, 0.0, 1.0);
+  float metallic = m.metallic;
+  h.roughness = clamp(m.roughness, 0.0, 1.0);
   vec3 base = m.baseColor.rgb;
   h.base = base;
   h.s.p = p;

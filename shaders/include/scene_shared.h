@@ -48,8 +48,8 @@ VOXGI_CONST uint kMaterialDoubleSided = 2u;
 VOXGI_CONST uint kMaterialAlphaMask = 4u;
 VOXGI_CONST uint kMaterialHasEmissiveTexture = 8u;
 VOXGI_CONST uint kMaterialHasMetallicRoughnessTexture = 16u;
-VOXGI_CONST uint kMaterialHasNormalTexture = 32u;     // params.w scale, emission.w the texture
-VOXGI_CONST uint kMaterialHasOcclusionTexture = 64u;  // occlusion: x strength, y the texture
+VOXGI_CONST uint kMaterialHasNormalTexture = 32u;     // normalTexture, normalScale
+VOXGI_CONST uint kMaterialHasOcclusionTexture = 64u;  // occlusionStrength, occlusionTexture
 // The texture slots that read texture-coordinate channel 1 (scene::Vertex::uv2)
 // rather than channel 0 (uv): one bit a slot. The base colour reads channel 0.
 VOXGI_CONST uint kMaterialEmissiveUv2 = 128u;
@@ -84,16 +84,23 @@ VOXGI_CONST int kTonemapAces = 1;
 VOXGI_CONST int kTonemapMask = 2;  // the rtgi work mask: red channel as grey, no exposure
 
 struct GpuMaterial {
-  vec4 baseColor;  // linear rgba
-  vec4 emission;   // rgb radiance, a: the normal texture (bits; kMaterialHasNormalTexture)
-  vec4 params;     // x metallic, y roughness, z alpha cutoff, w normalTexture.scale
+  vec4 baseColor;      // linear rgba
+  vec3 emission;       // radiance
+  uint normalTexture;  // with kMaterialHasNormalTexture
+  float metallic;
+  float roughness;
+  float alphaCutoff;
+  float normalScale;  // normalTexture.scale
   uint flags;
   uint texture;  // base-colour texture: index into Scene::textures (with kMaterialHasTexture)
   uint emissiveTexture;           // with kMaterialHasEmissiveTexture
   uint metallicRoughnessTexture;  // with kMaterialHasMetallicRoughnessTexture
-  // x occlusionTexture.strength, y the texture (bits), with kMaterialHasOcclusionTexture;
-  // read by the raster baseline alone (the GI modes compute their own occlusion).
-  vec4 occlusion;
+  // With kMaterialHasOcclusionTexture, read by the raster baseline alone (the GI
+  // modes compute their own occlusion).
+  float occlusionStrength;
+  uint occlusionTexture;
+  float pad0;
+  float pad1;
 };
 
 struct GpuLight {
@@ -118,8 +125,9 @@ struct GpuFrame {
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuMaterial) == 80);
-static_assert(offsetof(GpuMaterial, occlusion) == 64);
-static_assert(offsetof(GpuMaterial, params) == 32);
+static_assert(offsetof(GpuMaterial, normalTexture) == 28);
+static_assert(offsetof(GpuMaterial, metallic) == 32);
+static_assert(offsetof(GpuMaterial, occlusionStrength) == 64);
 static_assert(offsetof(GpuMaterial, flags) == 48);
 static_assert(offsetof(GpuMaterial, metallicRoughnessTexture) == 60);
 static_assert(sizeof(GpuLight) == 64);

@@ -14,7 +14,6 @@
 #include <glm/gtc/packing.hpp>
 namespace voxgi::gpu {
 using vec2 = glm::vec2;
-using vec3 = glm::vec3;
 using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using glm::abs;

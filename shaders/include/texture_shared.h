@@ -108,7 +108,7 @@ VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 
   float a = m.baseColor.a;
   if (textured && (m.flags & kMaterialHasTexture) != 0u)
     a *= sampleTexture(VOXGI_TABLES_ARG texture, uv).a;
-  return a >= m.params.z;
+  return a >= m.alphaCutoff;
 }
 
 #ifdef VOXGI_TEXTURE
@@ -129,13 +129,13 @@ VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv,
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
     vec4 mr = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.metallicRoughnessTexture),
                             slotUv(m, kMaterialMetallicRoughnessUv2, uv, uv2));
-    m.params.x *= mr.b;
-    m.params.y *= mr.g;
+    m.metallic *= mr.b;
+    m.roughness *= mr.g;
   }
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u) {
     vec4 e = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.emissiveTexture),
                            slotUv(m, kMaterialEmissiveUv2, uv, uv2));
-    m.emission = vec4(vec3(m.emission) * vec3(e), m.emission.w);
+    m.emission *= vec3(e);
   }
   return m;
 }
@@ -146,9 +146,9 @@ VOXGI_FN GpuMaterial texturedMaterial(VOXGI_TABLES_PARAM GpuMaterial m, vec2 uv,
 VOXGI_FN vec3 mappedNormal(VOXGI_TABLES_PARAM GpuMaterial m, vec3 n, vec4 tangent, vec2 uv,
                            vec2 uv2) {
   if ((m.flags & kMaterialHasNormalTexture) == 0u) return n;
-  vec4 texel = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(floatBitsToUint(m.emission.w)),
+  vec4 texel = sampleTexture(VOXGI_TABLES_ARG VOXGI_TEXTURE(m.normalTexture),
                              slotUv(m, kMaterialNormalUv2, uv, uv2));
-  return perturbNormal(n, tangent, vec3(texel), m.params.w);
+  return perturbNormal(n, tangent, vec3(texel), m.normalScale);
 }
 #endif
 

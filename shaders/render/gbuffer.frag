@@ -48,11 +48,11 @@ void main() {
   base *= 1.0 + vColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
-  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
 #endif
-  float metallic = m.params.x;
-  float roughness = m.params.y;
-  vec3 emission = m.emission.rgb;
+  float metallic = m.metallic;
+  float roughness = m.roughness;
+  vec3 emission = m.emission;
 #ifndef VOXGI_NO_TEXTURES
   // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
   // The textures that shading depends on non-linearly (metallic-roughness, normal
@@ -84,7 +84,7 @@ void main() {
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
     vec2 normalUv = SLOT_UV(m, kMaterialNormalUv2);
-    n = perturbNormal(n, tangent, textureLod(normalTexture, normalUv, 0.0).rgb, m.params.w);
+    n = perturbNormal(n, tangent, textureLod(normalTexture, normalUv, 0.0).rgb, m.normalScale);
     n = bendShadingNormal(n, normalize(frame.cameraPosition.xyz - vPosition));
   }
 #endif

@@ -149,11 +149,11 @@ vec3 radiance(vec3 o, vec3 d) {
     vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
     vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
     bool front = dot(ng, d) < 0.0;
-    if (m.emission.rgb != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
+    if (m.emission != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0;
       if (!lastDelta && lightsByNee && T.e1.w > 0.0)
         w = emissionMisWeight(lastPdf, T.e1.w, t, abs(dot(ng, d)));
-      result += throughput * m.emission.rgb * w;
+      result += throughput * m.emission * w;
     }
     if (depth == maxDepth) break;
 
@@ -174,7 +174,7 @@ vec3 radiance(vec3 o, vec3 d) {
       ns = bendShadingNormal(mappedNormal(m, ns, tangent, uv, uv2), wo);
     }
 #endif
-    Bsdf b = makeBsdf(m.baseColor.rgb, m.params.x, m.params.y, dot(ns, wo));
+    Bsdf b = makeBsdf(m.baseColor.rgb, m.metallic, m.roughness, dot(ns, wo));
     if (b.kind != kBsdfGgx && b.base == vec3(0.0))
       break;  // black: reflects nothing (the lights of the reference scenes)
 

@@ -53,11 +53,11 @@ void main() {
   base *= 1.0 + vColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
-  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
 #endif
-  float metallic = m.params.x;
-  float roughness = m.params.y;
-  vec3 emission = m.emission.rgb;
+  float metallic = m.metallic;
+  float roughness = m.roughness;
+  vec3 emission = m.emission;
 #ifndef VOXGI_NO_TEXTURES
   // glTF: metallic in blue, roughness in green (a linear texture); emission sRGB.
   if ((m.flags & kMaterialHasMetallicRoughnessTexture) != 0u) {
@@ -84,7 +84,7 @@ void main() {
     vec4 tangent = vTangent;
     if ((m.flags & kMaterialDoubleSided) != 0u && !gl_FrontFacing) tangent.w = -tangent.w;
     vec2 normalUv = SLOT_UV(m, kMaterialNormalUv2);
-    s.n = perturbNormal(s.n, tangent, texture(normalTexture, normalUv).rgb, m.params.w);
+    s.n = perturbNormal(s.n, tangent, texture(normalTexture, normalUv).rgb, m.normalScale);
     s.n = bendShadingNormal(s.n, s.v);  // the back-facing rule
   }
 #endif
@@ -103,8 +103,8 @@ void main() {
   float occlusion = 1.0;
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasOcclusionTexture) != 0u)
-    occlusion =
-        mix(1.0, texture(occlusionTexture, SLOT_UV(m, kMaterialOcclusionUv2)).r, m.occlusion.x);
+    occlusion = mix(1.0, texture(occlusionTexture, SLOT_UV(m, kMaterialOcclusionUv2)).r,
+                    m.occlusionStrength);
 #endif
   radiance += ambient * occlusion * s.diffuse;
   int lightCount = int(frame.counts.x);

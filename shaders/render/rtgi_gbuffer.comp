@@ -83,12 +83,12 @@ void main() {
     n = bendShadingNormal(mappedNormal(m, n, tangent, uv, uv2), -dir);
   }
 #endif
-  vec3 emission = textured.emission.rgb;
+  vec3 emission = textured.emission;
 #ifdef VOXGI_NO_EMISSION
   emission = vec3(0.0);
 #endif
   imageStore(outPosition, px, vec4(p, 1.0 + float(materialIndex)));
-  imageStore(outNormal, px, vec4(n, textured.params.y));
-  imageStore(outAlbedo, px, vec4(clamp(base.rgb, 0.0, 1.0), clamp(textured.params.x, 0.0, 1.0)));
+  imageStore(outNormal, px, vec4(n, textured.roughness));
+  imageStore(outAlbedo, px, vec4(clamp(base.rgb, 0.0, 1.0), clamp(textured.metallic, 0.0, 1.0)));
   imageStore(outEmission, px, vec4(emission, packedSurfaceNormal));
 }

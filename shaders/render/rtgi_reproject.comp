@@ -58,7 +58,7 @@ bool emits(float w) {
 #ifdef VOXGI_NO_EMISSION
   return false;
 #else
-  return any(greaterThan(materials[int(w) - 1].emission.rgb, vec3(0.0)));
+  return any(greaterThan(materials[int(w) - 1].emission, vec3(0.0)));
 #endif
 }
 

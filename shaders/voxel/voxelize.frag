@@ -38,7 +38,7 @@ void main() {
   base *= 1.0 + gColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
-  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) discard;
+  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
 #endif
 
   uint weight = uint(bitCount(gl_SampleMaskIn[0]));
@@ -48,7 +48,7 @@ void main() {
 #ifdef VOXGI_NO_EMISSION
   vec3 e = vec3(0.0);
 #else
-  vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
+  vec3 e = m.emission * voxel.gridInfo.y;  // scaled so the scene's largest is 1
 #ifndef VOXGI_NO_TEXTURES
   if ((m.flags & kMaterialHasEmissiveTexture) != 0u)
 #ifdef VOXGI_UV2

@@ -144,7 +144,7 @@ void main() {
 #ifdef VOXGI_NO_EMISSION
   vec3 e = vec3(0.0);
 #else
-  vec3 e = m.emission.rgb * voxel.gridInfo.y;  // scaled so the scene's largest is 1
+  vec3 e = m.emission * voxel.gridInfo.y;  // scaled so the scene's largest is 1
 #endif
 #ifndef VOXGI_NO_TEXTURES
   vec2 duvdx = (vt[1] - vt[0]) * db1.x + (vt[2] - vt[0]) * db2.x;
@@ -214,7 +214,7 @@ void main() {
     if (hasColors != 0u) base *= b0 * vc[0] + b1 * vc[1] + b2 * vc[2];
 #endif
 #ifndef VOXGI_NO_ALPHA
-    if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.params.z) continue;
+    if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) continue;
 #endif
     vec3 nn = normalize(b0 * vn[0] + b1 * vn[1] + b2 * vn[2]);
     if (any(isnan(nn))) nn = vec3(0.0);

@@ -282,7 +282,7 @@ bool CpuPathtracer::bounce(const gpu::PtTables& tables, const Hit& hit, int dept
 
   orientSurface(tables, hit, &s);
   const vec3 wo = -p.d;
-  const Bsdf bsdf = makeBsdf(vec3(s.baseColor), s.m.params.x, s.m.params.y, dot(s.ns, wo));
+  const Bsdf bsdf = makeBsdf(vec3(s.baseColor), s.m.metallic, s.m.roughness, dot(s.ns, wo));
   if (bsdf.kind != kBsdfGgx && bsdf.base == vec3(0.0f)) return false;  // reflects nothing
 
   const vec3 origin = s.p + s.ng * eps;

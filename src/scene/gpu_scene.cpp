@@ -14,11 +14,13 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
   for (const Material& m : s.materials) {
     gpu::GpuMaterial g{};
     g.baseColor = m.baseColor;
-    g.emission = glm::vec4(m.emission, 0.0f);
-    g.params = glm::vec4(m.metallic, m.roughness, m.alphaCutoff, 0.0f);
+    g.emission = m.emission;
+    g.metallic = m.metallic;
+    g.roughness = m.roughness;
+    g.alphaCutoff = m.alphaCutoff;
     if (m.normalTexture >= 0) {
-      g.emission.w = std::bit_cast<float>(static_cast<uint32_t>(m.normalTexture));
-      g.params.w = m.normalScale;
+      g.normalTexture = static_cast<uint32_t>(m.normalTexture);
+      g.normalScale = m.normalScale;
     }
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
@@ -31,10 +33,10 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
               (m.metallicRoughnessChannel == 1 ? gpu::kMaterialMetallicRoughnessUv2 : 0u) |
               (m.normalChannel == 1 ? gpu::kMaterialNormalUv2 : 0u) |
               (m.occlusionChannel == 1 ? gpu::kMaterialOcclusionUv2 : 0u);
-    if (m.occlusionTexture >= 0)
-      g.occlusion =
-          glm::vec4(m.occlusionStrength,
-                    std::bit_cast<float>(static_cast<uint32_t>(m.occlusionTexture)), 0.0f, 0.0f);
+    if (m.occlusionTexture >= 0) {
+      g.occlusionStrength = m.occlusionStrength;
+      g.occlusionTexture = static_cast<uint32_t>(m.occlusionTexture);
+    }
     g.texture = m.baseColorTexture >= 0 ? static_cast<uint32_t>(m.baseColorTexture) : 0u;
     g.emissiveTexture = m.emissiveTexture >= 0 ? static_cast<uint32_t>(m.emissiveTexture) : 0u;
     g.metallicRoughnessTexture =

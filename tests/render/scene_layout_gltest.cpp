@@ -30,12 +30,12 @@ TEST_F(SceneLayoutTest, StorageAndUniformLayoutsMatchCpp) {
   const GLenum bv = GL_BUFFER_VARIABLE;
   EXPECT_EQ(query(p, bv, "materials[0].baseColor", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(gpu::GpuMaterial)));
-  EXPECT_EQ(query(p, bv, "materials[0].params", GL_OFFSET),
-            static_cast<GLint>(offsetof(gpu::GpuMaterial, params)));
+  EXPECT_EQ(query(p, bv, "materials[0].metallic", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuMaterial, metallic)));
   EXPECT_EQ(query(p, bv, "materials[0].flags", GL_OFFSET),
             static_cast<GLint>(offsetof(gpu::GpuMaterial, flags)));
-  EXPECT_EQ(query(p, bv, "materials[0].occlusion", GL_OFFSET),
-            static_cast<GLint>(offsetof(gpu::GpuMaterial, occlusion)));
+  EXPECT_EQ(query(p, bv, "materials[0].occlusionStrength", GL_OFFSET),
+            static_cast<GLint>(offsetof(gpu::GpuMaterial, occlusionStrength)));
   EXPECT_EQ(query(p, bv, "lights[0].positionType", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(gpu::GpuLight)));
   EXPECT_EQ(query(p, bv, "lights[0].cone", GL_OFFSET),
