@@ -12,19 +12,17 @@
 
 // Irradiance per unit emitted radiance at p (normal n) from one emitter.
 float emitterFactor(GpuEmitter e, vec3 p, vec3 n) {
-  bool twoSided = e.radiance.w > 0.5;
-  if (uint(e.a.w) == kEmitterCluster)
-    return clusterEmitterFactor(e.a.xyz, e.b.xyz, e.b.w, twoSided, p, n);
-  return triangleEmitterFactor(e.a.xyz, e.b.xyz, e.c.xyz, twoSided, p, n);
+  bool twoSided = e.twoSided != 0u;
+  if (e.kind == kEmitterCluster) return clusterEmitterFactor(e.a, e.b, e.area, twoSided, p, n);
+  return triangleEmitterFactor(e.a, e.b, e.c, twoSided, p, n);
 }
 
 vec3 emitterCenter(GpuEmitter e) {
-  return uint(e.a.w) == kEmitterCluster ? e.a.xyz : (e.a.xyz + e.b.xyz + e.c.xyz) / 3.0;
+  return e.kind == kEmitterCluster ? e.a : (e.a + e.b + e.c) / 3.0;
 }
 
 float emitterArea(GpuEmitter e) {
-  return uint(e.a.w) == kEmitterCluster ? e.b.w
-                                        : 0.5 * length(cross(e.b.xyz - e.a.xyz, e.c.xyz - e.a.xyz));
+  return e.kind == kEmitterCluster ? e.area : 0.5 * length(cross(e.b - e.a, e.c - e.a));
 }
 
 struct Surface {
@@ -138,7 +136,7 @@ vec3 areaLightParts(GpuEmitter e, Surface s, out vec3 spec) {
   float radius = sqrt(emitterArea(e) / kPi);
   // A light near the horizon may have part of it above: keep l above the surface.
   if (dot(s.n, l) <= 1e-3) l = normalize(l + s.n * (1e-3 - dot(s.n, l)));
-  vec3 irradiance = e.radiance.rgb * g;
+  vec3 irradiance = e.radiance * g;
   spec = shadeSpecular(s, l, irradiance, clamp(0.5 * radius / max(d, 1e-30), 0.0, 1.0));
   return shadeDiffuse(s, l, irradiance) + spec;
 }

@@ -46,15 +46,15 @@ int pickEmitter(float u, int count, out float pmf) {
 
 // A point on the emitter, uniform over its area (a cluster: its disk).
 vec3 emitterPoint(GpuEmitter e, vec2 u) {
-  if (uint(e.a.w) == kEmitterCluster) {
+  if (e.kind == kEmitterCluster) {
     vec3 t, bt;
-    basis(e.b.xyz, t, bt);
-    float r = sqrt(e.b.w / kPi) * sqrt(u.x);
+    basis(e.b, t, bt);
+    float r = sqrt(e.area / kPi) * sqrt(u.x);
     float phi = 2.0 * kPi * u.y;
-    return e.a.xyz + r * (cos(phi) * t + sin(phi) * bt);
+    return e.a + r * (cos(phi) * t + sin(phi) * bt);
   }
   float s = sqrt(u.x);
-  return e.a.xyz * (1.0 - s) + e.b.xyz * (s * (1.0 - u.y)) + e.c.xyz * (s * u.y);
+  return e.a * (1.0 - s) + e.b * (s * (1.0 - u.y)) + e.c * (s * u.y);
 }
 
 // Visibility of emitter e from p through one shadow ray to a random point on it.
@@ -69,24 +69,24 @@ float emitterVisible(GpuEmitter e, vec3 p, float startVoxels) {
 // Where the ray from o along unit d meets emitter e's emitting side (a cluster: its
 // disk), or a negative value.
 float emitterHit(GpuEmitter e, vec3 o, vec3 d) {
-  bool twoSided = e.radiance.w > 0.5;
-  if (uint(e.a.w) == kEmitterCluster) {
-    vec3 n = e.b.xyz;
+  bool twoSided = e.twoSided != 0u;
+  if (e.kind == kEmitterCluster) {
+    vec3 n = e.b;
     float dn = dot(d, n);
     if (!(abs(dn) > 1e-12) || (!twoSided && dn > 0.0)) return -1.0;
-    float t = dot(e.a.xyz - o, n) / dn;
-    vec3 q = o + d * t - e.a.xyz;
-    return dot(q, q) <= e.b.w / kPi ? t : -1.0;
+    float t = dot(e.a - o, n) / dn;
+    vec3 q = o + d * t - e.a;
+    return dot(q, q) <= e.area / kPi ? t : -1.0;
   }
-  vec3 e1 = e.b.xyz - e.a.xyz;
-  vec3 e2 = e.c.xyz - e.a.xyz;
+  vec3 e1 = e.b - e.a;
+  vec3 e2 = e.c - e.a;
   vec3 pv = cross(d, e2);
   float det = dot(e1, pv);
   // det = -dot(d, cross(e1, e2)): positive when the ray meets the side the winding
   // faces, the side a one-sided emitter lights.
   if (!(abs(det) > 1e-20) || (!twoSided && det < 0.0)) return -1.0;
   float inv = 1.0 / det;
-  vec3 tv = o - e.a.xyz;
+  vec3 tv = o - e.a;
   float u = dot(tv, pv) * inv;
   vec3 qv = cross(tv, e1);
   float v = dot(d, qv) * inv;
@@ -103,7 +103,7 @@ vec3 emitterAlongRay(vec3 o, vec3 d, float tMax, int count) {
     float t = emitterHit(emitters[k], o, d);
     if (t > 0.0 && t < nearest) {
       nearest = t;
-      radiance = emitters[k].radiance.rgb;
+      radiance = emitters[k].radiance;
     }
   }
   return radiance;

@@ -35,9 +35,7 @@ GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
 
 // How far off its surface a point drawn on emitter e may lie (emitterPoint): a
 // cluster's points lie on its disk, up to its radius from the facets.
-float emitterSlack(GpuEmitter e) {
-  return uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
-}
+float emitterSlack(GpuEmitter e) { return e.kind == kEmitterCluster ? sqrt(e.area / kPi) : 0.0; }
 
 // A direction from p (normal n) towards a point of emitter e that emits towards p,
 // from two uniform numbers: returns its solid-angle pdf (0: no such point), the
@@ -52,21 +50,21 @@ float emitterSlack(GpuEmitter e) {
 float sampleEmitterDirection(GpuEmitter e, vec3 p, vec3 n, vec2 u, out vec3 l, out float dist) {
   l = vec3(0.0);
   dist = 0.0;
-  bool twoSided = e.radiance.w > 0.5;
-  bool cluster = uint(e.a.w) == kEmitterCluster;
-  vec3 ne = cluster ? e.b.xyz : cross(e.b.xyz - e.a.xyz, e.c.xyz - e.a.xyz);
+  bool twoSided = e.twoSided != 0u;
+  bool cluster = e.kind == kEmitterCluster;
+  vec3 ne = cluster ? e.b : cross(e.b - e.a, e.c - e.a);
   float ne2 = dot(ne, ne);
   if (!(ne2 > 0.0)) return 0.0;
   ne *= inversesqrt(ne2);
   if (!cluster) {
-    vec3 a = e.a.xyz - p, b = e.b.xyz - p, c = e.c.xyz - p;
+    vec3 a = e.a - p, b = e.b - p, c = e.c - p;
     float la = length(a), lb = length(b), lc = length(c);
     if (la > 0.0 && lb > 0.0 && lc > 0.0 &&
         sphericalTriangleArea(a / la, b / lb, c / lc) >= kMinSphericalTriangle) {
       float pdf = sampleClippedTriangle(a, b, c, n, u, l);
       if (!(pdf > 0.0)) return 0.0;
       float cosE = -dot(ne, l);
-      float toPlane = dot(e.a.xyz - p, ne);  // -(p's height above the plane)
+      float toPlane = dot(e.a - p, ne);  // -(p's height above the plane)
       if (twoSided) {
         cosE = abs(cosE);
       } else if (!(cosE > 0.0)) {
@@ -93,7 +91,7 @@ float sampleEmitterDirection(GpuEmitter e, vec3 p, vec3 n, vec2 u, out vec3 l, o
 // direction's pdf: with the exact highlight sum, what directLight scales by
 // visibility.
 vec3 emitterDiffuseSample(GpuEmitter e, Surface s, vec3 l, float pdf) {
-  return shadeDiffuse(s, l, e.radiance.rgb * max(dot(s.n, l), 0.0)) / pdf;
+  return shadeDiffuse(s, l, e.radiance * max(dot(s.n, l), 0.0)) / pdf;
 }
 
 // What the shadows stage's reservoirs and directLight weigh emitter k by at s: the
@@ -123,9 +121,8 @@ vec3 emitterShade(int k, float weight, vec3 spec, Surface s, vec3 o, vec3 ng) {
   float dist;
   float pdf = sampleEmitterDirection(e, s.p, s.n, vec2(rand01(), rand01()), l, dist);
   if (!(pdf > 0.0)) return vec3(0.0);
-  vec3 c = sampledHighlight(s)
-               ? shade(s, l, e.radiance.rgb * max(dot(s.n, l), 0.0), 0.0) / pdf * weight
-               : emitterDiffuseSample(e, s, l, pdf) * weight + spec;
+  vec3 c = sampledHighlight(s) ? shade(s, l, e.radiance * max(dot(s.n, l), 0.0), 0.0) / pdf * weight
+                               : emitterDiffuseSample(e, s, l, pdf) * weight + spec;
   vec3 d = s.p + l * dist - o;
   float len = length(d);
   if (!(dot(d, ng) >= 0.0) || !any(greaterThan(c, vec3(0.0)))) return vec3(0.0);

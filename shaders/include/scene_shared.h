@@ -111,10 +111,14 @@ struct GpuLight {
 };
 
 struct GpuEmitter {
-  vec4 a;         // triangle: vertex 0, w kind | cluster: center, w kind
-  vec4 b;         // triangle: vertex 1        | cluster: unit normal, w projected area
-  vec4 c;         // triangle: vertex 2        | cluster: unused
-  vec4 radiance;  // rgb radiance, w 1 if two-sided
+  vec3 a;      // triangle: vertex 0 | cluster: centre
+  uint kind;   // kEmitterTriangle or kEmitterCluster
+  vec3 b;      // triangle: vertex 1 | cluster: unit normal
+  float area;  // cluster: projected area (a triangle's comes from its vertices)
+  vec3 c;      // triangle: vertex 2
+  float pad0;
+  vec3 radiance;
+  uint twoSided;  // 1: it emits from both sides
 };
 
 struct GpuFrame {
@@ -132,6 +136,9 @@ static_assert(offsetof(GpuMaterial, flags) == 48);
 static_assert(offsetof(GpuMaterial, metallicRoughnessTexture) == 60);
 static_assert(sizeof(GpuLight) == 64);
 static_assert(sizeof(GpuEmitter) == 64);
+static_assert(offsetof(GpuEmitter, kind) == 12);
+static_assert(offsetof(GpuEmitter, area) == 28);
+static_assert(offsetof(GpuEmitter, twoSided) == 60);
 static_assert(sizeof(GpuFrame) == 96);
 static_assert(offsetof(GpuFrame, cameraPosition) == 64);
 }  // namespace voxgi::gpu

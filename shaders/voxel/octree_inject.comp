@@ -45,7 +45,7 @@ float emitterVisibleExact(GpuEmitter e, vec3 p, float start) {
   if (!(dist > 0.0)) return 1.0;
   float near = min(dist, kNearFieldVoxels * octreeVoxelSize());
   if (octreeVisible(p, d / dist, near, start, 0.0) == 0.0) return 0.0;
-  float slack = uint(e.a.w) == kEmitterCluster ? sqrt(e.b.w / kPi) : 0.0;
+  float slack = e.kind == kEmitterCluster ? sqrt(e.area / kPi) : 0.0;
   return bvhVisible(p, d / dist, dist, true, slack);
 }
 #endif
@@ -115,7 +115,7 @@ vec3 irradianceAt(vec3 centre, vec3 n, bool oriented) {
         if (g <= 0.0) continue;
         float visible = 0.0;
         for (int r = 0; r < perEmitter; ++r) visible += EMITTER_VISIBLE(e, p, start);
-        irradiance += e.radiance.rgb * g * (visible / float(perEmitter));
+        irradiance += e.radiance * g * (visible / float(perEmitter));
       }
     } else {
       for (int r = 0; r < rays; ++r) {
@@ -124,7 +124,7 @@ vec3 irradianceAt(vec3 centre, vec3 n, bool oriented) {
         float g = oriented ? emitterFactor(e, centre, n)
                            : emitterFactor(e, centre, normalize(emitterCenter(e) - centre));
         if (g <= 0.0 || pmf <= 0.0) continue;
-        irradiance += e.radiance.rgb * g * EMITTER_VISIBLE(e, p, start) / (pmf * float(rays));
+        irradiance += e.radiance * g * EMITTER_VISIBLE(e, p, start) / (pmf * float(rays));
       }
     }
   }

@@ -66,16 +66,18 @@ std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<Emitter>& 
   std::vector<gpu::GpuEmitter> out;
   for (const Emitter& e : emitters) {
     gpu::GpuEmitter g{};
-    const float two = e.twoSided ? 1.0f : 0.0f;
+    g.a = e.v0;
     if (e.kind == Emitter::Kind::kCluster) {
-      g.a = glm::vec4(e.v0, static_cast<float>(gpu::kEmitterCluster));
-      g.b = glm::vec4(e.normal, e.area);
+      g.kind = gpu::kEmitterCluster;
+      g.b = e.normal;
+      g.area = e.area;
     } else {
-      g.a = glm::vec4(e.v0, static_cast<float>(gpu::kEmitterTriangle));
-      g.b = glm::vec4(e.v1, 0.0f);
-      g.c = glm::vec4(e.v2, 0.0f);
+      g.kind = gpu::kEmitterTriangle;
+      g.b = e.v1;
+      g.c = e.v2;
     }
-    g.radiance = glm::vec4(e.radiance, two);
+    g.radiance = e.radiance;
+    g.twoSided = e.twoSided ? 1u : 0u;
     out.push_back(g);
   }
   return out;

@@ -22,7 +22,7 @@ struct Bounds {
 };
 
 bool isCluster(const gpu::GpuEmitter& e) {
-  return static_cast<uint32_t>(e.a.w) == gpu::kEmitterCluster;
+  return e.kind == gpu::kEmitterCluster;
 }
 
 // A leaf: a cluster's disk, or a triangle, around a centre on its own plane (so that
@@ -31,10 +31,10 @@ bool isCluster(const gpu::GpuEmitter& e) {
 Bounds leafBounds(const gpu::GpuEmitter& e) {
   Bounds b;
   b.power = emitterPower(e);
-  const bool twoSided = e.radiance.w > 0.5f;
+  const bool twoSided = e.twoSided != 0u;
   if (isCluster(e)) {
     b.centre = glm::vec3(e.a);
-    b.radius = std::sqrt(std::max(e.b.w, 0.0f) / kPi);
+    b.radius = std::sqrt(std::max(e.area, 0.0f) / kPi);
     b.axis = glm::vec3(e.b);
   } else {
     const glm::vec3 v0(e.a), v1(e.b), v2(e.c);
@@ -145,11 +145,11 @@ struct Builder {
 }  // namespace
 
 double emitterPower(const gpu::GpuEmitter& e) {
-  const double area = isCluster(e) ? e.b.w
+  const double area = isCluster(e) ? e.area
                                    : 0.5 * glm::length(glm::cross(glm::vec3(e.b) - glm::vec3(e.a),
                                                                   glm::vec3(e.c) - glm::vec3(e.a)));
   const double lum = gpu::luminance(glm::vec3(e.radiance));
-  const double p = std::max(0.0, lum * area * (e.radiance.w > 0.5f ? 2.0 : 1.0));
+  const double p = std::max(0.0, lum * area * (e.twoSided != 0u ? 2.0 : 1.0));
   return std::isfinite(p) ? p : 0.0;
 }
 

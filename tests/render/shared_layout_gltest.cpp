@@ -204,9 +204,12 @@ TEST_F(SharedLayoutTest, SceneStructsMatchCpp) {
                  VOXGI_MEMBER("lights[0].", GpuLight, radiance, ""),
                  VOXGI_MEMBER("lights[0].", GpuLight, cone, ""),
                  VOXGI_MEMBER("emitters[0].", GpuEmitter, a, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, kind, ""),
                  VOXGI_MEMBER("emitters[0].", GpuEmitter, b, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, area, ""),
                  VOXGI_MEMBER("emitters[0].", GpuEmitter, c, ""),
-                 VOXGI_MEMBER("emitters[0].", GpuEmitter, radiance, "")});
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, radiance, ""),
+                 VOXGI_MEMBER("emitters[0].", GpuEmitter, twoSided, "")});
   EXPECT_EQ(query(p, bv, "materials[0].baseColor", GL_TOP_LEVEL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(GpuMaterial)));
   EXPECT_EQ(query(p, bv, "lights[0].positionType", GL_TOP_LEVEL_ARRAY_STRIDE),
