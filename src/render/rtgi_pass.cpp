@@ -181,7 +181,7 @@ void RtgiPass::resize(int width, int height) {
   }
   current_ = 0;
   targetBytes_ = static_cast<size_t>(width) * static_cast<size_t>(height) *
-                 (2 * (16 + 8) + 16 + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
+                 (2 * (16 + 8) + RtgiHistory::kBytesPerPixel + 4 + 8 + 8 + 4 + 8 * 3 + 16 + 9);
   if (outputWidth_ > 0)
     targetBytes_ += static_cast<size_t>(outputWidth_) * static_cast<size_t>(outputHeight_) * 16;
 }
