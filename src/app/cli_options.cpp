@@ -279,7 +279,8 @@ const std::vector<CliOption> kOptions = {
      "sets the share of pixels that trace each frame (at least\n"
      "1/16, an interleave of 16); the extra pixels are those the\n"
      "work mask finds noisy (edges of the noisy image, blurred);\n"
-     "off (the default) traces as --interleave says",
+     "every frame is then denoised, as the viewer shows each; off\n"
+     "(the default) traces as --interleave says",
      "rtgi holds F frames per second by tracing a share of the\n"
      "pixels each frame (default 30; off: every pixel, every\n"
      "frame). A camera move keeps each pixel's history where its\n"

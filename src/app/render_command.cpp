@@ -124,8 +124,10 @@ void renderFrames(const RenderOptions& o, scene::Scene& scene, render::Renderer&
       renderer.posed();
     }
     bar.begin();
-    // Only the last frame is written: the frames before it need no denoising.
-    renderer.setFrameShown(f + 1 == o.frames);
+    // Only the last frame is written: the frames before it need no denoising. With a
+    // frame budget every frame is denoised, as the viewer shows each: the budget and
+    // the frame times then count the filter's cost, as the viewer pays it.
+    renderer.setFrameShown(f + 1 == o.frames || o.render.targetFps > 0.0);
     renderer.renderFrame();
     const double ms = msSince(t);
     if (const render::RtgiPass* rt = renderer.rtgi())
