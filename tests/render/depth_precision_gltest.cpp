@@ -22,7 +22,7 @@ namespace {
 
 constexpr int kSize = 256;
 
-// The validation set's night hall (tools/make_hall.py): its camera is inside the
+// The validation set's night hall (tools/make-hall): its camera is inside the
 // 27 m scene, 23 m from the hall's 15 cm east wall, behind which the sealed room's
 // walls and roof touch the wall's back face. Without `hidden`, every triangle wholly
 // behind the wall's front face (the sealed room, the wall's back face) is made

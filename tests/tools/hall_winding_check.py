@@ -1,6 +1,6 @@
 """Every triangle of the hall's meshes is wound counter-clockwise seen from the side
 its vertex normals point to (a file whose winding disagrees with its normals shows
-renderers its back faces; tools/make_hall.py once wrote its spheres that way)."""
+renderers its back faces; tools/make-hall once wrote its spheres that way)."""
 import json
 import os
 import sys

@@ -1,4 +1,4 @@
-"""tools/mitsuba_scene.py's copy of a glTF scene for Mitsuba 3, checked without
+"""voxgi_tools.mitsuba_scene's copy of a glTF scene for Mitsuba 3, checked without
 Mitsuba (CI does not install it): the day hall converted with a stand-in for the one
 Mitsuba call the conversion makes (a look-at transform). Every material must land on
 the BSDF voxgi's path tracer gives it, every emitter and punctual light must carry
@@ -11,7 +11,7 @@ import types
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-import mitsuba_scene  # noqa: E402
+from voxgi_tools import mitsuba_scene  # noqa: E402
 
 
 def fail(msg):

@@ -55,7 +55,7 @@ def main():
         with open(grid, "w") as f:
             json.dump(points, f)
         out = os.path.join(tmp, "out")
-        p = subprocess.run([PY, os.path.join(ROOT, "tools", "sweep.py"), "--grid", grid,
+        p = subprocess.run([os.path.join(ROOT, "tools", "sweep"), "--grid", grid,
                             "--voxgi", voxgi, "--workers", "2", "--out", out],
                            capture_output=True, text=True, timeout=240)
         log = p.stdout + p.stderr

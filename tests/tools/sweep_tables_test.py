@@ -11,7 +11,9 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SWEEP = [sys.executable, os.path.join(ROOT, "tools", "sweep.py"), "tables"]
+SWEEP = [sys.executable, "-m", "voxgi_tools", "sweep", "tables"]
+# The tables need no package from the venv: the system's python runs them.
+os.environ["PYTHONPATH"] = os.path.join(ROOT, "tools")
 DOCS = ["README.md", "docs/study.md", "docs/measurements.md"]
 
 

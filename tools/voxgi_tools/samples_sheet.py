@@ -22,7 +22,7 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from voxgi_tools import ROOT
 
 # The samples of scenes/ that are Khronos glTF samples or textured assets, in the
 # sheet's column order.
@@ -205,7 +205,7 @@ def flip_over_lit(test, ref):
     mode and dilutes the image's mean by how little of the frame a sample fills."""
     import flip_evaluator
     import numpy as np
-    from flip import srgb8
+    from voxgi_tools.metrics import srgb8
 
     with tempfile.TemporaryDirectory() as tmp:
         t, r = srgb8(test, tmp), srgb8(ref, tmp)
@@ -217,7 +217,7 @@ def flip_over_lit(test, ref):
     return float(err[lit].mean()), float(lit.mean())
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(
         prog="tools/samples-sheet", description=__doc__.split("\n\n")[0],
         epilog="Example: tools/samples-sheet --out out/samples --flip --ref-spp 512")
@@ -249,7 +249,7 @@ def main():
     ap.add_argument("--timeout", type=int, default=900, help="seconds per render (default %(default)s)")
     ap.add_argument("--voxgi", default=os.path.join(ROOT, "build", "voxgi"),
                     help="the voxgi binary (default build/voxgi)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
 
     if not re.fullmatch(r"\d+x\d+", args.size):
         ap.error(f"--size {args.size}: expected WxH")
@@ -325,8 +325,7 @@ def main():
           f"{os.path.getsize(sheet) / 1e6:.2f} MB)", flush=True)
 
     if args.flip:
-        sys.path.insert(0, os.path.join(ROOT, "tools"))
-        from flip import flip as flip_of
+        from voxgi_tools.metrics import flip as flip_of
 
         rows = []
         for name, path in samples:

@@ -7,16 +7,15 @@ With --against-mitsuba the same scene, converted to a Mitsuba 3 scene (see
 mitsuba_scene below), is rendered by Mitsuba's llvm_ad_rgb variant at the same
 size and spp, interleaved with voxgi's runs so that both see the same machine
 load; the timed Mitsuba renders follow one untimed warm-up render (its JIT).
-Both images are scored against the reference (out/reference/, made by
-tools/bench-convergence or tools/make-reference) with FLIP, so the ratio is read
-at an equal error. Results go to out/bench-pathtrace/results.json.
+Both images are scored against the scene's reference (voxgi_tools.reference:
+tests/data/reference/ or out/reference/, the highest spp) with FLIP, so the ratio is
+read at an equal error. Results go to out/bench-pathtrace/results.json.
 """
 
 import argparse
 import json
 import math
 import os
-import re
 import statistics
 import struct
 import subprocess
@@ -24,11 +23,15 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+import voxgi_tools
+from voxgi_tools import metrics
+from voxgi_tools import reference as refs
+
+ROOT = Path(voxgi_tools.ROOT)
 LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
 
 
-def parse_args():
+def parse_args(argv):
     p = argparse.ArgumentParser(
         prog="tools/bench-pathtrace",
         description="Path tracer throughput per device, optionally against Mitsuba 3.")
@@ -42,9 +45,10 @@ def parse_args():
                    help="timed renders on the gl device (slow on llvmpipe; default 1)")
     p.add_argument("--against-mitsuba", action="store_true",
                    help="also render with Mitsuba 3 (llvm_ad_rgb) and print the ratio")
-    p.add_argument("--reference-dir", default=str(ROOT / "out" / "reference"))
+    p.add_argument("--reference-dir",
+                   help="where the references are (default: tests/data/reference and out/reference)")
     p.add_argument("--out", default=str(ROOT / "out" / "bench-pathtrace"))
-    return p.parse_args()
+    return p.parse_args(argv)
 
 
 # --- glTF (the subset the reference scenes use) --------------------------------------
@@ -172,24 +176,10 @@ def mitsuba_scene(mi, path, width, height, spp, ply_dir):
 
 # --- runs -----------------------------------------------------------------------------
 def flip(test, ref):
-    if not ref.exists():
+    """FLIP of test against the reference, or None without one."""
+    if ref is None:
         return None
-    r = subprocess.run([str(ROOT / "tools" / "flip"), str(test), str(ref)],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        print(f"bench-pathtrace: flip {test.name}: {r.stderr.strip()[-400:]}", file=sys.stderr)
-        return None
-    return float(r.stdout.split()[-1])
-
-
-def best_reference(folder, name, size):
-    """The highest-spp reference of the scene at this size (NAME_SIZE_Nspp.exr)."""
-    found = []
-    for p in folder.glob(f"{name}_{size}_*spp.exr"):
-        m = re.fullmatch(rf"{re.escape(name)}_{size}_(\d+)spp\.exr", p.name)
-        if m:
-            found.append((int(m.group(1)), p))
-    return max(found)[1] if found else folder / f"{name}_{size}_4096spp.exr"
+    return metrics.flip(str(test), ref[1])
 
 
 def voxgi_run(scene, device, size, spp, out_dir):
@@ -202,8 +192,8 @@ def voxgi_run(scene, device, size, spp, out_dir):
     return s["samples_per_second"], image, s
 
 
-def main():
-    args = parse_args()
+def main(argv=None):
+    args = parse_args(argv)
     width, height = (int(x) for x in args.size.split("x"))
     out_dir = Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -222,8 +212,10 @@ def main():
         scene = ROOT / "scenes" / name / f"{name}.gltf"
         if not scene.exists():
             raise SystemExit(f"bench-pathtrace: {scene}: no such scene")
-        ref = best_reference(Path(args.reference_dir), name, args.size)
-        row = {"scene": name, "size": args.size, "spp": args.spp, "reference": str(ref)}
+        folders = [args.reference_dir] if args.reference_dir else [refs.COMMITTED, refs.MADE]
+        ref = refs.find(name, args.size, folders)
+        row = {"scene": name, "size": args.size, "spp": args.spp,
+               "reference": ref[0] if ref else None}
         rates = {d: [] for d in devices}
         mi_rates = []
         mi_scene = None

@@ -34,8 +34,9 @@ import zlib
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-OUT = os.path.join(HERE, "..", "scenes", "hall")
+from voxgi_tools import ROOT
+
+OUT = os.path.join(ROOT, "scenes", "hall")
 
 # The hall: x in [-12, 12], z in [-6, 6], y in [0, 8]; walls and slabs 15 cm thick
 # solids (thinner than a voxel at the default 128^3 over the set's 27 m extent).
@@ -348,7 +349,7 @@ def gltf_for(variant, writer, names, bin_name, image_name):
                   "rotation": look_at(eye, target)})
     nodes += light_nodes
     g = {
-        "asset": {"version": "2.0", "generator": "voxgi tools/make_hall.py"},
+        "asset": {"version": "2.0", "generator": "voxgi tools/make-hall"},
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
         "scene": 0,
         "scenes": [{"name": variant, "nodes": list(range(len(nodes)))}],
@@ -381,7 +382,7 @@ def write(path, data):
 LIGHTINGS = ["hall", "hall_night", "sealed_room", "sealed_room_dark"]
 
 
-def main(argv):
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--out", default=OUT, help="output folder (default scenes/hall)")
     ap.add_argument("--dense", action="store_true",

@@ -9,7 +9,7 @@ the view's path-traced reference (FLIP on sRGB 8-bit, RMSE and mean luminance ra
 from `voxgi compare`). Time to the image is the render's total_ms: every frame
 accumulated, start-up (voxelize, octree, inject; the BVH) excluded.
 
-With --against-mitsuba, Mitsuba 3 renders each view too (tools/mitsuba_scene.py: the
+With --against-mitsuba, Mitsuba 3 renders each view too (mitsuba_scene.py: the
 same scene with voxgi's material model, its render time after a first run that
 compiles its kernels), at 16 and 64 spp, and rtgi renders as many frames as fit in
 each of Mitsuba's times (from its 16-frame run's time a frame): the race of the
@@ -27,50 +27,16 @@ import re
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import sweep  # noqa: E402  (run_tool)
-import validation_set  # noqa: E402
+from voxgi_tools import ROOT, metrics, validation_set, voxgi
+from voxgi_tools import reference as refs
 
 SIZE = "256x256"
-SEED = 7  # test renders; references use tools/make-reference's seed
-REF_SEED = 1000003
+SEED = 7  # test renders; the references have their own (voxgi_tools.reference)
 FRAMES = [1, 4, 16, 64, 256]
 SPP = [1, 4, 16, 64]
 ANCHOR = ["--voxel-rays", "--denoise", "off"]
-
-
-def voxgi():
-    return os.path.join(ROOT, "build", "voxgi")
-
-
-def scene_path(scene):
-    """The glTF of a built-in scene, by its folder's name."""
-    return os.path.join(ROOT, "scenes", scene, f"{scene}.gltf")
-
-
-def reference(view, scene, extra, spp, size=SIZE):
-    """The highest-spp path-traced reference of `view` at `size`, committed in
-    tests/data/reference/ or made before in out/reference/ (VIEW_SIZE_Nspp.exr and
-    .png); rendered at `spp` into out/reference/ when there is none."""
-    refdir = os.path.join(ROOT, "out", "reference")
-    os.makedirs(refdir, exist_ok=True)
-    best = None
-    for d in (os.path.join(ROOT, "tests", "data", "reference"), refdir):
-        for name in os.listdir(d) if os.path.isdir(d) else []:
-            m = re.fullmatch(rf"{re.escape(view)}_{size}_(\d+)spp\.exr", name)
-            if m and (best is None or int(m.group(1)) > best[0]):
-                best = (int(m.group(1)), os.path.join(d, name))
-    if best is None:
-        base = os.path.join(refdir, f"{view}_{size}_{spp}spp")
-        print(f"rendering the {view} reference ({spp} spp)", flush=True)
-        subprocess.run([voxgi(), "render", scene, "--mode", "pathtrace", "--size",
-                        size, "--spp", str(spp), "--seed", str(REF_SEED), "--out", base + ".exr",
-                        "--out", base + ".png", "--stats", base + ".json", "--no-progress",
-                        "-q"] + extra, check=True)
-        best = (spp, base + ".exr")
-    exr = best[1]
-    return exr, exr[:-4] + ".png", best[0]
+# The brute-force renders go as deep as the references (voxgi_tools.reference).
+PT_DEPTH = ["--max-depth", str(refs.DEPTH)]
 
 
 def run(view, scene, extra, args, outdir, tag):
@@ -84,12 +50,12 @@ def run(view, scene, extra, args, outdir, tag):
 
 
 def mitsuba(view, scene, entry_flags, spps, outdir):
-    """[(spp, render ms, exr)] of Mitsuba 3 on the view (tools/mitsuba_scene.py)."""
+    """[(spp, render ms, exr)] of Mitsuba 3 on the view (mitsuba_scene.py)."""
     prefix = os.path.join(outdir, "runs", f"{view}_mitsuba")
     os.makedirs(os.path.dirname(prefix), exist_ok=True)
-    cmd = [sys.executable, os.path.join(ROOT, "tools", "mitsuba_scene.py"), "render", scene,
-           "--size", SIZE, "--spp", ",".join(map(str, spps)), "--out-prefix", prefix,
-           "--seed", str(SEED)]
+    cmd = [sys.executable, "-m", "voxgi_tools", "mitsuba", "render", scene, "--size", SIZE,
+           "--spp", ",".join(map(str, spps)), "--out-prefix", prefix, "--seed", str(SEED),
+           "--max-depth", str(refs.DEPTH)]
     # --look-at=-0.4,... : a value that starts with '-' joined to its flag.
     cmd += [f"{f}={v}" for f, v in zip(entry_flags[::2], entry_flags[1::2])]
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -118,13 +84,6 @@ def frames_within(view, scene, extra, budget_ms, frame_ms, outdir):
         n = max(1, min(n - 1, int(n * budget_ms / stats["total_ms"])))
 
 
-def measure(base, ref_exr, ref_png):
-    import flip as fliptool
-    m = json.loads(sweep.run_tool([voxgi(), "compare", base + ".exr", ref_exr, "--json"]))
-    return {"flip": fliptool.flip(base + ".png", ref_png), "rmse": m["rmse"],
-            "lum": m["mean_luminance_ratio"]}
-
-
 def plot(rows, views, outdir):
     import matplotlib
     matplotlib.use("Agg")
@@ -150,7 +109,7 @@ def plot(rows, views, outdir):
     return path
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -164,7 +123,7 @@ def main():
                     help="rtgi at 1, 16 and 64 frames and pathtrace at 16 and 64 spp only")
     ap.add_argument("--against-mitsuba", action="store_true",
                     help="also Mitsuba 3 at 16 and 64 spp, and rtgi within each of its times")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
     if a.against_mitsuba and subprocess.run([sys.executable, "-c", "import mitsuba"],
@@ -190,18 +149,19 @@ def main():
         return row
 
     for view, scene, extra in views:
-        ref_exr, ref_png, ref_spp = reference(view, scene, extra, a.ref_spp)
+        ref_exr, ref_png, ref_spp = refs.get(view, scene, extra, SIZE, a.ref_spp)
         jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in frames]
         jobs += [("rtgi, not denoised", f"{f} frames, --denoise off",
                   ["--frames", str(f), "--denoise", "off"]) for f in frames]
         jobs.append(("rtgi, previous", "64 frames, " + " ".join(ANCHOR),
                      ["--frames", "64"] + ANCHOR))
-        jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)]) for s in spps]
+        jobs += [("pathtrace", f"{s} spp", ["--mode", "pathtrace", "--spp", str(s)] + PT_DEPTH)
+                 for s in spps]
         frame_ms = None
         for kind, setting, args in jobs:
             tag = re.sub(r"[^a-z0-9]+", "_", f"{kind}_{setting}")
             base, stats = run(view, scene, extra, args, a.out, tag)
-            record(view, kind, setting, stats["total_ms"], measure(base, ref_exr, ref_png))
+            record(view, kind, setting, stats["total_ms"], metrics.measure(base, ref_exr, ref_png))
             if kind == "rtgi" and setting == "16 frames":
                 frame_ms = stats["total_ms"] / 16
         if a.against_mitsuba:
@@ -209,17 +169,17 @@ def main():
                 png = exr[:-4] + ".png"
                 subprocess.run(["oiiotool", exr, "--ch", "R,G,B", "--colorconvert", "linear",
                                 "sRGB", "-d", "uint8", "-o", png], check=True, capture_output=True)
-                theirs = record(view, "Mitsuba 3", f"{spp} spp", ms, measure(exr[:-4], ref_exr,
+                theirs = record(view, "Mitsuba 3", f"{spp} spp", ms, metrics.measure(exr[:-4], ref_exr,
                                                                                ref_png))
                 n, base, stats = frames_within(view, scene, extra, ms, frame_ms, a.out)
                 ours = record(view, "rtgi within Mitsuba's time", f"{n} frames",
-                              stats["total_ms"], measure(base, ref_exr, ref_png))
+                              stats["total_ms"], metrics.measure(base, ref_exr, ref_png))
                 closer = "rtgi" if ours["flip"] < theirs["flip"] else "Mitsuba"
                 if ours["ms"] > ms:  # one frame alone takes longer
                     closer = "Mitsuba (rtgi's first frame comes later)"
                 race.append(f"| {view} | {spp} spp | {ms:.0f} | {theirs['flip']:.4f} | {n} frames "
                             f"| {ours['ms']:.0f} | {ours['flip']:.4f} | {closer} |")
-        lines.append(f"| {view} | reference | {ref_spp} spp, seed {REF_SEED} | | | | |")
+        lines.append(f"| {view} | reference | {ref_spp} spp, seed {refs.SEED} | | | | |")
     table = "\n".join(lines) + "\n"
     if a.against_mitsuba:
         table += "\nThe race: rtgi within Mitsuba's time\n\n" + "\n".join(race) + "\n"
@@ -230,4 +190,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -6,7 +6,8 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from voxgi_tools import ROOT
+
 SET = os.path.join(ROOT, "scenes", "validation_set.json")
 
 
@@ -51,7 +52,23 @@ def names():
     return [e["view"] for e in load()["views"]]
 
 
-if __name__ == "__main__":
-    # tools/make-reference's lookup: a view's scene and flags, one per line.
-    for view, scene, flags in views(sys.argv[1:]):
+def main(argv=None):
+    """usage: validation-set [VIEW...] | --names
+
+Prints each view's scene and the flags that place its camera, one per line (every
+view's without arguments; tools/make-reference's lookup); with --names, the names
+of the set's views."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] in (["-h"], ["--help"]):
+        print(main.__doc__)
+        return 0
+    if argv[:1] == ["--names"]:
+        print("\n".join(names()))
+        return 0
+    for view, scene, flags in views(argv):
         print("\n".join([scene] + flags))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,6 +1,6 @@
-"""FLIP of a test image against a reference, on their sRGB 8-bit versions.
+"""Image metrics against a reference: FLIP on sRGB 8-bit, and `voxgi compare`'s.
 
-Linear images (.exr) are converted the way `voxgi render --out x.png` converts
+FLIP: linear images (.exr) are converted the way `voxgi render --out x.png` converts
 them (clamp to [0, 1], the sRGB transfer function, 8 bits) by oiiotool; 8-bit
 images (.png) are read as they are. FLIP's LDR mode then compares them at its
 default viewing condition (67 pixels per degree).
@@ -13,6 +13,8 @@ import sys
 import tempfile
 
 import numpy as np
+
+from voxgi_tools import voxgi
 
 
 def srgb8(path, tmp):
@@ -51,13 +53,35 @@ def flip(test, ref, error_map=None):
         return float(mean)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def compare(test_exr, ref_exr, blocks=None):
+    """`voxgi compare TEST REF --json` (RMSE, relMSE, PSNR, SSIM, mean luminance ratio;
+    with `blocks`, the worst blocks of that many pixels a side)."""
+    cmd = [voxgi(), "compare", test_exr, ref_exr, "--json"]
+    if blocks:
+        cmd += ["--blocks", str(blocks)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise SystemExit(f"voxgi compare {test_exr} {ref_exr}: exited {p.returncode}: "
+                         f"{(p.stderr or p.stdout).strip()}")
+    return json.loads(p.stdout)
+
+
+def measure(base, ref_exr, ref_png):
+    """The benchmarks' three figures of base.exr/base.png against a reference: FLIP,
+    RMSE and the mean luminance ratio."""
+    m = compare(base + ".exr", ref_exr)
+    return {"flip": flip(base + ".png", ref_png), "rmse": m["rmse"],
+            "lum": m["mean_luminance_ratio"]}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="FLIP of TEST against REFERENCE, on their sRGB "
+                                 "8-bit versions (NVIDIA's perceptual error, flip-evaluator)")
     ap.add_argument("test")
     ap.add_argument("reference")
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--map", help="write the FLIP error map (magma) as PNG")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     value = flip(a.test, a.reference, a.map)
     if a.json:
         print(json.dumps({"test": a.test, "reference": a.reference, "flip": value}))

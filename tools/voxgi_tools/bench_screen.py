@@ -1,7 +1,7 @@
 """What `voxgi view` shows while the camera moves: rtgi at the viewer's size under
 its frame budget, against the path tracer at the same pose.
 
-For each view of tools/bench_motion.py, the camera orbits into the view over --move
+For each view of bench_motion.py, the camera orbits into the view over --move
 frames played at 30 fps (a glTF camera path), then holds still. rtgi renders the
 sequence at --size with `--target-fps 30` (the viewer's default: the frame budget
 sets the share of pixels that trace each frame), with the denoiser off and on.
@@ -28,10 +28,8 @@ import re
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import bench_convergence as conv  # noqa: E402  (voxgi, scene_path, measure)
-import bench_motion as motion  # noqa: E402  (views, camera path)
+from voxgi_tools import ROOT, bench_motion as motion, metrics, scene_path, voxgi
+from voxgi_tools import reference as refs
 
 SEED = 7
 
@@ -47,14 +45,13 @@ def reference(view, pose, eye, target, size, spp):
     """The path-traced reference of `view` at this pose and size (VIEW_POSE_SIZE)."""
     extra = ["--look-from", ",".join(f"{c:.6f}" for c in eye),
              "--look-at", ",".join(f"{c:.6f}" for c in target)]
-    exr, png, _ = conv.reference(f"{view}_{pose}", conv.scene_path(motion.VIEWS[view][0]), extra, spp,
-                                 size)
+    exr, png, _ = refs.get(f"{view}_{pose}", scene_path(motion.VIEWS[view][0]), extra, size, spp)
     return exr, png
 
 
 def render(scene, size, frames, flags, base):
     os.makedirs(os.path.dirname(base), exist_ok=True)
-    subprocess.run([conv.voxgi(), "render", scene, "--mode", "rtgi", "--size", size, "--seed",
+    subprocess.run([voxgi(), "render", scene, "--mode", "rtgi", "--size", size, "--seed",
                     str(SEED), "--fps", str(motion.FPS), "--frames", str(frames), "--out",
                     base + ".exr", "--out", base + ".png", "--stats", base + ".json", "-q"]
                    + flags, check=True)
@@ -62,7 +59,7 @@ def render(scene, size, frames, flags, base):
         return json.load(f)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -81,8 +78,8 @@ def main():
                     help="rtgi's render scale, 0.25 to 1 (repeatable; default 1)")
     ap.add_argument("--denoise", action="append", choices=["off", "on"],
                     help="the denoiser off, on (repeatable; default both)")
-    a = ap.parse_args()
-    if not os.path.exists(conv.voxgi()):
+    a = ap.parse_args(argv)
+    if not os.path.exists(voxgi()):
         raise SystemExit("bench-screen: error: build/voxgi missing (tools/build)")
     if a.move < 3 or a.after < 1:
         raise SystemExit("bench-screen: error: --move must be at least 3 and --after at least 1")
@@ -112,18 +109,18 @@ def main():
         # The still image: the file's scene seen from the end pose, 64 frames with
         # every pixel traced, denoised (render's defaults).
         base = os.path.join(runs, f"{view}_still")
-        render(conv.scene_path(motion.VIEWS[view][0]), a.size, 64,
+        render(scene_path(motion.VIEWS[view][0]), a.size, 64,
                ["--look-from", ",".join(f"{c:.6f}" for c in eye_end),
                 "--look-at", ",".join(f"{c:.6f}" for c in target)], base)
-        still_flip = conv.measure(base, *ref_end)["flip"]
+        still_flip = metrics.measure(base, *ref_end)["flip"]
         for scale in scales:
             for denoise in a.denoise or ["off", "on"]:
                 flags = ["--target-fps", "30", "--denoise", denoise, "--render-scale", f"{scale:g}"]
                 tag = os.path.join(runs, f"{view}_s{scale:g}_{denoise}")
                 render(scene, a.size, mid + 1, flags, tag + "_moving")
-                moving = conv.measure(tag + "_moving", *ref_mid)["flip"]
+                moving = metrics.measure(tag + "_moving", *ref_mid)["flip"]
                 stats = render(scene, a.size, a.move - 1 + a.after + 1, flags, tag + "_after")
-                after = conv.measure(tag + "_after", *ref_end)["flip"]
+                after = metrics.measure(tag + "_after", *ref_end)["flip"]
                 budget = stats.get("budget", {})
                 each = sorted(budget.get("frame_ms_each", [stats["frame_ms"]])[1:] or
                               [stats["frame_ms"]])
@@ -139,4 +136,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -6,7 +6,7 @@ at the matching depth:
 
   direct           rtgi --effects -indirect,-specular   pathtrace --max-depth 2
   direct + 1       rtgi --bounces 1 --effects -specular pathtrace --max-depth 3
-  all              rtgi (every effect)                  pathtrace (default depth)
+  all              rtgi (every effect)                  pathtrace --max-depth 64
 
 (The path tracer's depth-limited images also hold what a mirror shows at that depth,
 which rtgi's terms without specular leave out: read the mirror ball's blocks with
@@ -31,23 +31,16 @@ import re
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import validation_set  # noqa: E402
-import flip as fliptool  # noqa: E402
+from voxgi_tools import ROOT, metrics, validation_set, voxgi
+from voxgi_tools import reference as refs
 
 SIZE = "256x256"
 SEED = 7
-REF_SEED = 1000003
 TERMS = [
     ("direct", ["--effects", "-indirect,-specular"], ["--max-depth", "2"]),
     ("direct + 1", ["--bounces", "1", "--effects", "-specular"], ["--max-depth", "3"]),
-    ("all", [], []),
+    ("all", [], ["--max-depth", str(refs.DEPTH)]),
 ]
-
-
-def voxgi():
-    return os.path.join(ROOT, "build", "voxgi")
 
 
 def render(scene, flags, base):
@@ -59,23 +52,20 @@ def render(scene, flags, base):
 
 
 def compare(test, ref):
-    out = subprocess.run([voxgi(), "compare", test + ".exr", ref + ".exr", "--json", "--blocks",
-                          "16"], check=True, capture_output=True, text=True).stdout
-    m = json.loads(out)
-    m["flip"] = fliptool.flip(test + ".png", ref + ".png")
+    m = metrics.compare(test + ".exr", ref + ".exr", blocks=16)
+    m["flip"] = metrics.flip(test + ".png", ref + ".png")
     return m
 
 
 def pathtraced(view, term, scene, extra, flags, spp):
-    """The path tracer's image of `view` for `term`, made once into out/reference."""
-    refdir = os.path.join(ROOT, "out", "reference")
-    os.makedirs(refdir, exist_ok=True)
+    """The path tracer's image of `view` for `term` (its depth in `flags`), made once
+    into out/reference and made again where the one there has another depth."""
     tag = re.sub(r"[^a-z0-9]+", "_", term)
-    base = os.path.join(refdir, f"{view}_{tag}_{SIZE}_{spp}spp")
-    if not os.path.exists(base + ".exr"):
+    base = os.path.join(refs.MADE, f"{view}_{tag}_{SIZE}_{spp}spp")
+    depth = int(flags[flags.index("--max-depth") + 1])
+    if not os.path.exists(base + ".exr") or refs.depth_of(base + ".exr") != depth:
         print(f"bench-terms: path tracing {view}, {term} ({spp} spp)", flush=True)
-        render(scene, extra + flags + ["--mode", "pathtrace", "--spp", str(spp), "--seed",
-                                       str(REF_SEED)], base)
+        refs.render(scene, extra, SIZE, spp, base, flags)
     return base
 
 
@@ -83,7 +73,7 @@ def row(cells):
     return "| " + " | ".join(cells) + " |"
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -95,7 +85,7 @@ def main():
                     help="path tracer samples per pixel (default 256)")
     ap.add_argument("--no-terms", action="store_true", help="only the leak pairs")
     ap.add_argument("--no-leaks", action="store_true", help="only the terms")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-terms: error: build/voxgi missing (tools/build)")
     runs = os.path.join(a.out, "runs")
@@ -135,7 +125,8 @@ def main():
                 for renderer, flags in (
                         (f"rtgi, {a.frames} frames", ["--frames", str(a.frames)]),
                         (f"pathtrace, {a.pt_spp} spp",
-                         ["--mode", "pathtrace", "--spp", str(a.pt_spp)])):
+                         ["--mode", "pathtrace", "--spp", str(a.pt_spp), "--max-depth",
+                          str(refs.DEPTH)])):
                     bases = []
                     for side in ("lit", "dark"):
                         tag = re.sub(r"[^a-z0-9]+", "_", f"leak_{view}_{renderer}_{side}")
@@ -155,4 +146,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,8 +1,9 @@
 """The headline accuracy figures, pinned: a CI-sized check that they do not get worse.
 
-For each view of tools/bench_convergence.py (cornell_room from its camera and from a
+For three views of the validation set (cornell_room from its camera and from a
 second viewpoint, dark_plane), at 256x256 with seed 7 and the defaults, renders
-  rtgi at 1 and at 16 accumulated frames, and the path tracer at 64 spp,
+  rtgi at 1 and at 16 accumulated frames, and the path tracer at 64 spp (as deep
+  as the references: voxgi_tools.reference),
 and measures FLIP (tools/flip: sRGB 8-bit) against the view's committed 4096-spp
 path-traced reference (tests/data/reference/VIEW_256x256_4096spp.png).
 
@@ -14,7 +15,7 @@ that failed. About 40 s on 2 cores.
 
   --update    re-measures every figure at seeds 3-7 and rewrites figures.json; for a
               change that moves the figures on purpose (say why in the commit)
-  --reference renders the three references again (4096 spp, seed 1000003; ~6 min)
+  --reference renders the three references again (4096 spp; ~8 min)
 """
 import argparse
 import json
@@ -24,11 +25,8 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import bench_convergence as bc  # noqa: E402  (REF_SEED)
-import validation_set  # noqa: E402
-import flip as fliptool  # noqa: E402
+from voxgi_tools import ROOT, metrics, validation_set, voxgi
+from voxgi_tools import reference as refs
 
 SIZE = "256x256"
 # The views whose figures are pinned (of the validation set): the two rooms' references
@@ -37,13 +35,13 @@ VIEWS = validation_set.views(["cornell_room", "cornell_room_side", "dark_plane"]
 SEED = 7
 NOISE_SEEDS = [3, 4, 5, 6, 7]
 REF_SPP = 4096
-DATA = os.path.join(ROOT, "tests", "data", "reference")
+DATA = refs.COMMITTED
 FIGURES = os.path.join(DATA, "figures.json")
 # (figure name, voxgi render flags)
 FIGURES_RUN = [
     ("rtgi, 1 frame", ["--frames", "1"]),
     ("rtgi, 16 frames", ["--frames", "16"]),
-    ("pathtrace, 64 spp", ["--mode", "pathtrace", "--spp", "64"]),
+    ("pathtrace, 64 spp", ["--mode", "pathtrace", "--spp", "64", "--max-depth", str(refs.DEPTH)]),
 ]
 SIGMAS = 3.0
 FLOOR = 0.001
@@ -65,21 +63,19 @@ def render(voxgi, scene, extra, flags, seed, out):
 def measure(voxgi, view, scene, extra, flags, seed, tmp):
     out = os.path.join(tmp, f"{view}_{seed}.png")
     render(voxgi, scene, extra, flags, seed, out)
-    return fliptool.flip(out, reference_png(view))
+    return metrics.flip(out, reference_png(view))
 
 
-def make_references(voxgi):
+def make_references(binary):
     """The references, as the 8-bit sRGB image FLIP reads and as linear radiance in
     half floats (what tools/bench-convergence's RMSE and mean ratio read)."""
-    os.makedirs(DATA, exist_ok=True)
     for view, scene, extra in VIEWS:
         print(f"bench-regression: rendering the {view} reference ({REF_SPP} spp)", flush=True)
-        png = reference_png(view)
-        exr = png[:-4] + ".exr"
-        render(voxgi, scene, extra, ["--mode", "pathtrace", "--spp", str(REF_SPP), "--out", exr],
-               bc.REF_SEED, png)
-        subprocess.run(["oiiotool", exr, "-d", "half", "--compression", "zip", "-o", exr],
-                       check=True)
+        base = reference_png(view)[:-4]
+        refs.render(scene, extra, SIZE, REF_SPP, base, binary=binary)
+        subprocess.run(["oiiotool", base + ".exr", "-d", "half", "--compression", "zip", "-o",
+                        base + ".exr"], check=True)
+        os.remove(base + ".json")
 
 
 def update(voxgi, tmp):
@@ -104,7 +100,7 @@ def check(voxgi, tmp):
     with open(FIGURES) as f:
         figures = json.load(f)["views"]
     failed = []
-    print(f"| view | figure | committed | noise (sd) | bound | now | |")
+    print("| view | figure | committed | noise (sd) | bound | now | |")
     print("|---|---|---:|---:|---:|---:|---|")
     for view, scene, extra in VIEWS:
         for name, flags in FIGURES_RUN:
@@ -124,14 +120,14 @@ def check(voxgi, tmp):
     return 0
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
-    ap.add_argument("--voxgi", default=os.path.join(ROOT, "build", "voxgi"))
+    ap.add_argument("--voxgi", default=voxgi())
     ap.add_argument("--update", action="store_true")
     ap.add_argument("--reference", action="store_true")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if not os.path.exists(a.voxgi):
         raise SystemExit(f"bench-regression: error: {a.voxgi} missing (tools/build)")
     if a.reference:

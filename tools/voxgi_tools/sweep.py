@@ -8,8 +8,9 @@ luminance ratio; tools/flip: FLIP on sRGB 8-bit). Writes under --out:
   tables.md                spp -> time, RMSE, FLIP; render mode -> average frame time
   error_vs_time_SCENE.png  RMSE against frame time per mode, with each mode's Pareto front
   time_vs_spp.png          path tracer frame time against spp, and against pixels
-References live in out/reference/ (not in git); a missing one is rendered first by
-tools/make-reference (--quick: 128 spp, otherwise 2048 spp).
+References are the highest-spp ones in tests/data/reference/ or out/reference/
+(voxgi_tools.reference); a missing one is rendered first (--quick: 128 spp,
+otherwise 2048 spp).
 
 The grid runs as Dask tasks, each one render plus its comparison: on a LocalCluster
 of --workers processes here (default 1, one thread each), or with --scheduler
@@ -33,7 +34,8 @@ import subprocess
 import sys
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from voxgi_tools import ROOT, scene_path, voxgi
+from voxgi_tools import reference as references
 
 SCENES = ["cornell_room", "dark_plane"]
 REF_SIZE = "256x256"
@@ -63,10 +65,6 @@ QUICK = {
 }
 
 
-def voxgi():
-    return os.path.join(ROOT, "build", "voxgi")
-
-
 def offered(binary):
     """Modes and flags that `voxgi render --help` lists."""
     text = subprocess.run([binary, "render", "--help"], capture_output=True, text=True,
@@ -78,19 +76,8 @@ def offered(binary):
 
 
 def reference(scene, quick):
-    os.makedirs(os.path.join(ROOT, "out", "reference"), exist_ok=True)
-    best = None
-    for name in os.listdir(os.path.join(ROOT, "out", "reference")):
-        m = re.fullmatch(rf"{scene}_{REF_SIZE}_(\d+)spp\.exr", name)
-        if m and (best is None or int(m.group(1)) > best[0]):
-            best = (int(m.group(1)), name)
-    if best is None:
-        spp = "128" if quick else "2048"
-        subprocess.run([os.path.join(ROOT, "tools", "make-reference"), spp, REF_SIZE, scene],
-                       check=True)
-        best = (int(spp), f"{scene}_{REF_SIZE}_{spp}spp.exr")
-    exr = os.path.join(ROOT, "out", "reference", best[1])
-    return exr, exr[:-4] + ".png", best[0]
+    """(exr, png, spp) of the scene's reference at REF_SIZE, rendered if missing."""
+    return references.get(scene, scene_path(scene), [], REF_SIZE, 128 if quick else 2048)
 
 
 def _parent_death_signal():
@@ -121,7 +108,7 @@ def task_row(t):
     tools = os.path.join(t["root"], "tools")
     if tools not in sys.path:
         sys.path.insert(0, tools)
-    import flip as fliptool
+    from voxgi_tools import metrics
 
     base = os.path.join(t["out"], "runs", f"{t['scene_name']}_{t['mode']}_{t['size']}_{t['tag']}")
     os.makedirs(os.path.dirname(base), exist_ok=True)
@@ -145,7 +132,7 @@ def task_row(t):
         row[k] = ""
     if t["ref_exr"]:
         m = json.loads(run_tool([t["voxgi"], "compare", base + ".exr", t["ref_exr"], "--json"]))
-        m["flip"] = fliptool.flip(base + ".png", t["ref_png"])
+        m["flip"] = metrics.flip(base + ".png", t["ref_png"])
         for k in METRICS:
             row[k] = m[k] if m[k] is not None else ""
     return t["index"], row, f"{socket.gethostname()}:{os.getpid()}"
@@ -547,9 +534,10 @@ def run_grid(tasks, a):
     return [rows[i] for i in sorted(rows)], failures, interrupted
 
 
-def main():
-    if sys.argv[1:2] == ["tables"]:
-        sys.exit(tables_main(sys.argv[2:]))
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["tables"]:
+        return tables_main(argv[1:])
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -575,7 +563,7 @@ def main():
     ap.add_argument("--worker-root", metavar="DIR",
                     help="with --scheduler: where the workers have this checkout (built "
                          "voxgi, .venv, out/reference/); default: the same path as here")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     binary = os.path.abspath(a.voxgi)
     if not os.path.exists(binary):
         raise SystemExit(f"sweep: error: {binary} missing (tools/build)")
@@ -658,4 +646,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,6 +1,6 @@
 """Start-up, memory and frame cost against triangle count, side by side with Mitsuba 3.
 
-For each triangle count N (--triangles), tools/make_hall.py writes the day hall
+For each triangle count N (--triangles), tools/make-hall writes the day hall
 with its knot tessellated to N triangles (a scale scene: nearly the same image at
 any N) into OUT/scenes/. Then, RUNS times, interleaved so that every renderer sees
 the same machine load:
@@ -32,9 +32,10 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-import mitsuba_scene  # noqa: E402  (read_gltf, LLVM)
+import voxgi_tools
+from voxgi_tools import mitsuba_scene  # read_gltf, LLVM
+
+ROOT = Path(voxgi_tools.ROOT)
 
 LLVM = mitsuba_scene.LLVM
 
@@ -77,7 +78,7 @@ def timed(cmd, env=None):
 def make_scene(n, out):
     scene = out / "scenes" / f"hall_{n}.gltf"
     if not scene.exists():
-        subprocess.run([sys.executable, str(ROOT / "tools" / "make_hall.py"), "--triangles",
+        subprocess.run([sys.executable, "-m", "voxgi_tools", "make-hall", "--triangles",
                         str(n), "--out", str(scene.parent)], check=True,
                        stdout=subprocess.DEVNULL)
     return scene
@@ -101,7 +102,7 @@ def run_mitsuba(args, scene, out):
     env = dict(os.environ)
     env["DRJIT_LIBLLVM_PATH"] = LLVM
     image = out / f"{scene.stem}_mitsuba.exr"
-    wall, rss, _ = timed([sys.executable, __file__, "--mitsuba-worker", str(scene), args.size,
+    wall, rss, _ = timed([sys.executable, "-m", "voxgi_tools", "bench", "scale", "--mitsuba-worker", str(scene), args.size,
                           str(image)], env=env)
     return {"wall_s": wall, "peak_rss_mb": rss}
 
@@ -255,7 +256,7 @@ def plot(summary, path):
     print(f"wrote {path}")
 
 
-def main(argv):
+def main(argv=None):
     args = parse_args(argv)
     if args.mitsuba_worker:
         mitsuba_worker(*args.mitsuba_worker)

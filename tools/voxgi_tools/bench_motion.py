@@ -25,9 +25,9 @@ import struct
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
-import bench_convergence as conv  # noqa: E402  (views, references, metrics)
+from voxgi_tools import ROOT, metrics, scene_path, voxgi
+from voxgi_tools import reference as refs
+from voxgi_tools.bench_convergence import SIZE
 
 FPS = 30.0
 SEED = 7
@@ -80,7 +80,7 @@ def path_scene(view, move, hold, degrees, outdir):
     frames and then holds for `hold` (glTF animations loop: the last key holds the
     end pose past every frame rendered). Returns the path of the copy's glTF."""
     scene, eye, target = VIEWS[view]
-    src = os.path.dirname(conv.scene_path(scene))
+    src = os.path.dirname(scene_path(scene))
     dst = os.path.join(outdir, "scenes", view)
     shutil.rmtree(dst, ignore_errors=True)
     shutil.copytree(src, dst)
@@ -133,10 +133,10 @@ def reference(view, spp):
     scene, eye, target = VIEWS[view]
     extra = [] if view == scene else ["--look-from", ",".join(map(str, eye)),
                                       "--look-at", ",".join(map(str, target))]
-    return conv.reference(view, conv.scene_path(scene), extra, spp)
+    return refs.get(view, scene_path(scene), extra, SIZE, spp)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(__doc__.splitlines()[1:]))
@@ -152,8 +152,8 @@ def main():
                     help="spp of a reference rendered because none exists (default 1024)")
     ap.add_argument("--view", action="append", choices=list(VIEWS),
                     help="only this view (repeatable)")
-    a = ap.parse_args()
-    if not os.path.exists(conv.voxgi()):
+    a = ap.parse_args(argv)
+    if not os.path.exists(voxgi()):
         raise SystemExit("bench-motion: error: build/voxgi missing (tools/build)")
     if a.move < 2:
         raise SystemExit("bench-motion: error: --move must be at least 2 frames")
@@ -183,14 +183,14 @@ def main():
                 tag = re.sub(r"[^a-z0-9]+", "_", f"{view}_{name}_{s}")
                 base = os.path.join(a.out, "runs", tag)
                 os.makedirs(os.path.dirname(base), exist_ok=True)
-                subprocess.run([conv.voxgi(), "render", scene, "--mode", "rtgi", "--size",
-                                conv.SIZE, "--seed", str(SEED), "--fps", str(FPS),
+                subprocess.run([voxgi(), "render", scene, "--mode", "rtgi", "--size",
+                                SIZE, "--seed", str(SEED), "--fps", str(FPS),
                                 "--frames", str(a.move - 1 + s), "--out", base + ".exr",
                                 "--out", base + ".png", "--stats", base + ".json", "-q"]
                                + flags, check=True)
                 with open(base + ".json") as f:
                     stats = json.load(f)
-                m = conv.measure(base, ref_exr, ref_png)
+                m = metrics.measure(base, ref_exr, ref_png)
                 row = {"view": view, "history": name, "still": s, **m,
                        "frame_ms": stats["frame_ms"],
                        "reproject_ms": stats["stages"].get("reproject", 0.0),
@@ -227,4 +227,4 @@ def plot(rows, outdir):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

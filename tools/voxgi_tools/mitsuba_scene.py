@@ -21,8 +21,8 @@ no ray sees). Other textures (emissive, metallic-roughness, normal maps), vertex
 colours and alpha masks are not carried over: `convert` names what it dropped.
 
 Run as a worker (its own process: Dr.Jit's LLVM is chosen before the import):
-  mitsuba_scene.py render SCENE.gltf --size WxH --spp 16,64 --out-prefix P
-      [--look-from x,y,z --look-at x,y,z] [--max-depth 8] [--seed S]
+  python -m voxgi_tools mitsuba render SCENE.gltf --size WxH --spp 16,64 --out-prefix P
+      [--look-from x,y,z --look-at x,y,z] [--max-depth D (default 8)] [--seed S]
 writes P_<spp>spp.exr for each count and prints one JSON line per render with its
 time (a first untimed render at the same count compiles the kernels).
 """
@@ -341,7 +341,7 @@ def convert(mi, scene_path, width, height, ply_dir, look_from=None, look_at=None
 
 
 def render_worker(argv):
-    ap = argparse.ArgumentParser(prog="mitsuba_scene.py render")
+    ap = argparse.ArgumentParser(prog="voxgi_tools mitsuba render")
     ap.add_argument("scene")
     ap.add_argument("--size", default="256x256")
     ap.add_argument("--spp", default="16,64")
@@ -387,8 +387,14 @@ def render_worker(argv):
                   flush=True)
 
 
-if __name__ == "__main__":
-    if len(sys.argv) < 2 or sys.argv[1] != "render":
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if not argv or argv[0] != "render":
         print(__doc__)
-        sys.exit(0 if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help") else 2)
-    render_worker(sys.argv[2:])
+        return 0 if argv and argv[0] in ("-h", "--help") else 2
+    render_worker(argv[1:])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
