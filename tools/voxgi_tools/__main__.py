@@ -17,10 +17,12 @@ COMMANDS = {
     "validation-set": ("validation_set", None, "the set's views: a view's scene and flags"),
 }
 BENCHES = {
+    "budget": "the frame budget: held target, the work mask against uniform",
     "convergence": "rtgi against the path tracer and Mitsuba as time goes by",
     "motion": "rtgi's error at the end of a camera move",
     "pathtrace": "path tracer throughput per device, against Mitsuba",
     "regression": "the headline accuracy figures against the committed ones",
+    "rtgi": "rtgi's frame and stages by size, bounces, grid and interleave",
     "scale": "start-up, memory and frame time against triangle count",
     "screen": "the viewer's frames under its frame budget",
     "terms": "each term's error against the path tracer's depth-limited image",
