@@ -1,6 +1,6 @@
 // The path tracer's light sampling, written once for GLSL and C++ (see
 // shared_fn.h); with texture_shared.h (texture reads, alpha masks) it is what
-// shaders/render/pathtrace.comp (the GL device) and src/render/pathtrace_cpu.cpp
+// shaders/render/pathtrace.comp (the GL device) and src/render/pathtrace/pathtrace_cpu.cpp
 // (the CPU device) share, so both devices pick the same emitters with the same
 // pdfs, weigh them with the same MIS weights and read the same texels. The tables
 // reach these functions through the macros of texture_shared.h.
@@ -27,7 +27,7 @@ struct EmitterSample {
 };
 
 // Picks one of `count` emissive triangles by power through the Walker alias table
-// (Vose's construction, built in src/render/pathtrace_scene.cpp) from one
+// (Vose's construction, built in src/render/pathtrace/pathtrace_scene.cpp) from one
 // uniform number, then a uniform point on it from two more, as seen from p. An
 // emissive texture is read at that point where the device reads textures
 // (VOXGI_TEXTURE defined).

@@ -1,5 +1,5 @@
 // Path tracer data as the GPU reads it (std430 SSBOs, one std140 uniform block),
-// shared by C++ (src/render/bvh.*, src/render/pathtrace_pass.*) and GLSL
+// shared by C++ (src/render/bvh.*, src/render/pathtrace/pathtrace_pass.*) and GLSL
 // (shaders/render/pathtrace.comp). Sizes and offsets are asserted here and checked
 // against the linked program in tests/render/pathtrace_gltest.cpp.
 //

@@ -58,7 +58,7 @@ VOXGI_CONST uint kMaterialNormalUv2 = 512u;
 VOXGI_CONST uint kMaterialOcclusionUv2 = 1024u;
 VOXGI_CONST uint kMaterialAnyUv2 = 1920u;  // all four
 
-// The texture table's flags (the w of each entry; render/pathtrace_scene.h, read by
+// The texture table's flags (the w of each entry; render/pathtrace/pathtrace_scene.h, read by
 // texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap
 // mode per axis (scene::Texture::tableFlags).
 VOXGI_CONST uint kTextureSrgb = 1u;

@@ -1,5 +1,5 @@
 #version 450 core
-// Reference path tracer over the exact triangles (see src/render/pathtrace_pass.h).
+// Reference path tracer over the exact triangles (see src/render/pathtrace/pathtrace_pass.h).
 // One invocation owns one pixel and adds `samples per pass` paths to its running
 // sum (Kahan-compensated), then writes the mean. Unidirectional path tracing with
 // next-event estimation and multiple importance sampling (Veach 1997, power

@@ -7,7 +7,7 @@
 #include "bindings_shared.h"
 #include "core/log.h"
 #include "pathtrace_shared.h"
-#include "render/pathtrace_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 
 namespace voxgi::render {
 namespace {

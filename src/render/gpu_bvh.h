@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "gl/handles.h"
+#include "gpu_scene/gpu_scene.h"
 #include "render/bvh.h"
 #include "scene/effects.h"
-#include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace voxgi::render {

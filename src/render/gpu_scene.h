@@ -2,7 +2,7 @@
 #ifndef VOXGI_RENDER_GPU_SCENE_H
 #define VOXGI_RENDER_GPU_SCENE_H
 
-#include "scene/gpu_scene.h"
+#include "gpu_scene/gpu_scene.h"
 
 namespace voxgi::render {
 using GpuScene = scene::GpuScene;

@@ -8,8 +8,8 @@
 #include "core/log.h"
 #include "core/memory.h"
 #include "gl/debug.h"
-#include "render/pathtrace_cpu.h"
-#include "render/pathtrace_pass.h"
+#include "render/pathtrace/pathtrace_cpu.h"
+#include "render/pathtrace/pathtrace_pass.h"
 
 namespace voxgi::render {
 

@@ -41,7 +41,7 @@
 #include "render/frame_context.h"
 #include "render/gpu_scene.h"
 #include "render/knob.h"
-#include "render/pathtracer.h"
+#include "render/pathtrace/pathtracer.h"
 #include "render/points_pass.h"
 #include "render/raster_pass.h"
 #include "render/rtgi_pass.h"

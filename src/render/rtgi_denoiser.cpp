@@ -32,14 +32,14 @@ void RtgiDenoiser::execute(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint m
   // The terms ping-pong between the two scratch images.
   bind(gpu::kDenoiseKeyImage, keys_.id(), GL_WRITE_ONLY);
   bind(gpu::kDenoiseOutImage, scratch_[0].id(), GL_WRITE_ONLY);
-  glUseProgram(programs_.get({{"render/rtgi_denoise_prepare.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_denoise_prepare.comp"}, {}}).id());
   glDispatchCompute(
       (static_cast<GLuint>(width_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
       (static_cast<GLuint>(height_) + gpu::kDenoisePrepareGroup - 1) / gpu::kDenoisePrepareGroup,
       1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   bind(gpu::kDenoiseKeyImage, keys_.id(), GL_READ_ONLY);
-  glUseProgram(programs_.get({{"render/rtgi_denoise.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_denoise.comp"}, {}}).id());
   glBindImageTexture(gpu::kDenoisedImage, denoised_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                      GL_RGBA32F);
   // The pass's spacing and whether it is the last go in a uniform: updating the

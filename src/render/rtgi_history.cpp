@@ -38,7 +38,7 @@ void RtgiHistory::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint 
     glBindImageTexture(gpu::kReprojectedDirectImage, reprojectedDirect_.id(), 0, GL_FALSE, 0,
                        GL_WRITE_ONLY, GL_RGBA32F);
   }
-  glUseProgram(programs_.get({{"render/rtgi_reproject.comp"}, defines}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_reproject.comp"}, defines}).id());
   glDispatchCompute(gx, gy, 1);
   // Accumulate reads the reprojected moments and direct mean as textures.
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);

@@ -7,7 +7,7 @@
 #include "interleave_shared.h"
 #include "light_tree_shared.h"
 #include "octree_shared.h"
-#include "render/pathtrace_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 #include "render/raster_pass.h"
 #include "scene_shared.h"
 
@@ -20,7 +20,8 @@ RtgiPass::RtgiPass(gl::ProgramCache& programs, const Settings& settings,
       bvh_(std::move(bvh)),
       gbuffer_(programs.get(
           {{"render/raster.vert", "render/gbuffer.frag"}, settings.features.defines()})),
-      accumulate_(programs.get({{"render/rtgi_accumulate.comp"}, settings.features.defines()})),
+      accumulate_(
+          programs.get({{"render/rtgi/rtgi_accumulate.comp"}, settings.features.defines()})),
       mask_(programs),
       history_(programs),
       denoiser_(programs) {
@@ -40,9 +41,9 @@ void RtgiPass::buildOptionalStages() {
   // With a BVH the variants depend on the scene (indirectProgram, specularProgram).
   if (settings_.indirect && !indirect_ && !raysHitTriangles() &&
       settings_.indirectMethod == Settings::IndirectMethod::kRays)
-    indirect_ = &programs_.get({{"render/rtgi_indirect.comp"}, {}});
+    indirect_ = &programs_.get({{"render/rtgi/rtgi_indirect.comp"}, {}});
   if (settings_.specular && !specular_ && !tracesTriangles())
-    specular_ = &programs_.get({{"render/rtgi_specular.comp"}, conesDefine()});
+    specular_ = &programs_.get({{"render/rtgi/rtgi_specular.comp"}, conesDefine()});
 }
 
 std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
@@ -68,7 +69,7 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
     for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   if (*restir != '\0') defines.emplace_back(restir);
-  return programs_.get({{"render/rtgi_direct.comp"}, defines});
+  return programs_.get({{"render/rtgi/rtgi_direct.comp"}, defines});
 }
 
 // Where the tree draws among all the emitters at once, each with its own tight
@@ -116,13 +117,13 @@ std::vector<std::string> RtgiPass::conesDefine() const {
 // lit exactly), or cones (RTGI_CONES).
 const gl::Program& RtgiPass::indirectProgram(const GpuScene& gs) {
   if (settings_.indirectMethod == Settings::IndirectMethod::kCones)
-    return programs_.get({{"render/rtgi_indirect.comp"}, {"RTGI_CONES"}});
+    return programs_.get({{"render/rtgi/rtgi_indirect.comp"}, {"RTGI_CONES"}});
   if (!raysHitTriangles()) return *indirect_;
   // The hit's direct light as the direct stage's scene variants estimate it.
   std::vector<std::string> defines = settings_.features.defines();
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs, true)) defines.push_back(std::move(d));
-  return programs_.get({{"render/rtgi_indirect.comp"}, defines});
+  return programs_.get({{"render/rtgi/rtgi_indirect.comp"}, defines});
 }
 
 // The specular stage's variant: the voxel march, or with a BVH (RTGI_BVH) the
@@ -133,7 +134,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
-  return programs_.get({{"render/rtgi_specular.comp"}, defines});
+  return programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
 }
 
 void RtgiPass::resize(int width, int height) {
@@ -315,7 +316,7 @@ void RtgiPass::drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
 void RtgiPass::castGBuffer(gl::FrameContext& ctx, const GpuScene& gs) {
   std::vector<std::string> defines = settings_.features.defines();
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
-  const gl::Program& program = programs_.get({{"render/rtgi_gbuffer.comp"}, defines});
+  const gl::Program& program = programs_.get({{"render/rtgi/rtgi_gbuffer.comp"}, defines});
   gl::StageScope stage(ctx.timer, Stage::kGbuffer);
   bindBvh(gs);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
@@ -394,7 +395,7 @@ void RtgiPass::selectPixels(gl::FrameContext& ctx, int frameIndex, const FramePl
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
   glBindImageTexture(gpu::kMaskImage, mask_.image(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R16F);
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
-  glUseProgram(programs_.get({{"render/rtgi_select.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_select.comp"}, {}}).id());
   glDispatchCompute(plan.gx, plan.gy, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                   GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -470,7 +471,7 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
       glBindImageTexture(gpu::kReprojectedImage, history_.reprojectedMean(), 0, GL_FALSE, 0,
                          GL_READ_ONLY, GL_RGBA32F);
     }
-    const gl::Program& variant = programs_.get({{"render/rtgi_accumulate.comp"}, defines});
+    const gl::Program& variant = programs_.get({{"render/rtgi/rtgi_accumulate.comp"}, defines});
     accumulateVariant_ = &variant;
     runStage(ctx, Stage::kAccumulate, variant, plan);
   } else {
@@ -530,7 +531,8 @@ void RtgiPass::upsample(gl::FrameContext& ctx, glm::vec2 jitter, bool restart) {
   glBindImageTexture(gpu::kTracedImage, tracedImage_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8UI);
   glBindImageTexture(gpu::kUpsampleHistoryImage, upsampleHistory_.id(), 0, GL_FALSE, 0,
                      GL_READ_WRITE, GL_RGBA32F);
-  glUseProgram(programs_.get({{"render/rtgi_upsample.comp"}, settings_.features.defines()}).id());
+  glUseProgram(
+      programs_.get({{"render/rtgi/rtgi_upsample.comp"}, settings_.features.defines()}).id());
   glDispatchCompute(static_cast<GLuint>((width_ + gpu::kRtgiGroupX - 1) / gpu::kRtgiGroupX),
                     static_cast<GLuint>((height_ + gpu::kRtgiGroupY - 1) / gpu::kRtgiGroupY), 1);
   // The tonemap pass reads the history as a texture.

@@ -26,13 +26,13 @@ void RtgiWorkMask::update(gl::FrameContext& ctx, GLuint gx, GLuint gy, int frame
   glBindImageTexture(gpu::kEdgeImage, edges_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R16F);
   glBindImageTexture(gpu::kMaskImage, image_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
   glBindImageTexture(gpu::kMaskKeyImage, keys_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
-  glUseProgram(programs_.get({{"render/rtgi_mask_key.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_mask_key.comp"}, {}}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glUseProgram(programs_.get({{"render/rtgi_mask.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_mask.comp"}, {}}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  glUseProgram(programs_.get({{"render/rtgi_mask_blur.comp"}, {}}).id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_mask_blur.comp"}, {}}).id());
   glDispatchCompute(gx, gy, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_SHADER_STORAGE_BARRIER_BIT);

@@ -50,9 +50,9 @@
 
 #include "gl/frame_context.h"
 #include "gl/handles.h"
+#include "gpu_scene/gpu_scene.h"
 #include "octree_shared.h"
 #include "scene/effects.h"
-#include "scene/gpu_scene.h"
 #include "voxel/voxelize_pass.h"
 
 namespace voxgi::voxel {

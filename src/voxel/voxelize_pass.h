@@ -42,8 +42,8 @@
 
 #include "gl/frame_context.h"
 #include "gl/handles.h"
+#include "gpu_scene/gpu_scene.h"
 #include "scene/effects.h"
-#include "scene/gpu_scene.h"
 #include "voxel_shared.h"
 
 namespace voxgi::voxel {

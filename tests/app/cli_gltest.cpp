@@ -10,7 +10,7 @@
 
 #include "image/image.h"
 #include "image/metrics.h"
-#include "render/pathtracer.h"
+#include "render/pathtrace/pathtracer.h"
 #include "support/scene_builder.h"
 #include "support/test_paths.h"
 

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "scene/gpu_scene.h"
+#include "gpu_scene/gpu_scene.h"
 #include "scene/light_tree.h"
 #include "support/gl_fixture.h"
 #include "support/twin_shader.h"

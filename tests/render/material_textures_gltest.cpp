@@ -13,7 +13,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "render/pathtrace_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 #include "render/renderer.h"
 #include "scene/emitters.h"
 #include "scene/gltf_loader.h"

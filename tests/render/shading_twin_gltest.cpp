@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "gl/program_cache.h"
-#include "render/pathtrace_scene.h"
+#include "gpu_scene/gpu_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 #include "render/shading_twin.h"
-#include "scene/gpu_scene.h"
 #include "support/gl_fixture.h"
 #include "support/test_paths.h"
 

@@ -94,7 +94,7 @@ TEST_F(SharedLayoutTest, OctreeCountersMatchCpp) {
 
 TEST_F(SharedLayoutTest, RtgiParamsMatchCpp) {
   using gpu::RtgiParams;
-  const GLuint p = program("render/rtgi_mask.comp");
+  const GLuint p = program("render/rtgi/rtgi_mask.comp");
   expectOffsets(p, GL_UNIFORM,
                 {VOXGI_MEMBER("rtgi.", RtgiParams, frameIndex, ""),
                  VOXGI_MEMBER("rtgi.", RtgiParams, seed, ""),
@@ -126,7 +126,7 @@ TEST_F(SharedLayoutTest, RtgiParamsMatchCpp) {
 
 TEST_F(SharedLayoutTest, PixelListHeaderMatchesCpp) {
   using gpu::PixelListHeader;
-  const GLuint p = program("render/rtgi_select.comp");
+  const GLuint p = program("render/rtgi/rtgi_select.comp");
   expectOffsets(p, GL_BUFFER_VARIABLE,
                 {VOXGI_MEMBER("header.", PixelListHeader, groups, ""),
                  VOXGI_MEMBER("header.", PixelListHeader, count, ""),

@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
+#include "gpu_scene/gpu_scene.h"
 #include "scene/emitters.h"
-#include "scene/gpu_scene.h"
 
 namespace voxgi::scene {
 namespace {

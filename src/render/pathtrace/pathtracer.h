@@ -1,7 +1,7 @@
 // The reference path tracer's interface, whichever device runs it:
-//   gl:  PathtracePass (render/pathtrace_pass.h), a compute shader over a BVH of
+//   gl:  PathtracePass (render/pathtrace/pathtrace_pass.h), a compute shader over a BVH of
 //        the exact triangles; any GL 4.5 device, llvmpipe included;
-//   cpu: CpuPathtracer (render/pathtrace_cpu.h), Embree 3 ray casting with TBB
+//   cpu: CpuPathtracer (render/pathtrace/pathtrace_cpu.h), Embree 3 ray casting with TBB
 //        threads: on a software GL (llvmpipe, softpipe) many times faster.
 // Both trace the same paths: materials, light sampling, MIS weights, the alias
 // table lookup, texture reads and the random stream come from one source
@@ -11,8 +11,8 @@
 // (tests/render/pathtrace_gltest.cpp runs its whole suite on both).
 // Either writes the mean of all samples since reset() into the caller's RGBA32F
 // texture, so tone mapping, screenshots and tests read both alike.
-#ifndef VOXGI_RENDER_PATHTRACER_H
-#define VOXGI_RENDER_PATHTRACER_H
+#ifndef VOXGI_RENDER_PATHTRACE_PATHTRACER_H
+#define VOXGI_RENDER_PATHTRACE_PATHTRACER_H
 
 #include <cstdint>
 #include <functional>
@@ -97,4 +97,4 @@ class Pathtracer {
 
 }  // namespace voxgi::render
 
-#endif  // VOXGI_RENDER_PATHTRACER_H
+#endif  // VOXGI_RENDER_PATHTRACE_PATHTRACER_H

@@ -2,8 +2,8 @@
 // acceleration structure: every triangle in draw order with its material and
 // corners, the emissive triangles as an alias table for next-event estimation,
 // and the scene-scaled ray offset.
-#ifndef VOXGI_RENDER_PATHTRACE_SCENE_H
-#define VOXGI_RENDER_PATHTRACE_SCENE_H
+#ifndef VOXGI_RENDER_PATHTRACE_PATHTRACE_SCENE_H
+#define VOXGI_RENDER_PATHTRACE_PATHTRACE_SCENE_H
 
 #include <cstdint>
 #include <vector>
@@ -64,4 +64,4 @@ void buildAliasTable(const std::vector<double>& weights, std::vector<float>* pro
 
 }  // namespace voxgi::render
 
-#endif  // VOXGI_RENDER_PATHTRACE_SCENE_H
+#endif  // VOXGI_RENDER_PATHTRACE_PATHTRACE_SCENE_H

@@ -1,8 +1,8 @@
 // The scene uploaded once: vertex/index buffers and a vertex array, material,
 // light and emitter SSBOs, textures (mipmapped; sRGB for colour, linear for data),
 // each with a GL sampler of its glTF sampler's wrap modes and filters.
-#ifndef VOXGI_SCENE_GPU_SCENE_H
-#define VOXGI_SCENE_GPU_SCENE_H
+#ifndef VOXGI_GPU_SCENE_GPU_SCENE_H
+#define VOXGI_GPU_SCENE_GPU_SCENE_H
 
 #include <vector>
 
@@ -105,4 +105,4 @@ class GpuScene {
 
 }  // namespace voxgi::scene
 
-#endif  // VOXGI_SCENE_GPU_SCENE_H
+#endif  // VOXGI_GPU_SCENE_GPU_SCENE_H

@@ -1,11 +1,11 @@
-#include "render/pathtrace_pass.h"
+#include "render/pathtrace/pathtrace_pass.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/log.h"
 #include "pathtrace_shared.h"
-#include "render/pathtrace_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 
 namespace voxgi::render {
 namespace {

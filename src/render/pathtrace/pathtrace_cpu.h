@@ -1,12 +1,12 @@
 // The path tracer's CPU device (`--pt-device cpu`): the same transport as the GL
-// kernel (render/pathtrace_pass.h describes it), with rays cast by Embree 3
+// kernel (render/pathtrace/pathtrace_pass.h describes it), with rays cast by Embree 3
 // (Wald et al. 2014, "Embree: A Kernel Framework for Efficient CPU Ray Tracing")
 // and pixels spread over TBB worker threads in 16x16 tiles. A tile's paths advance
 // together, a bounce at a time, and Embree traces each bounce's rays and shadow
 // rays in packets (rtcIntersect8, rtcOccluded16); each path draws the same random
 // numbers, in the same order, as it would alone. Shading, light sampling, MIS and the
 // random stream are the shared sources that the kernel includes (see
-// render/pathtracer.h), so the two devices agree in distribution, and on most
+// render/pathtrace/pathtracer.h), so the two devices agree in distribution, and on most
 // paths sample for sample.
 //
 // Acceleration structure: one Embree triangle geometry over the scene's triangles
@@ -16,16 +16,16 @@
 // Accumulation: a double-precision running sum per pixel; each execute() adds
 // `spp` passes of one path per pixel, then uploads the mean into the caller's
 // RGBA32F texture.
-#ifndef VOXGI_RENDER_PATHTRACE_CPU_H
-#define VOXGI_RENDER_PATHTRACE_CPU_H
+#ifndef VOXGI_RENDER_PATHTRACE_PATHTRACE_CPU_H
+#define VOXGI_RENDER_PATHTRACE_PATHTRACE_CPU_H
 
 #include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "render/pathtrace_scene.h"
-#include "render/pathtracer.h"
+#include "render/pathtrace/pathtrace_scene.h"
+#include "render/pathtrace/pathtracer.h"
 #include "scene_shared.h"
 
 struct RTCFilterFunctionNArguments;  // Embree
@@ -169,4 +169,4 @@ class CpuPathtracer final : public Pathtracer {
 
 }  // namespace voxgi::render
 
-#endif  // VOXGI_RENDER_PATHTRACE_CPU_H
+#endif  // VOXGI_RENDER_PATHTRACE_PATHTRACE_CPU_H

@@ -1,4 +1,4 @@
-#include "render/pathtrace_scene.h"
+#include "render/pathtrace/pathtrace_scene.h"
 
 #include <algorithm>
 #include <bit>

@@ -2,7 +2,7 @@
 // scene's exact triangles in a compute shader, so it runs on any GL 4.5 device
 // (llvmpipe included).
 //
-// The GL device of the Pathtracer interface (render/pathtracer.h).
+// The GL device of the Pathtracer interface (render/pathtrace/pathtracer.h).
 // Reads: the scene (triangles, materials, punctual lights, emissive triangles) and a
 // BVH built on the CPU (render/gpu_bvh.h: its own at construction, or the one the
 // Renderer shares with rtgi; the "bvh" start-up stage).
@@ -32,8 +32,8 @@
 //
 // Tested by tests/render/pathtrace_gltest.cpp: white furnace, a plane under a point
 // light against the closed form, energy per bounce, no NaN, seeds, convergence.
-#ifndef VOXGI_RENDER_PATHTRACE_PASS_H
-#define VOXGI_RENDER_PATHTRACE_PASS_H
+#ifndef VOXGI_RENDER_PATHTRACE_PATHTRACE_PASS_H
+#define VOXGI_RENDER_PATHTRACE_PATHTRACE_PASS_H
 
 #include <cstdint>
 #include <memory>
@@ -42,7 +42,7 @@
 #include "render/frame_context.h"
 #include "render/gpu_bvh.h"
 #include "render/gpu_scene.h"
-#include "render/pathtracer.h"
+#include "render/pathtrace/pathtracer.h"
 
 namespace voxgi::render {
 
@@ -90,4 +90,4 @@ class PathtracePass final : public Pathtracer {
 
 }  // namespace voxgi::render
 
-#endif  // VOXGI_RENDER_PATHTRACE_PASS_H
+#endif  // VOXGI_RENDER_PATHTRACE_PATHTRACE_PASS_H

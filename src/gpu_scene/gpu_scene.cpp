@@ -1,4 +1,4 @@
-#include "scene/gpu_scene.h"
+#include "gpu_scene/gpu_scene.h"
 
 #include "scene/light_tree.h"
 

@@ -1,4 +1,4 @@
-#include "render/pathtrace_cpu.h"
+#include "render/pathtrace/pathtrace_cpu.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range2d.h>
@@ -12,8 +12,8 @@
 #include <limits>
 
 #include "core/log.h"
+#include "gpu_scene/gpu_scene.h"
 #include "pathtrace_shading.h"
-#include "scene/gpu_scene.h"
 
 namespace voxgi::render {
 

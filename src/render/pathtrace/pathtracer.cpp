@@ -1,4 +1,4 @@
-#include "render/pathtracer.h"
+#include "render/pathtrace/pathtracer.h"
 
 #include "core/log.h"
 
