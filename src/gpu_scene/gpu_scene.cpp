@@ -62,46 +62,6 @@ std::vector<gpu::GpuLight> GpuScene::packLights(const Scene& s) {
   return out;
 }
 
-std::vector<gpu::GpuEmitter> GpuScene::packEmitters(const std::vector<Emitter>& emitters) {
-  std::vector<gpu::GpuEmitter> out;
-  for (const Emitter& e : emitters) {
-    gpu::GpuEmitter g{};
-    g.a = e.v0;
-    if (e.kind == Emitter::Kind::kCluster) {
-      g.kind = gpu::kEmitterCluster;
-      g.b = e.normal;
-      g.area = e.area;
-    } else {
-      g.kind = gpu::kEmitterTriangle;
-      g.b = e.v1;
-      g.c = e.v2;
-    }
-    g.radiance = e.radiance;
-    g.twoSided = e.twoSided ? 1u : 0u;
-    out.push_back(g);
-  }
-  return out;
-}
-
-std::vector<float> GpuScene::emitterPowerCdf(const std::vector<gpu::GpuEmitter>& emitters) {
-  std::vector<float> cdf;
-  double total = 0.0;
-  std::vector<double> power;
-  for (const gpu::GpuEmitter& e : emitters) {
-    power.push_back(emitterPower(e));
-    total += power.back();
-  }
-  double run = 0.0;
-  for (size_t i = 0; i < power.size(); ++i) {
-    run += power[i];
-    // Emitters of no power at all are chosen uniformly.
-    cdf.push_back(total > 0.0 ? static_cast<float>(run / total)
-                              : static_cast<float>(i + 1) / static_cast<float>(power.size()));
-  }
-  if (!cdf.empty()) cdf.back() = 1.0f;
-  return cdf;
-}
-
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
   hasOcclusion_ = std::any_of(s.materials.begin(), s.materials.end(),
                               [](const Material& m) { return m.occlusionTexture >= 0; });

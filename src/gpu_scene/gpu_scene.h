@@ -72,9 +72,6 @@ class GpuScene {
 
   static std::vector<gpu::GpuMaterial> packMaterials(const Scene& s);
   static std::vector<gpu::GpuLight> packLights(const Scene& s);
-  static std::vector<gpu::GpuEmitter> packEmitters(const std::vector<Emitter>& e);
-  // Cumulative emitted power (radiance luminance x area x sides), normalised.
-  static std::vector<float> emitterPowerCdf(const std::vector<gpu::GpuEmitter>& e);
 
  private:
   // The constructor's steps, each returning the bytes it uploaded (createTextures:

@@ -13,7 +13,7 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-struct Bounds {
+struct NodeBounds {
   glm::vec3 centre{0.0f};
   float radius = 0.0f;
   glm::vec3 axis{0.0f, 0.0f, 1.0f};
@@ -28,8 +28,8 @@ bool isCluster(const gpu::GpuEmitter& e) {
 // A leaf: a cluster's disk, or a triangle, around a centre on its own plane (so that
 // a point in front of the emitter lies within 90 degrees of its axis, as seen from
 // that centre).
-Bounds leafBounds(const gpu::GpuEmitter& e) {
-  Bounds b;
+NodeBounds leafBounds(const gpu::GpuEmitter& e) {
+  NodeBounds b;
   b.power = emitterPower(e);
   const bool twoSided = e.twoSided != 0u;
   if (isCluster(e)) {
@@ -64,13 +64,13 @@ float angleBetween(glm::vec3 a, glm::vec3 b) {
 // out to the farthest of them; the cone around their mean direction, out to the
 // widest of them; their summed power. Computed from the leaves themselves, not
 // from the children's bounds, which would widen at every level.
-Bounds enclose(const std::vector<Bounds>& leaves, const std::vector<int>& order, size_t begin,
-               size_t end) {
+NodeBounds enclose(const std::vector<NodeBounds>& leaves, const std::vector<int>& order,
+                   size_t begin, size_t end) {
   glm::vec3 lo(INFINITY), hi(-INFINITY), axis(0.0f);
-  Bounds out;
+  NodeBounds out;
   bool everyWay = false;
   for (size_t i = begin; i < end; ++i) {
-    const Bounds& l = leaves[static_cast<size_t>(order[i])];
+    const NodeBounds& l = leaves[static_cast<size_t>(order[i])];
     lo = glm::min(lo, l.centre - l.radius);
     hi = glm::max(hi, l.centre + l.radius);
     axis += l.axis;
@@ -83,7 +83,7 @@ Bounds enclose(const std::vector<Bounds>& leaves, const std::vector<int>& order,
   out.axis = everyWay ? glm::vec3(0.0f, 0.0f, 1.0f) : axis / len;
   out.spread = everyWay ? kPi : 0.0f;
   for (size_t i = begin; i < end; ++i) {
-    const Bounds& l = leaves[static_cast<size_t>(order[i])];
+    const NodeBounds& l = leaves[static_cast<size_t>(order[i])];
     out.radius = std::max(out.radius, glm::length(l.centre - out.centre) + l.radius);
     if (!everyWay) out.spread = std::max(out.spread, angleBetween(out.axis, l.axis) + l.spread);
   }
@@ -95,7 +95,7 @@ Bounds enclose(const std::vector<Bounds>& leaves, const std::vector<int>& order,
 
 // info: power, first child (an inner node) or emitter (a leaf), where the node's
 // leaves begin in the leaf section, how many there are.
-gpu::GpuLightNode pack(const Bounds& b, int first, size_t leavesBegin, size_t count) {
+gpu::GpuLightNode pack(const NodeBounds& b, int first, size_t leavesBegin, size_t count) {
   gpu::GpuLightNode n{};
   n.sphere = glm::vec4(b.centre, b.radius);
   n.cone = glm::vec4(b.axis, std::cos(b.spread));
@@ -105,7 +105,7 @@ gpu::GpuLightNode pack(const Bounds& b, int first, size_t leavesBegin, size_t co
 }
 
 struct Builder {
-  const std::vector<Bounds>& leaves;
+  const std::vector<NodeBounds>& leaves;
   std::vector<gpu::GpuLightNode>& nodes;
   size_t leafSection;  // where the leaves, in tree order, begin
 
@@ -156,7 +156,7 @@ double emitterPower(const gpu::GpuEmitter& e) {
 std::vector<gpu::GpuLightNode> buildLightTree(const std::vector<gpu::GpuEmitter>& emitters) {
   std::vector<gpu::GpuLightNode> nodes;
   if (emitters.empty()) return nodes;
-  std::vector<Bounds> leaves;
+  std::vector<NodeBounds> leaves;
   leaves.reserve(emitters.size());
   for (const gpu::GpuEmitter& e : emitters) leaves.push_back(leafBounds(e));
   std::vector<int> order(emitters.size());
@@ -168,6 +168,46 @@ std::vector<gpu::GpuLightNode> buildLightTree(const std::vector<gpu::GpuEmitter>
   for (size_t i = 0; i < order.size(); ++i)
     nodes.push_back(pack(leaves[static_cast<size_t>(order[i])], order[i], treeSize + i, 1));
   return nodes;
+}
+
+std::vector<gpu::GpuEmitter> packEmitters(const std::vector<Emitter>& emitters) {
+  std::vector<gpu::GpuEmitter> out;
+  for (const Emitter& e : emitters) {
+    gpu::GpuEmitter g{};
+    g.a = e.v0;
+    if (e.kind == Emitter::Kind::kCluster) {
+      g.kind = gpu::kEmitterCluster;
+      g.b = e.normal;
+      g.area = e.area;
+    } else {
+      g.kind = gpu::kEmitterTriangle;
+      g.b = e.v1;
+      g.c = e.v2;
+    }
+    g.radiance = e.radiance;
+    g.twoSided = e.twoSided ? 1u : 0u;
+    out.push_back(g);
+  }
+  return out;
+}
+
+std::vector<float> emitterPowerCdf(const std::vector<gpu::GpuEmitter>& emitters) {
+  std::vector<float> cdf;
+  double total = 0.0;
+  std::vector<double> power;
+  for (const gpu::GpuEmitter& e : emitters) {
+    power.push_back(emitterPower(e));
+    total += power.back();
+  }
+  double run = 0.0;
+  for (size_t i = 0; i < power.size(); ++i) {
+    run += power[i];
+    // Emitters of no power at all are chosen uniformly.
+    cdf.push_back(total > 0.0 ? static_cast<float>(run / total)
+                              : static_cast<float>(i + 1) / static_cast<float>(power.size()));
+  }
+  if (!cdf.empty()) cdf.back() = 1.0f;
+  return cdf;
 }
 
 }  // namespace voxgi::scene

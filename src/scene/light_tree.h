@@ -7,9 +7,17 @@
 #include <vector>
 
 #include "light_tree_shared.h"
+#include "scene/emitters.h"
 #include "scene_shared.h"
 
 namespace voxgi::scene {
+
+// The emitters as the shaders read them (gpu::GpuEmitter, std430), in their order.
+std::vector<gpu::GpuEmitter> packEmitters(const std::vector<Emitter>& emitters);
+
+// Emitters chosen for light sampling by power: the cumulative distribution, one
+// float per emitter, the last 1; emitters of no power at all are chosen uniformly.
+std::vector<float> emitterPowerCdf(const std::vector<gpu::GpuEmitter>& emitters);
 
 // The power an emitter sends out, in luminance: radiance x area (both faces of a
 // two-sided one). Light sampling by power and the tree's nodes weigh by it; a value

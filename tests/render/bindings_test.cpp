@@ -243,8 +243,9 @@ std::vector<std::vector<std::string>> programs() {
   std::set<std::string> linked;
   for (const auto& program : p) linked.insert(program.begin(), program.end());
   for (const char* dir : {"render", "voxel"})
-    for (const auto& e : fs::directory_iterator(shaderRoot() / dir)) {
-      const std::string name = std::string(dir) + "/" + e.path().filename().string();
+    for (const auto& e : fs::recursive_directory_iterator(shaderRoot() / dir)) {
+      if (!e.is_regular_file()) continue;
+      const std::string name = fs::relative(e.path(), shaderRoot()).generic_string();
       if (e.path().extension() == ".comp") {
         p.push_back({name});
       } else {

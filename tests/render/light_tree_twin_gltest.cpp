@@ -9,7 +9,6 @@
 #include <random>
 #include <vector>
 
-#include "gpu_scene/gpu_scene.h"
 #include "scene/light_tree.h"
 #include "support/gl_fixture.h"
 #include "support/twin_shader.h"
@@ -45,7 +44,7 @@ TEST_F(GlTest, LightTreeWalkAgreesBetweenGlslAndCpp) {
     }
     emitters.push_back(e);
   }
-  const auto tree = scene::buildLightTree(scene::GpuScene::packEmitters(emitters));
+  const auto tree = scene::buildLightTree(scene::packEmitters(emitters));
   constexpr int kCases = 4096;
   std::vector<glm::vec4> inputs;
   for (int i = 0; i < kCases; ++i) {

@@ -12,7 +12,6 @@
 #include <random>
 #include <vector>
 
-#include "gpu_scene/gpu_scene.h"
 #include "scene/emitters.h"
 
 namespace voxgi::scene {
@@ -89,7 +88,7 @@ void leafProbabilities(const std::vector<gpu::GpuLightNode>& nodes, size_t at, d
 }
 
 TEST(LightTree, HoldsEveryEmitterOnceWithItsPower) {
-  const auto emitters = GpuScene::packEmitters(mixedScene());
+  const auto emitters = packEmitters(mixedScene());
   const auto nodes = buildLightTree(emitters);
   const size_t n = emitters.size();
   ASSERT_EQ(nodes.size(), 3 * n - 1);
@@ -134,7 +133,7 @@ TEST(LightTree, HoldsEveryEmitterOnceWithItsPower) {
 
 TEST(LightTree, DrawsEveryEmitterThatLightsThePointWithTheWalksProbability) {
   const auto scene = mixedScene();
-  const auto emitters = GpuScene::packEmitters(scene);
+  const auto emitters = packEmitters(scene);
   const auto nodes = buildLightTree(emitters);
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -192,9 +191,9 @@ double variance(const std::vector<double>& f, const std::vector<double>& p) {
 // of points on the floor under a sphere lamp of `clusters` clusters.
 double varianceRatio(int clusters) {
   const auto scene = sphereLamp(glm::vec3(0.0f, 1.0f, 0.0f), 0.1f, clusters);
-  const auto emitters = GpuScene::packEmitters(scene);
+  const auto emitters = packEmitters(scene);
   const auto nodes = buildLightTree(emitters);
-  const auto cdf = GpuScene::emitterPowerCdf(emitters);
+  const auto cdf = emitterPowerCdf(emitters);
   double byTree = 0.0, byPower = 0.0;
   for (float x : {-1.5f, -0.6f, 0.0f, 0.3f, 1.2f}) {
     const glm::vec3 p(x, 0.0f, 0.2f * x), n(0.0f, 1.0f, 0.0f);
@@ -240,7 +239,7 @@ double hallRelativeVariance() {
       scene.push_back(e);
     }
   }
-  const auto emitters = GpuScene::packEmitters(scene);
+  const auto emitters = packEmitters(scene);
   const auto nodes = buildLightTree(emitters);
   double sum = 0.0;
   const glm::vec3 up(0.0f, 1.0f, 0.0f), side(0.0f, 0.0f, 1.0f);
