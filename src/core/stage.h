@@ -32,7 +32,7 @@ enum class Stage {
   kRaster,     // render/raster_pass
   kPoints,     // render/points_pass
   kDvr,        // render/dvr_pass
-  kPathtrace,  // render/pathtrace_pass, render/pathtrace_cpu
+  kPathtrace,  // render/pathtrace/pathtrace_pass, pathtrace_cpu
   kTonemap,    // render/tonemap_pass
 };
 
