@@ -84,6 +84,8 @@ def main(argv=None):
     ap.add_argument("--pt-spp", type=int, default=256,
                     help="path tracer samples per pixel (default 256)")
     ap.add_argument("--no-terms", action="store_true", help="only the leak pairs")
+    ap.add_argument("--term", action="append", choices=[t[0] for t in TERMS],
+                    help="only this term (repeatable; default: every term)")
     ap.add_argument("--no-leaks", action="store_true", help="only the terms")
     a = ap.parse_args(argv)
     if not os.path.exists(voxgi()):
@@ -97,7 +99,7 @@ def main(argv=None):
                   row(["view", "term", "rtgi ms", "FLIP", "mean ratio", "worst blocks (min, max)",
                        "blocks off > 3%"]), "|---|---|---:|---:|---:|---|---:|"]
         for view, scene, extra in validation_set.views(a.view, make=False):
-            for term, rtgi_flags, pt_flags in TERMS:
+            for term, rtgi_flags, pt_flags in [t for t in TERMS if t[0] in (a.term or [t[0]])]:
                 tag = re.sub(r"[^a-z0-9]+", "_", f"{view}_{term}")
                 base = os.path.join(runs, tag)
                 stats = render(scene, extra + rtgi_flags + ["--frames", str(a.frames), "--denoise",
