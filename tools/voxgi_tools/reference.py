@@ -8,7 +8,7 @@ others in out/reference/ (not in git). The highest spp of either folder is used.
 Every reference is rendered the same way: voxgi's path tracer with seed SEED, kept
 out of the benchmarks' seeds so a test image never shares samples with its
 reference, and paths to depth DEPTH. rtgi's voxels hold every bounce, so a reference
-cut at the path tracer's default depth 8 is 0.2-3% darker than what rtgi converges
+cut at the path tracer's default depth 8 is 0.02-3.3% darker than what rtgi converges
 to (docs/measurements.md#2026-12-06-reference-depth); Russian roulette ends most
 paths long before depth 64.
 """
@@ -52,7 +52,7 @@ def find(view, size, folders=(COMMITTED, MADE), depth=DEPTH):
     return best[1], best[1][:-4] + ".png", best[0]
 
 
-def render(scene, extra, size, spp, base, flags=(), binary=None, quiet=True):
+def render(scene, extra, size, spp, base, flags=(), binary=None):
     """Renders the reference of `scene` (with its view's flags `extra`) into base.exr,
     base.png and base.json. `flags` add to the path tracer's; a --max-depth among
     them (a term's depth cut) replaces DEPTH."""
@@ -62,7 +62,7 @@ def render(scene, extra, size, spp, base, flags=(), binary=None, quiet=True):
         "--mode", "pathtrace", "--size", size, "--spp", str(spp), "--seed", str(SEED)
     ] + depth + list(flags) + [
         "--out", base + ".exr", "--out", base + ".png", "--stats", base + ".json",
-        "--no-progress"] + (["-q"] if quiet else [])
+        "--no-progress", "-q"]
     subprocess.run(cmd, check=True)
     return base + ".exr", base + ".png", spp
 
