@@ -51,8 +51,8 @@ def reference_png(view):
     return os.path.join(DATA, f"{view}_{SIZE}_{REF_SPP}spp.png")
 
 
-def render(voxgi, scene, extra, flags, seed, out):
-    cmd = [voxgi, "render", scene, "--size", SIZE, "--seed", str(seed), "--out",
+def render(binary, scene, extra, flags, seed, out):
+    cmd = [binary, "render", scene, "--size", SIZE, "--seed", str(seed), "--out",
            out, "--no-progress", "-q"] + extra + flags
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
@@ -60,9 +60,9 @@ def render(voxgi, scene, extra, flags, seed, out):
                          f"{(p.stderr or p.stdout).strip()}")
 
 
-def measure(voxgi, view, scene, extra, flags, seed, tmp):
+def measure(binary, view, scene, extra, flags, seed, tmp):
     out = os.path.join(tmp, f"{view}_{seed}.png")
-    render(voxgi, scene, extra, flags, seed, out)
+    render(binary, scene, extra, flags, seed, out)
     return metrics.flip(out, reference_png(view))
 
 
@@ -78,12 +78,12 @@ def make_references(binary):
         os.remove(base + ".json")
 
 
-def update(voxgi, tmp):
+def update(binary, tmp):
     figures = {"size": SIZE, "seed": SEED, "reference_spp": REF_SPP, "views": {}}
     for view, scene, extra in VIEWS:
         figures["views"][view] = {}
         for name, flags in FIGURES_RUN:
-            values = [measure(voxgi, view, scene, extra, flags, s, tmp) for s in NOISE_SEEDS]
+            values = [measure(binary, view, scene, extra, flags, s, tmp) for s in NOISE_SEEDS]
             mean = sum(values) / len(values)
             sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
             at_seed = values[NOISE_SEEDS.index(SEED)]
@@ -96,7 +96,7 @@ def update(voxgi, tmp):
     print("bench-regression: wrote", os.path.relpath(FIGURES, ROOT))
 
 
-def check(voxgi, tmp):
+def check(binary, tmp):
     with open(FIGURES) as f:
         figures = json.load(f)["views"]
     failed = []
@@ -106,7 +106,7 @@ def check(voxgi, tmp):
         for name, flags in FIGURES_RUN:
             fig = figures[view][name]
             bound = fig["flip"] + max(SIGMAS * fig["noise"], FLOOR)
-            now = measure(voxgi, view, scene, extra, flags, SEED, tmp)
+            now = measure(binary, view, scene, extra, flags, SEED, tmp)
             ok = now <= bound
             print(f"| {view} | {name} | {fig['flip']:.4f} | {fig['noise']:.4f} | {bound:.4f} | "
                   f"{now:.4f} | {'ok' if ok else 'WORSE'} |", flush=True)
