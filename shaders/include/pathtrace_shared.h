@@ -47,7 +47,8 @@ struct GpuBvhNode {
 struct GpuPtTriangle {
   vec4 v0;  // w: material index (bits)
   vec4 e1;  // v1 - v0; w: emitter pdf per unit area of this triangle when sampled by
-            // NEE (0: none)
+            // NEE (0: none), negated where rtgi lights it as part of a cluster
+            // (scene::exactEmitterDraws): the path tracer reads its magnitude
   vec4 e2;  // v2 - v0; w: its first index in the scene's index buffer (bits)
 };
 

@@ -15,6 +15,7 @@ struct TriangleHit {
   vec3 emission;    // what the hit emits towards the ray (0 under VOXGI_NO_EMISSION)
   float roughness;  // kMirrorRoughness and below: a mirror
   vec3 base;        // base colour (the voxels' albedo: what they reflect as Lambert)
+  uint tri;         // the triangle, in BVH order (loadTriangle)
 };
 
 // Traces the ray from o along unit dir; false where it leaves the scene. Set
@@ -23,6 +24,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   uint tri;
   vec2 bc;
   if (!trace(o, dir, kInf, false, h.t, tri, bc)) return false;
+  h.tri = tri;
   GpuPtTriangle T = loadTriangle(tri);
   GpuMaterial m = materials[floatBitsToUint(T.v0.w)];
 #ifdef RTGI_BVH_TEXTURES

@@ -151,8 +151,8 @@ vec3 radiance(vec3 o, vec3 d) {
     bool front = dot(ng, d) < 0.0;
     if (m.emission != vec3(0.0) && (front || (m.flags & kMaterialDoubleSided) != 0u)) {
       float w = 1.0;
-      if (!lastDelta && lightsByNee && T.e1.w > 0.0)
-        w = emissionMisWeight(lastPdf, T.e1.w, t, abs(dot(ng, d)));
+      if (!lastDelta && lightsByNee && T.e1.w != 0.0)
+        w = emissionMisWeight(lastPdf, abs(T.e1.w), t, abs(dot(ng, d)));
       result += throughput * m.emission * w;
     }
     if (depth == maxDepth) break;

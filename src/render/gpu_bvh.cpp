@@ -8,6 +8,7 @@
 #include "core/log.h"
 #include "pathtrace_shared.h"
 #include "render/pathtrace/pathtrace_scene.h"
+#include "scene/emitters.h"
 
 namespace voxgi::render {
 namespace {
@@ -68,6 +69,17 @@ GpuBvh::GpuBvh(const scene::GpuScene& gs, bool textures)
   nodeTexels_ = bufferTexels(nodes_, nodeBytes, maxTexels);
   freeVector(&a.nodes);
   const std::vector<uint32_t>& order = a.order;
+  // The emitting triangles that rtgi lights as clusters (scene/emitters.h) carry
+  // their pdf negated (pathtrace_shared.h). PtScene's triangles are the draws' in
+  // order.
+  std::vector<bool> clustered(pt.material.size(), false);
+  {
+    const std::vector<bool> exact = scene::exactEmitterDraws(s);
+    size_t t = 0;
+    for (size_t i = 0; i < s.draws.size(); ++i)
+      for (uint32_t k = 0; k + 2 < s.draws[i].indexCount; k += 3, ++t) clustered[t] = !exact[i];
+    VOXGI_CHECK_EQ(t, clustered.size());
+  }
   // Each triangle's record carries its material, emitter pdf and first index; the
   // rest of what a hit reads comes from the scene's own buffers.
   triangles_ = uploadFilled<gpu::GpuPtTriangle>(order.size(), [&](gpu::GpuPtTriangle* out) {
@@ -76,7 +88,7 @@ GpuBvh::GpuBvh(const scene::GpuScene& gs, bool textures)
       gpu::GpuPtTriangle& g = out[slot];
       g = Bvh::gpuTriangle(triangle(t));
       g.v0.w = std::bit_cast<float>(static_cast<uint32_t>(pt.material[t]));
-      g.e1.w = pt.emitterAreaPdf[t];
+      g.e1.w = clustered[t] ? -pt.emitterAreaPdf[t] : pt.emitterAreaPdf[t];
       g.e2.w = std::bit_cast<float>(pt.firstIndex[t]);
     }
   });

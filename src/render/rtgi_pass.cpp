@@ -68,6 +68,7 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   if (raysHitTriangles() && settings_.features.shadows)
     for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
+  if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
   if (*restir != '\0') defines.emplace_back(restir);
   return programs_.get({{"render/rtgi/rtgi_direct.comp"}, defines});
 }
@@ -134,6 +135,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
+  if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
   return programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
 }
 

@@ -198,6 +198,13 @@ class RtgiPass {
   bool tracesTriangles() const {
     return bvh_ != nullptr && settings_.specular && settings_.exactReflections;
   }
+  // Whether the specular stage's lobe rays share the glossy pixels' highlights of
+  // emitters with the direct stage (RTGI_HIGHLIGHT_MIS, rtgi_direct_light.glsl): they
+  // trace the triangles, and the direct stage traces shadow rays to emitters.
+  bool sharesHighlights(const GpuScene& gs) const {
+    return tracesTriangles() && settings_.indirectMethod != Settings::IndirectMethod::kCones &&
+           settings_.features.shadows && settings_.features.emission && gs.emitterCount() > 0;
+  }
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
   // Whether the G-buffer is made by rays (Settings::primary).

@@ -167,22 +167,35 @@ glm::vec3 triangleEmission(const Scene& scene, const Draw& d, size_t t) {
   return t < d.emissiveMean.size() ? e * d.emissiveMean[t] : e;
 }
 
-std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options) {
+std::vector<bool> exactEmitterDraws(const Scene& scene, const EmitterOptions& options) {
   // Every emitting triangle stays exact when they all fit; else a primitive of more
   // than exactTrianglesPerPrimitive is merged into clusters.
   size_t emissive = 0;
   for (const Draw& d : scene.draws)
     if (scene.materials[static_cast<size_t>(d.material)].isEmissive()) emissive += d.indexCount / 3;
   const bool allExact = emissive <= static_cast<size_t>(options.maxEmitters);
+  std::vector<bool> exact(scene.draws.size(), false);
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    const Draw& d = scene.draws[i];
+    exact[i] =
+        scene.materials[static_cast<size_t>(d.material)].isEmissive() &&
+        (allExact || d.indexCount / 3 <= static_cast<size_t>(options.exactTrianglesPerPrimitive));
+  }
+  return exact;
+}
+
+std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options) {
+  const std::vector<bool> exact = exactEmitterDraws(scene, options);
   std::vector<Emitter> out;
-  for (const Draw& d : scene.draws) {
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    const Draw& d = scene.draws[i];
     const Material& m = scene.materials[static_cast<size_t>(d.material)];
     if (!m.isEmissive()) continue;
     const size_t tris = d.indexCount / 3;
     auto corner = [&](size_t t, int k) {
       return scene.vertices[scene.indices[d.firstIndex + t * 3 + static_cast<size_t>(k)]].position;
     };
-    if (allExact || tris <= static_cast<size_t>(options.exactTrianglesPerPrimitive)) {
+    if (exact[i]) {
       for (size_t t = 0; t < tris; ++t) {
         const glm::vec3 radiance = triangleEmission(scene, d, t);
         if (!(radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f)) continue;

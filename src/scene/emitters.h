@@ -35,6 +35,12 @@ struct EmitterOptions {
 // triangle weighs by the texture's mean over it (Draw::emissiveMean).
 std::vector<Emitter> buildEmitters(const Scene& scene, const EmitterOptions& options = {});
 
+// Per draw: whether buildEmitters keeps its emitting triangles as triangles (true) or
+// merges them into clusters (false; and false for a draw that does not emit). rtgi's
+// highlights of triangle emitters are shared with its reflected rays, which must know
+// a cluster's facets, which it lights as a disk, from them (GpuBvh).
+std::vector<bool> exactEmitterDraws(const Scene& scene, const EmitterOptions& options = {});
+
 // Fills Draw::emissiveMean for every draw whose material has an emissive texture:
 // the texture's mean (linear) over each triangle: the mean of the texels whose
 // centres lie in the triangle, or, for a triangle holding fewer than four, of the

@@ -6,6 +6,8 @@
 // coarser than the geometry: they shadow too much near contacts and at grazing
 // angles, which accumulation never removes; the triangles give the path tracer's
 // shadows. Mirrors take no highlight here: their reflected ray sees the light.
+// RTGI_HIGHLIGHT_MIS: the specular stage's lobe rays see emitters too, and the
+// highlights of glossy pixels are shared with them (rtgi_direct_light.glsl).
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS traces no shadow ray (the
 // renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
 // Scene variants (RtgiPass): RTGI_LIGHTS when there are punctual lights,
@@ -63,6 +65,10 @@ void main() {
     seedPixel(px, 1u);
     Surface s = p.s;
     if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
+#ifdef RTGI_HIGHLIGHT_MIS
+    // The specular stage's lobe ray shares this pixel's highlights.
+    highlightMis = p.roughness >= kMirrorRoughness && isSpecular(p.metallic, p.roughness);
+#endif
     // The surface's own normal where a normal map tilts s.n (else 0: no test).
     vec3 ng = surfaceNormal(px);
 #ifdef RTGI_BVH

@@ -15,7 +15,9 @@
 // hit (the indirect stage's estimate; RTGI_BVH_RAYS: that ray on the triangles too),
 // when the plan has indirect light: voxels serve only as the light cache behind the
 // hit. A mirror sees an emitter it hits; a
-// glossy surface does not (its highlight comes from the shadows stage).
+// glossy surface does not (its highlight comes from the shadows stage), unless
+// RTGI_HIGHLIGHT_MIS: then it shares the highlights of triangle emitters with the
+// shadows stage (rtgi_direct_light.glsl).
 // RTGI_BVH_TEXTURES, _COLORS, _ALPHA: the material's textures, vertex colours and
 // alpha masks at the hit, as the path tracer reads them (rtgi_bvh.glsl).
 //
@@ -56,8 +58,10 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 
 // Radiance arriving at o from unit direction dir: the nearest triangle's (after up to
 // kMaxMirrorChain mirrors) direct light, its voxel indirect light and, when
-// `seeEmitters`, its emission.
-vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
+// `seeEmitters`, its emission. `shareOf` (RTGI_HIGHLIGHT_MIS, a glossy pixel's lobe
+// ray; else 0): the first hit's emission, where it is a triangle emitter, weighed by
+// this ray's share of the pixel's highlight (rtgi_direct_light.glsl).
+vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, Surface shareOf) {
   loopBudget = kPtLoopBudget;
   float eps = bvhEpsilon();
   vec3 throughput = vec3(1.0);
@@ -66,6 +70,17 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters) {
     TriangleHit h;
     if (!traceSurface(o, dir, h)) break;
     if (seeEmitters) result += throughput * h.emission;
+#ifdef RTGI_HIGHLIGHT_MIS
+    if (bounce == 0 && shareOf.specular > 0.0 && any(greaterThan(h.emission, vec3(0.0)))) {
+      // A cluster's facets (negated pdf) are left to the light sample.
+      GpuPtTriangle T = loadTriangle(h.tri);
+      if (T.e1.w > 0.0) {
+        float omega =
+            triangleSolidAngle(T.v0.xyz, T.v0.xyz + T.e1.xyz, T.v0.xyz + T.e2.xyz, shareOf.p);
+        result += h.emission * (1.0 - highlightLightShare(shareOf, dir, omega));
+      }
+    }
+#endif
     if (h.roughness < kMirrorRoughness) {
       // A mirror: on along the reflection, weighted as the first (Schlick).
       if (bounce == kMaxMirrorChain) break;
@@ -130,8 +145,20 @@ void main() {
     }
     if (dot(dir, s.n) > 0.0) {
       vec3 f = schlickFresnel(s.f0, clamp(dot(s.v, h), 0.0, 1.0));
+      if (!mirror) {
+        // The lobe ray's weight, BSDF x cosine / pdf, is F G2 / G1 (Heitz 2018), G2
+        // the height-correlated masking-shadowing of the direct stage's highlights.
+        float nv = max(dot(s.n, s.v), 1e-4), nl = dot(s.n, dir);
+        float alpha = max(s.alpha, 1e-3);
+        f *= 4.0 * nl * nv * smithVisibility(nl, nv, alpha) / smithG1(nv, alpha);
+      }
 #ifdef RTGI_BVH
-      result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror);
+      Surface shareOf = s;
+      shareOf.specular = 0.0;
+#ifdef RTGI_HIGHLIGHT_MIS
+      if (!mirror && (rtgi.flags & kRtgiHasDirect) != 0u) shareOf.specular = 1.0;
+#endif
+      result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror, shareOf);
 #else
       vec3 o = rayOrigin(s);
       MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
