@@ -15,7 +15,8 @@ struct TriangleHit {
   vec3 emission;    // what the hit emits towards the ray (0 under VOXGI_NO_EMISSION)
   float roughness;  // kMirrorRoughness and below: a mirror
   vec3 base;        // base colour (the voxels' albedo: what they reflect as Lambert)
-  uint tri;         // the triangle, in BVH order (loadTriangle)
+  float metallic;
+  uint tri;  // the triangle, in BVH order (loadTriangle)
 };
 
 // Traces the ray from o along unit dir; false where it leaves the scene. Set
@@ -62,6 +63,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   }
 #endif
   float metallic = m.metallic;
+  h.metallic = metallic;
   h.roughness = clamp(m.roughness, 0.0, 1.0);
   vec3 base = m.baseColor.rgb;
   h.base = base;

@@ -92,18 +92,28 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, Surface shareOf) {
     }
     vec3 p = h.s.p, ng = h.ng, ns = h.s.n, below = h.below;
     result += throughput * directLight(h.s, p + ng * eps, below);
-    if ((rtgi.flags & kRtgiHasIndirect) != 0u && any(greaterThan(h.s.diffuse, vec3(0.0)))) {
-      vec3 d = cosineSample(ns, vec2(rand01(), rand01()));
+    // The light the voxels send along one ray drawn from the hit's BSDF (the path
+    // tracer's: its GGX lobe by visible normals, or the cosine, chosen by their
+    // Fresnel weight), weighed by BSDF x cosine / pdf: a metal's lobe too, which a
+    // cosine ray weighed by the Lambert part left black.
+    if ((rtgi.flags & kRtgiHasIndirect) != 0u) {
+      vec3 d;
+      Bsdf bsdf = makeBsdf(h.base, h.metallic, h.roughness, clamp(dot(ns, -dir), 0.0, 1.0));
+      if (sampleBsdf(bsdf, ns, -dir, rngState, d)) {
+        float pdf;
+        vec3 w = evalBsdf(bsdf, ns, -dir, d, pdf);
+        w = pdf > 0.0 ? w / pdf : vec3(0.0);
 #ifdef RTGI_BVH_RAYS
-      // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
-      if (dot(d, below) >= 0.0)
-        result += throughput * h.s.diffuse * voxelLightAlong(p + ng * eps, d);
+        // On the triangles too, as the indirect stage's rays (rtgi_voxel_light.glsl).
+        if (dot(d, below) >= 0.0 && dot(d, ng) > 0.0)
+          result += throughput * w * voxelLightAlong(p + ng * eps, d);
 #else
-      MarchHit m = octreeTrace(octreeWorldRay(rayOrigin(h.s), d, 3.0e38), 0.0, kRaySteps);
-      uint word = m.hit ? material[m.node].y : 0u;
-      if (m.hit && !seenFromBehind(word, d))
-        result += throughput * h.s.diffuse * unpackRgb9e5(radiance[lightSlot(m.node, word, -d)]);
+        MarchHit m = octreeTrace(octreeWorldRay(rayOrigin(h.s), d, 3.0e38), 0.0, kRaySteps);
+        uint word = m.hit ? material[m.node].y : 0u;
+        if (m.hit && !seenFromBehind(word, d))
+          result += throughput * w * unpackRgb9e5(radiance[lightSlot(m.node, word, -d)]);
 #endif
+      }
     }
     break;
   }
