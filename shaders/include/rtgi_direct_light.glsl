@@ -127,6 +127,10 @@ bool sampledHighlight(Surface s) { return s.specular > 0.0 && s.alpha >= kSample
 // sample whole; their facets carry a negated pdf in the BVH, and the ray skips them.
 // Set by rtgi_direct.comp per pixel; hits of other rays keep their own estimate.
 bool highlightMis = false;
+// Set by rtgi_direct.comp where no specular stage shares a pixel's highlights (a plan
+// without the specular effect, RTGI_HIGHLIGHT_SAMPLED): the light sample carries them
+// whole, unbiased, where the representative point is not.
+bool highlightSampled = false;
 
 // The light sample's share of the highlight along unit l, towards a triangle of
 // solid angle `omega` from s.p; the ray's share is 1 minus it.
@@ -155,9 +159,9 @@ vec3 emitterShade(int k, float weight, vec3 spec, Surface s, vec3 o, vec3 ng) {
   float pdf = sampleEmitterDirection(e, s.p, s.n, vec2(rand01(), rand01()), l, dist);
   if (!(pdf > 0.0)) return vec3(0.0);
   vec3 c;
-  if (highlightMis) {
+  if (highlightMis || highlightSampled) {
     vec3 irradiance = e.radiance * max(dot(s.n, l), 0.0);
-    float share = e.kind == kEmitterCluster
+    float share = !highlightMis || e.kind == kEmitterCluster
                       ? 1.0
                       : highlightLightShare(s, l, triangleSolidAngle(e.a, e.b, e.c, s.p));
     c = (shadeDiffuse(s, l, irradiance) + shadeSpecular(s, l, irradiance, 0.0) * share) / pdf *

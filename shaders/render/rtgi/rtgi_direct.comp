@@ -7,7 +7,8 @@
 // angles, which accumulation never removes; the triangles give the path tracer's
 // shadows. Mirrors take no highlight here: their reflected ray sees the light.
 // RTGI_HIGHLIGHT_MIS: the specular stage's lobe rays see emitters too, and the
-// highlights of glossy pixels are shared with them (rtgi_direct_light.glsl).
+// highlights of glossy pixels are shared with them (rtgi_direct_light.glsl);
+// RTGI_HIGHLIGHT_SAMPLED (no specular stage): the light sample carries them whole.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS traces no shadow ray (the
 // renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
 // Scene variants (RtgiPass): RTGI_LIGHTS when there are punctual lights,
@@ -68,6 +69,8 @@ void main() {
 #ifdef RTGI_HIGHLIGHT_MIS
     // The specular stage's lobe ray shares this pixel's highlights.
     highlightMis = p.roughness >= kMirrorRoughness && isSpecular(p.metallic, p.roughness);
+#elif defined(RTGI_HIGHLIGHT_SAMPLED)
+    highlightSampled = true;
 #endif
     // The surface's own normal where a normal map tilts s.n (else 0: no test).
     vec3 ng = surfaceNormal(px);
