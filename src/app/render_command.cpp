@@ -241,7 +241,10 @@ void addMemoryStats(nlohmann::ordered_json& stats, const RenderOptions& o,
                     const render::Renderer& renderer) {
   stats["peak_rss_bytes"] = peakResidentBytes();
   stats["gpu_scene_bytes"] = renderer.gpuScene().bytes();
-  if (const render::GpuBvh* bvh = renderer.bvh()) stats["gpu_bvh_bytes"] = bvh->gpuBytes();
+  if (const render::GpuBvh* bvh = renderer.bvh()) {
+    stats["gpu_bvh_bytes"] = bvh->gpuBytes();
+    stats["bvh_tree_ms"] = bvh->treeMs();
+  }
   const render::Renderer::TextureMemory tm = renderer.textureMemory();
   stats["texture_bytes"] = {
       {"gpu", tm.gpu()}, {"gl_textures", tm.glTextures},   {"bvh_texels", tm.bvhTexels},

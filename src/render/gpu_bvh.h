@@ -44,6 +44,9 @@ class GpuBvh {
   int depth() const { return depth_; }
   double sahCost() const { return sah_; }
   double buildMs() const { return buildMs_; }
+  // The binned SAH build of the tree alone (buildMs() also counts the path tracer's
+  // per-triangle arrays it is built from, and the checks of its nodes).
+  double treeMs() const { return treeMs_; }
   bool textured() const { return textured_; }
   // The scene has vertex colours: colors() is its colour buffer (vec4 per vertex);
   // 0 otherwise.
@@ -100,6 +103,7 @@ class GpuBvh {
   int depth_ = 0;
   double sah_ = 0.0;
   double buildMs_ = 0.0;
+  double treeMs_ = 0.0;
   bool textured_ = false;
   int emissiveCount_ = 0;
   size_t gpuBytes_ = 0, textureBytes_ = 0;

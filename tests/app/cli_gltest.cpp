@@ -133,8 +133,12 @@ TEST(Cli, MemoryInStats) {
     EXPECT_LT(stats["peak_rss_bytes"].get<double>(), 8e9);
     if (std::string(mode).find("pathtrace") != std::string::npos) {
       EXPECT_EQ(stats["gpu_bvh_bytes"], 64 + 2 * 48 + 16 + 16 + 2 * 96);
+      // The tree's own build, a part of the bvh start-up stage.
+      EXPECT_GE(stats["bvh_tree_ms"].get<double>(), 0.0);
+      EXPECT_LE(stats["bvh_tree_ms"].get<double>(), stats["startup_stages"]["bvh"].get<double>());
     } else {
       EXPECT_FALSE(stats.contains("gpu_bvh_bytes"));
+      EXPECT_FALSE(stats.contains("bvh_tree_ms"));
     }
   }
 }

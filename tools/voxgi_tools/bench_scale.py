@@ -95,7 +95,8 @@ def run_voxgi(args, scene, mode, out):
     s = json.loads(stats.read_text())
     return {"wall_s": wall, "peak_rss_mb": rss, "load_ms": s["load_ms"],
             "startup_ms": s["startup_ms"], "bvh_ms": s.get("startup_stages", {}).get("bvh", 0.0),
-            "frame_ms": s["frame_ms"], "triangles": s["triangles"]}
+            "bvh_tree_ms": s.get("bvh_tree_ms", 0.0), "frame_ms": s["frame_ms"],
+            "triangles": s["triangles"]}
 
 
 def run_mitsuba(args, scene, out):
@@ -189,8 +190,9 @@ def report(summary):
     head = "| triangles |"
     rule = "|---:|"
     if "rtgi" in modes:
-        head += " load ms | start-up ms | BVH ms | rtgi frame ms | rtgi wall s | rtgi peak RSS MB |"
-        rule += "---:|---:|---:|---:|---:|---:|"
+        head += (" load ms | start-up ms | BVH ms | BVH tree M tri/s | rtgi frame ms | rtgi wall s |"
+                 " rtgi peak RSS MB |")
+        rule += "---:|---:|---:|---:|---:|---:|---:|"
     if "pathtrace" in modes:
         head += " pathtrace wall s | pathtrace peak RSS MB |"
         rule += "---:|---:|"
@@ -203,7 +205,9 @@ def report(summary):
         line = f"| {row[modes[0]]['triangles'] if modes else row['triangles_asked']:,} |"
         if "rtgi" in modes:
             g = row["rtgi"]
-            line += (f" {g['load_ms']:,.0f} | {g['startup_ms']:,.0f} | {g['bvh_ms']:,.0f} |"
+            tree = g.get("bvh_tree_ms", 0.0)
+            rate = f"{g['triangles'] / tree / 1e3:.1f}" if tree > 0 else "-"
+            line += (f" {g['load_ms']:,.0f} | {g['startup_ms']:,.0f} | {g['bvh_ms']:,.0f} | {rate} |"
                      f" {g['frame_ms']:,.0f} | {g['wall_s']:.2f} | {g['peak_rss_mb']:,.0f} |")
         if "pathtrace" in modes:
             p = row["pathtrace"]
