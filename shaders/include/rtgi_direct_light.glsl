@@ -128,8 +128,9 @@ bool sampledHighlight(Surface s) { return s.specular > 0.0 && s.alpha >= kSample
 // Set by rtgi_direct.comp per pixel; hits of other rays keep their own estimate.
 bool highlightMis = false;
 // Set by rtgi_direct.comp where no specular stage shares a pixel's highlights (a plan
-// without the specular effect, RTGI_HIGHLIGHT_SAMPLED): the light sample carries them
-// whole, unbiased, where the representative point is not.
+// without the specular effect, or with cones or voxel reflections, which do not see
+// emitters: RTGI_HIGHLIGHT_SAMPLED): the light sample carries them whole, unbiased,
+// where the representative point is not.
 bool highlightSampled = false;
 
 // The light sample's share of the highlight along unit l, towards a triangle of

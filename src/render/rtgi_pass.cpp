@@ -69,8 +69,10 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
     for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
-  // Without a specular stage, the light sample carries the highlights whole.
-  if (!settings_.specular) defines.emplace_back("RTGI_HIGHLIGHT_SAMPLED");
+  // Without a specular stage that shares them (none, or one of cones or voxel
+  // reflections, which do not see the emitters), the light sample carries the
+  // highlights whole.
+  if (!sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_SAMPLED");
   if (*restir != '\0') defines.emplace_back(restir);
   return programs_.get({{"render/rtgi/rtgi_direct.comp"}, defines});
 }

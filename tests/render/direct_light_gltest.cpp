@@ -115,6 +115,20 @@ class DirectLightTest : public GlTest {
     return worst;
   }
 
+  // Puts the camera low over a floor under a panel (floorUnderPanel), looking along
+  // it: a grazing view, where a representative point's highlight errs most. Returns
+  // the blocks of the path tracer's image with two vertices (camera, floor, light).
+  std::vector<double> lowOverTheFloor(const scene::Scene& s) {
+    camera_.position = glm::vec3(0.0f, 0.8f, 4.0f);
+    camera_.forward = glm::normalize(glm::vec3(0.0f, -0.35f, -1.0f));
+    render::RenderSettings rs;
+    rs.mode = render::Mode::kPathtrace;
+    rs.spp = 1024;
+    rs.pathtrace.maxDepth = 2;
+    rs.pathtrace.seed = 5;
+    return toBlocks(luminances(s, rs, 1));
+  }
+
   std::unique_ptr<gl::ProgramCache> programs_;
   scene::Camera camera_ = camera();  // what pixels() renders from
 };
@@ -324,15 +338,14 @@ TEST_F(DirectLightTest, ALargeEmitterCutByTheHorizonLightsEvenlyInOneFrame) {
   EXPECT_LT(worst, 0.3);
 }
 
-// A floor of glossy wood (a dielectric of roughness 0.7, the hall gallery's) under
-// a large one-sided emitting panel, seen at 45 degrees: the highlight the panel
-// makes is wide and covers much of the floor.
-scene::Scene glossyFloorUnderPanel() {
+// A floor of one material (base colour, metallic, roughness) under a large
+// one-sided emitting panel.
+scene::Scene floorUnderPanel(glm::vec3 base, float metallic, float roughness) {
   SceneBuilder b;
-  const int wood = b.addMaterial(glm::vec3(0.45f, 0.3f, 0.18f));
-  b.scene().materials[static_cast<size_t>(wood)].metallic = 0.0f;
-  b.scene().materials[static_cast<size_t>(wood)].roughness = 0.7f;
-  b.addBox({-4.0f, -0.2f, -4.0f}, {4.0f, 0.0f, 4.0f}, wood);
+  const int floor = b.addMaterial(base);
+  b.scene().materials[static_cast<size_t>(floor)].metallic = metallic;
+  b.scene().materials[static_cast<size_t>(floor)].roughness = roughness;
+  b.addBox({-4.0f, -0.2f, -4.0f}, {4.0f, 0.0f, 4.0f}, floor);
   addPanel(b, 3.0f, -4.0f, 0.0f);
   return finishUnlit(b);
 }
@@ -342,34 +355,14 @@ scene::Scene glossyFloorUnderPanel() {
 // representative point. Blocks of rtgi's direct light against the path tracer's
 // with two vertices (camera, floor, light).
 TEST_F(DirectLightTest, ARoughHighlightFromALargeEmitterIsThePathTracers) {
-  scene::Scene s = glossyFloorUnderPanel();
-  // Low over the floor, looking along it: a grazing view, where a representative
-  // point's highlight errs most.
-  camera_.position = glm::vec3(0.0f, 0.8f, 4.0f);
-  camera_.forward = glm::normalize(glm::vec3(0.0f, -0.35f, -1.0f));
-  render::RenderSettings rs;
-  rs.mode = render::Mode::kPathtrace;
-  rs.spp = 1024;
-  rs.pathtrace.maxDepth = 2;
-  rs.pathtrace.seed = 5;
-  const std::vector<double> reference = toBlocks(luminances(s, rs, 1));
+  // Glossy wood (a dielectric of roughness 0.7, the hall gallery's): the highlight
+  // the panel makes is wide and covers much of the floor.
+  const scene::Scene s = floorUnderPanel(glm::vec3(0.45f, 0.3f, 0.18f), 0.0f, 0.7f);
+  const std::vector<double> reference = lowOverTheFloor(s);
   const double worst = worstOverSeeds(s, render::RtgiPass::Settings(), 256, reference);
   // Measured: 1.3% (the worst block over seeds 1 and 2); a representative point's
   // highlight (Karis 2013, areaLightParts) 8.2%.
   EXPECT_LT(worst, 0.03);
-}
-
-// A floor of polished bronze (metal of roughness 0.35, the hall's sculpture) under a
-// large one-sided emitting panel, seen from low over it: a highlight sharp next to
-// the panel.
-scene::Scene bronzeFloorUnderPanel() {
-  SceneBuilder b;
-  const int bronze = b.addMaterial(glm::vec3(0.8f, 0.55f, 0.35f));
-  b.scene().materials[static_cast<size_t>(bronze)].metallic = 1.0f;
-  b.scene().materials[static_cast<size_t>(bronze)].roughness = 0.35f;
-  b.addBox({-4.0f, -0.2f, -4.0f}, {4.0f, 0.0f, 4.0f}, bronze);
-  addPanel(b, 3.0f, -4.0f, 0.0f);
-  return finishUnlit(b);
 }
 
 // A sharp highlight from a large emitter converges to the path tracer's: the direct
@@ -379,15 +372,10 @@ scene::Scene bronzeFloorUnderPanel() {
 // without indirect light (direct light and the lobe rays, which see only the panel
 // here) against the path tracer with two vertices.
 TEST_F(DirectLightTest, ASharpHighlightFromALargeEmitterIsThePathTracers) {
-  scene::Scene s = bronzeFloorUnderPanel();
-  camera_.position = glm::vec3(0.0f, 0.8f, 4.0f);
-  camera_.forward = glm::normalize(glm::vec3(0.0f, -0.35f, -1.0f));
-  render::RenderSettings rs;
-  rs.mode = render::Mode::kPathtrace;
-  rs.spp = 1024;
-  rs.pathtrace.maxDepth = 2;
-  rs.pathtrace.seed = 5;
-  const std::vector<double> reference = toBlocks(luminances(s, rs, 1));
+  // Polished bronze (metal of roughness 0.35, the hall's sculpture): a highlight
+  // sharp next to the panel.
+  const scene::Scene s = floorUnderPanel(glm::vec3(0.8f, 0.55f, 0.35f), 1.0f, 0.35f);
+  const std::vector<double> reference = lowOverTheFloor(s);
   double worst = 0.0, alone = 0.0;
   for (uint32_t seed : {1u, 2u}) {
     worst = std::max(

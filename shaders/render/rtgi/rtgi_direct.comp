@@ -8,7 +8,8 @@
 // shadows. Mirrors take no highlight here: their reflected ray sees the light.
 // RTGI_HIGHLIGHT_MIS: the specular stage's lobe rays see emitters too, and the
 // highlights of glossy pixels are shared with them (rtgi_direct_light.glsl);
-// RTGI_HIGHLIGHT_SAMPLED (no specular stage): the light sample carries them whole.
+// RTGI_HIGHLIGHT_SAMPLED (no specular stage that shares them): the light sample
+// carries them whole.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS traces no shadow ray (the
 // renderer then names the stage "direct"); VOXGI_NO_EMISSION leaves emitters out.
 // Scene variants (RtgiPass): RTGI_LIGHTS when there are punctual lights,
