@@ -58,10 +58,10 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 
 // Radiance arriving at o from unit direction dir: the nearest triangle's (after up to
 // kMaxMirrorChain mirrors) direct light, its voxel indirect light and, when
-// `seeEmitters`, its emission. `shareOf` (RTGI_HIGHLIGHT_MIS, a glossy pixel's lobe
-// ray; else 0): the first hit's emission, where it is a triangle emitter, weighed by
-// this ray's share of the pixel's highlight (rtgi_direct_light.glsl).
-vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, Surface shareOf) {
+// `seeEmitters`, its emission. `share` (RTGI_HIGHLIGHT_MIS, a glossy pixel's lobe
+// ray): the first hit's emission, where it is a triangle emitter, weighed by this
+// ray's share of the highlight of `pixel` (rtgi_direct_light.glsl).
+vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, bool share, Surface pixel) {
   loopBudget = kPtLoopBudget;
   float eps = bvhEpsilon();
   vec3 throughput = vec3(1.0);
@@ -71,13 +71,13 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, Surface shareOf) {
     if (!traceSurface(o, dir, h)) break;
     if (seeEmitters) result += throughput * h.emission;
 #ifdef RTGI_HIGHLIGHT_MIS
-    if (bounce == 0 && shareOf.specular > 0.0 && any(greaterThan(h.emission, vec3(0.0)))) {
+    if (bounce == 0 && share && any(greaterThan(h.emission, vec3(0.0)))) {
       // A cluster's facets (negated pdf) are left to the light sample.
       GpuPtTriangle T = loadTriangle(h.tri);
       if (T.e1.w > 0.0) {
         float omega =
-            triangleSolidAngle(T.v0.xyz, T.v0.xyz + T.e1.xyz, T.v0.xyz + T.e2.xyz, shareOf.p);
-        result += h.emission * (1.0 - highlightLightShare(shareOf, dir, omega));
+            triangleSolidAngle(T.v0.xyz, T.v0.xyz + T.e1.xyz, T.v0.xyz + T.e2.xyz, pixel.p);
+        result += h.emission * (1.0 - highlightLightShare(pixel, dir, omega));
       }
     }
 #endif
@@ -163,12 +163,11 @@ void main() {
         f *= 4.0 * nl * nv * smithVisibility(nl, nv, alpha) / smithG1(nv, alpha);
       }
 #ifdef RTGI_BVH
-      Surface shareOf = s;
-      shareOf.specular = 0.0;
+      bool share = false;
 #ifdef RTGI_HIGHLIGHT_MIS
-      if (!mirror && (rtgi.flags & kRtgiHasDirect) != 0u) shareOf.specular = 1.0;
+      share = !mirror && (rtgi.flags & kRtgiHasDirect) != 0u;
 #endif
-      result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror, shareOf);
+      result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror, share, s);
 #else
       vec3 o = rayOrigin(s);
       MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
