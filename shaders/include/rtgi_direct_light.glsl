@@ -33,60 +33,6 @@ layout(std430, binding = kLightTreeBinding) readonly buffer LightTree { GpuLight
 GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
 #endif
 
-// How far off its surface a point drawn on emitter e may lie (emitterPoint): a
-// cluster's points lie on its disk, up to its radius from the facets.
-float emitterSlack(GpuEmitter e) { return e.kind == kEmitterCluster ? sqrt(e.area / kPi) : 0.0; }
-
-// A direction from p (normal n) towards a point of emitter e that emits towards p,
-// from two uniform numbers: returns its solid-angle pdf (0: no such point), the
-// direction l and the distance to the point. Triangles that p sees under at least
-// kMinSphericalTriangle: the part above p's horizon, about in proportion to the
-// cosine there (sampleClippedTriangle, sampling_shared.h: Arvo 1995 warped after
-// Hart et al. 2020), so the Lambert estimate below hardly varies over the triangle,
-// however large and near it is, and no draw is spent below the horizon (a skylight
-// over a column's face: half the draws black, the rest twice as bright, before).
-// Smaller triangles and clusters (disks): uniform over their area, pdf = dist^2 /
-// (area x cosine at the emitter).
-float sampleEmitterDirection(GpuEmitter e, vec3 p, vec3 n, vec2 u, out vec3 l, out float dist) {
-  l = vec3(0.0);
-  dist = 0.0;
-  bool twoSided = e.twoSided != 0u;
-  bool cluster = e.kind == kEmitterCluster;
-  vec3 ne = cluster ? e.b : cross(e.b - e.a, e.c - e.a);
-  float ne2 = dot(ne, ne);
-  if (!(ne2 > 0.0)) return 0.0;
-  ne *= inversesqrt(ne2);
-  if (!cluster) {
-    vec3 a = e.a - p, b = e.b - p, c = e.c - p;
-    float la = length(a), lb = length(b), lc = length(c);
-    if (la > 0.0 && lb > 0.0 && lc > 0.0 &&
-        sphericalTriangleArea(a / la, b / lb, c / lc) >= kMinSphericalTriangle) {
-      float pdf = sampleClippedTriangle(a, b, c, n, u, l);
-      if (!(pdf > 0.0)) return 0.0;
-      float cosE = -dot(ne, l);
-      float toPlane = dot(e.a - p, ne);  // -(p's height above the plane)
-      if (twoSided) {
-        cosE = abs(cosE);
-      } else if (!(cosE > 0.0)) {
-        return 0.0;  // p is behind a one-sided emitter
-      }
-      if (!(cosE > 1e-6)) return 0.0;
-      dist = abs(toPlane) / cosE;
-      return pdf;
-    }
-  }
-  vec3 d = emitterPoint(e, u) - p;
-  float dist2 = dot(d, d);
-  if (!(dist2 > 0.0)) return 0.0;
-  dist = sqrt(dist2);
-  l = d / dist;
-  float cosE = -dot(ne, l);
-  if (twoSided) cosE = abs(cosE);
-  float area = emitterArea(e);
-  if (!(cosE > 1e-6) || !(area > 0.0)) return 0.0;
-  return dist2 / (area * cosE);
-}
-
 // The Lambert part of the light arriving at s from emitter e along l, divided by the
 // direction's pdf: with the exact highlight sum, what directLight scales by
 // visibility.

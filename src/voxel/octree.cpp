@@ -23,8 +23,12 @@ constexpr uint64_t kDataBytesPerNode = 8 + 4;  // material, emission
 constexpr uint64_t kBounceBytes = 16;          // Settings::keepBounces
 // The light's refinement: this estimate, its direct light, the previous bounce, the mean.
 constexpr uint64_t kRefineBytes = 4 + 4 + 4 + 16;
-// With all bounces, the first estimate's chain of bounces (pixel's included).
-constexpr int kFirstChainBounces = 6;
+// With all bounces, the first estimate's chain of bounces (the pixel's included).
+// Refinement adds a bounce a cycle, and a cycle is every leaf once (15 frames in the
+// hall), so what the chain leaves out, about a^K of the light of a closed room of
+// albedo a, is missing from the first seconds: 12% at a = 0.7 and K = 6, 1.4% at 12
+// (docs/octree.md).
+constexpr int kFirstChainBounces = 12;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                                 GL_UNIFORM_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT;
 
@@ -362,10 +366,12 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeLightCdfBinding, scene.emitterCdf());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeDirectBinding, direct_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kVoxelListBinding, passList_);
-  setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
-  dispatch(inject_, count);
+  // With the BVH, the surfaces under the leaves: the direct light is taken there, and
+  // the bounce rays start there.
   if (surface_.id() != 0)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeSurfaceBinding, surface_.id());
+  setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
+  dispatch(inject_, count);
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
   const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
   const auto backBytes = static_cast<GLsizeiptr>(stats_.twoSidedLeaves) * 4;

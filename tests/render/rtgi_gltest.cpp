@@ -530,17 +530,19 @@ TEST_F(RtgiTest, ConvergesTowardsThePathTracer) {
 // tracer's, and so has what a rough dielectric floor reflects of it. Two views of
 // the validation set, 64x64, 48 frames, against the path tracer at 256 spp with
 // paths to depth 64 (at its default 8 it is 1.4% and 1.0% darker here), the mean
-// ratio over seeds 1-4 (each within 0.1% of it):
+// ratio over seeds 1-4 (each within 0.2% of it):
 // - the night hall, lit by point lights, its tiled floor (roughness 0.9) seen at a
-//   grazing angle: 0.985. Against depth 8, 0.983 while the pixel's indirect ray took
-//   the floor for Lambert of its base colour, 0.999 with its BSDF drawn. What is
-//   missing is the light of many bounces: the voxels' first estimate is a chain of 6,
-//   and refinement adds a bounce a cycle (every leaf once: 15 frames here).
-// - the day hall from its gallery, lit by a 16 x 4 m skylight: 1.006 (against depth
-//   8: 1.0199 while the leaves gathered their bounces from 1.6 voxels above their
-//   surface, 1.0156 from the surface itself). What is bright is the leaves' own: they
-//   reflect as Lambert of the base colour, where the floors' BSDF, drawn at the
-//   pixels, sends more of their light along the floor.
+//   grazing angle: 0.995 (0.985 while the voxels' first estimate was a chain of 6
+//   bounces: refinement adds a bounce a cycle, every leaf once, 15 frames here).
+//   Against depth 8, 0.983 while the pixel's indirect ray took the floor for Lambert
+//   of its base colour, 0.999 with its BSDF drawn.
+// - the day hall from its gallery, lit by a 16 x 4 m skylight: 0.988. It was 1.006
+//   while the leaves' direct light was taken 1.6 voxels off their centre and a
+//   bounce ray read the voxel's albedo: the black skylight panel lies 2 cm under
+//   the white plaster that seals the roof, in the same voxels, which sent the
+//   floor's light back down (octree_bounce.comp). What is dark now is the skylight's
+//   light in the voxels' second bounce, 4% under the path tracer's, its cause not
+//   found (docs/measurements.md, leaf-surface-light).
 // Bounds: the measured offset and a little over three standard deviations of it.
 TEST_F(RtgiTest, TheHallsBouncesAreThePathTracers) {
   struct View {
@@ -549,8 +551,8 @@ TEST_F(RtgiTest, TheHallsBouncesAreThePathTracers) {
     bool gallery;  // the gallery's viewpoint, else the file's camera
     double tolerance;
   };
-  for (const View& v : {View{"night hall", "hall_night.gltf", false, 0.017},
-                        View{"day hall, gallery", "hall.gltf", true, 0.008}}) {
+  for (const View& v : {View{"night hall", "hall_night.gltf", false, 0.008},
+                        View{"day hall, gallery", "hall.gltf", true, 0.015}}) {
     scene::Scene s = scene::loadGltf(sourceDir() + "/scenes/hall/" + v.file);
     if (v.gallery) s.lookAt({9.0f, 5.6f, 5.2f}, {-3.0f, 0.6f, -1.5f});
     const int size = 64;

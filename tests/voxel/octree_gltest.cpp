@@ -14,6 +14,7 @@
 
 #include "octree_march.h"
 #include "render/gpu_bvh.h"
+#include "scene/emitters.h"
 #include "scene/gltf_loader.h"
 #include "support/cpu_voxelizer.h"
 #include "support/gl_fixture.h"
@@ -277,11 +278,16 @@ TEST_F(OctreeTest, InnerNodesFilterTheirChildren) {
   auto b = build(scene::loadGltf(cornellRoom()), 64, true);
   const std::vector<uint32_t> nodes = b->octree->readNodes();
   const std::vector<uint32_t> rad = b->octree->readRadiance();
+  const std::vector<uint32_t> back = b->octree->readRadiance(1);
   const std::vector<uint32_t> material = b->octree->readMaterial();
   const uint32_t leafFirst = b->octree->stats().nodes - b->octree->stats().levelNodes.back();
   auto half4 = [&](uint32_t node) {  // radiance, opacity
-    return glm::vec4(glm::unpackF3x9_E1x5(rad[node]),
-                     static_cast<float>(material[node * 2] >> 24) / 255.0f);
+    glm::vec3 r = glm::unpackF3x9_E1x5(rad[node]);
+    // A two-sided leaf (octree.glsl, leafAxis) gives the mean of its two sides.
+    const auto axisCode = static_cast<int8_t>(material[node * 2 + 1] >> 24);
+    if (std::lround(axisCode / 127.0 * 4.0) - 1 >= 0)
+      r = 0.5f * (r + glm::unpackF3x9_E1x5(back[node]));
+    return glm::vec4(r, static_cast<float>(material[node * 2] >> 24) / 255.0f);
   };
   size_t checked = 0;
   for (uint32_t node = 0; node < leafFirst; ++node) {
@@ -356,12 +362,13 @@ TEST_F(OctreeTest, InjectionCastsShadows) {
 
 // Shadows of their own size. A floor on a 64^3 grid, a 15.4 x 15.4 slab 0.8 thick 19
 // voxels over it, a point light 20 voxels above the slab. A floor leaf's light is
-// the Lambert light at its centre if its shadow ray (from 1.6 voxels above the
-// centre, along the centre's direction to the light) misses the slab, else none.
-// Marched through the octree, the shadow rays meet the slab's voxels, which stand
-// beyond it, and leaves by every edge of the shadow go dark that the light reaches
-// (120 of them); traced on the exact triangles (rtgi's BVH), every leaf is lit or
-// dark as the closed form says.
+// the Lambert light at its centre if its shadow ray (marched: from 1.6 voxels above
+// the centre; exact: from the floor, where the leaf's surface is found, which here
+// holds the centre; along the centre's direction to the light) misses the slab,
+// else none. Marched through the octree, the shadow rays meet the slab's voxels,
+// which stand beyond it, and leaves by every edge of the shadow go dark that the
+// light reaches (120 of them); traced on the exact triangles (rtgi's BVH), every
+// leaf is lit or dark as the closed form says.
 TEST_F(OctreeTest, ExactShadowRaysKeepShadowsTheirSize) {
   SceneBuilder b;
   const int m = b.addMaterial(glm::vec3(0.5f));
@@ -402,10 +409,11 @@ TEST_F(OctreeTest, ExactShadowRaysKeepShadowsTheirSize) {
         const glm::vec3 c(static_cast<float>(x) + 0.5f, 0.5f, static_cast<float>(z) + 0.5f);
         const glm::vec3 toLight = light - c;
         const float d2 = glm::dot(toLight, toLight);
-        // The shadow ray: from 1.6 voxels above the centre (leafRayOffset) along the
-        // segment from the centre to the light. Leaves whose ray passes within a
+        // The shadow ray, along the segment from the centre to the light: marched,
+        // from 1.6 voxels above the centre (leafRayOffset); exact, from the leaf's
+        // surface, the floor, through the centre. Leaves whose ray passes within a
         // tenth of a voxel of the slab's edges are left out.
-        const glm::vec3 o = c + glm::vec3(0.0f, 1.6f, 0.0f);
+        const glm::vec3 o = c + glm::vec3(0.0f, exactRays ? 0.0f : 1.6f, 0.0f);
         const bool dark = blocked(o, toLight);
         bool edge = false;
         for (const glm::vec3 e : {glm::vec3(0.1f, 0.0f, 0.0f), glm::vec3(0.0f, 0.1f, 0.0f),
@@ -490,7 +498,9 @@ TEST_F(OctreeTest, TwoSidedLeavesKeepTheirSidesApart) {
 // meets in a shell is its inner one, a little nearer the light); a finite chain of 2
 // bounces stops at D (1 + a), 25-40% short. With the leaves' rays on the exact
 // triangles (rtgi's BVH; a bounce ray reads the leaf that stands for its hit), all
-// bounces come within 2% (+1.7% and +1.1%); without their light (no leaf found for
+// bounces come within 1% (+0.6% and +0.1%; +1.7% and +1.1% while the leaves' direct
+// light was taken off their surface and a ray read the voxel's albedo, not the
+// triangle's); without their light (no leaf found for
 // the hit) they would stop at D.
 TEST_F(OctreeTest, AllBouncesConvergeToTheClosedSphere) {
   constexpr float kIntensity = 10.0f;
@@ -548,6 +558,201 @@ TEST_F(OctreeTest, AllBouncesConvergeToTheClosedSphere) {
     EXPECT_NEAR(all, closedAll, 0.03 * closedAll) << "albedo " << a;
     EXPECT_NEAR(exactAll, closedAll, 0.025 * closedAll) << "albedo " << a << ", exact rays";
     EXPECT_NEAR(two, direct * (1.0 + a), 0.03 * direct * (1.0 + a)) << "albedo " << a;
+  }
+  // The first estimate alone, before any refinement, holds the first chain's
+  // bounces. Refinement adds one a cycle (every leaf once: 15 frames in the hall), so
+  // what the chain leaves out, 0.8^K of the light at albedo 0.8, is missing from the
+  // first seconds. Measured: -6.7% on the triangles with the chain of 12 (the grid's
+  // excess above offsets some of 0.8^12 = 6.9%), -25.2% with the chain of 6.
+  const double closed = 0.8 * kIntensity / pi / (1.0 - 0.8);
+  const double first = leafMean(0.8f, voxel::Octree::Settings::kAllBounces, 0, true);
+  std::printf("albedo 0.8: the first estimate %.4f, %+.2f%% of all bounces' closed form\n", first,
+              100.0 * (first / closed - 1.0));
+  EXPECT_GT(first, 0.91 * closed);
+  EXPECT_LT(first, 1.03 * closed);
+}
+
+// A large emitter half hidden: a 48 x 48 quad (two triangles) 29.5 voxels over the
+// floor, a plane under its near half 19.5 over it. A leaf's light from an emitter
+// is its exact unshadowed irradiance times the share of its shadow rays that are
+// clear, which is the share of that irradiance arriving only if the rays are drawn
+// in proportion to it (leafEmitterRay). Floor leaves whose rays reach the far part
+// of the quad only, against the closed form of the part they see (the quad cut
+// where the plane's edge hides it): measured 0.1% off; drawn uniformly over the
+// quad's area, 12% dark (the hidden part is the nearer, the brighter).
+TEST_F(OctreeTest, AHalfHiddenEmitterLightsLeavesByWhatTheySee) {
+  SceneBuilder b;
+  const int floorMat = b.addMaterial(glm::vec3(0.5f));
+  const int blocker = b.addMaterial(glm::vec3(0.5f));
+  const int lamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(1.0f), false);
+  addFloor(b, floorMat);
+  const float ye = 30.0f, yb = 20.0f, lo = 8.0f, hi = 56.0f, cut = 32.0f;
+  // Facing down: (x0, z0), (x1, z1), (x0, z1) and (x0, z0), (x1, z0), (x1, z1).
+  auto quad = [](float x0, float z0, float x1, float z1, float y) {
+    return std::vector<glm::vec3>{{x0, y, z0}, {x1, y, z1}, {x0, y, z1},
+                                  {x0, y, z0}, {x1, y, z0}, {x1, y, z1}};
+  };
+  b.addTriangles(quad(lo, lo, hi, hi, ye), lamp);
+  b.addTriangles(quad(0.5f, 0.5f, cut, 63.5f, yb), blocker);
+  scene::Scene s = b.finish();
+  s.scale.gridOrigin = glm::vec3(0.0f);
+  s.scale.gridSize = 64.0f;
+  s.lights.clear();
+  s.defaultLight = false;
+  voxel::Octree::Settings settings;
+  settings.bounces = 1;
+  settings.injectRays = 64;
+  auto built = build(s, 64, true, settings, true);
+  const std::vector<uint32_t> nodes = built->octree->readNodes();
+  const std::vector<uint32_t> rad = built->octree->readRadiance();
+  const int depth = built->octree->depth();
+  double got = 0.0, expected = 0.0;
+  for (int z = 24; z < 40; ++z)
+    for (int x = 36; x < 46; ++x) {
+      int reached = 0;
+      const uint32_t node = gpu::octreeLookup(nodes.data(), depth, {x, 0, z}, depth, reached);
+      ASSERT_EQ(reached, depth);
+      const glm::vec3 p(static_cast<float>(x) + 0.5f, 0.5f, static_cast<float>(z) + 0.5f);
+      // The quad's part this point sees: beyond where the plane's edge hides it.
+      const float seen = std::max(lo, p.x + (cut - p.x) * (ye - p.y) / (yb - p.y));
+      const std::vector<glm::vec3> v = quad(seen, lo, hi, hi, ye);
+      double e = 0.0;
+      for (int t = 0; t < 2; ++t) {
+        scene::Emitter em;
+        em.kind = scene::Emitter::Kind::kTriangle;
+        em.v0 = v[3 * t];
+        em.v1 = v[3 * t + 1];
+        em.v2 = v[3 * t + 2];
+        e += scene::emitterIrradianceFactor(em, p, glm::vec3(0.0f, 1.0f, 0.0f));
+      }
+      expected += 0.5 / 3.14159265358979 * e;
+      got += glm::unpackF3x9_E1x5(rad[node]).x;
+    }
+  std::printf("floor leaves under a half-hidden emitter: %.2f%% of the light they see\n",
+              100.0 * got / expected);
+  EXPECT_NEAR(got / expected, 1.0, 0.03);
+}
+
+// A voxel may hold a surface no ray can see: a black panel 0.2 voxels below a white
+// ceiling (the day hall's skylight lies 2 cm below the plaster that seals it). The
+// voxel's albedo is the mean of both, but what a ray meets from below is the black
+// panel, which reflects nothing: a bounce ray reads the light of the triangle it
+// meets (leafToHit), so the floor under the panel gets the light it would get with
+// no white behind the panel. Floor leaves under a point light, the voxels holding
+// one bounce, the mean over the middle 32 x 32 voxels: measured 0.05% apart;
+// reading the leaf's light as it is, 8% brighter with the white ceiling behind the
+// panel.
+TEST_F(OctreeTest, ABounceRayReadsTheSurfaceItMeets) {
+  auto floorLight = [&](bool whiteBehind) {
+    SceneBuilder b;
+    const int floorMat = b.addMaterial(glm::vec3(0.5f));
+    const int white = b.addMaterial(glm::vec3(0.8f));
+    const int black = b.addMaterial(glm::vec3(0.0f));
+    addFloor(b, floorMat);
+    const float y = 40.5f, panel = 40.3f;
+    // The ceiling, facing down: whole, or with the panel's square left out.
+    auto ceiling = [&](float x0, float z0, float x1, float z1, float h, int m) {
+      b.addTriangles({{x0, h, z0}, {x1, h, z0}, {x1, h, z1}, {x0, h, z0}, {x1, h, z1}, {x0, h, z1}},
+                     m);
+    };
+    if (whiteBehind) {
+      ceiling(0.5f, 0.5f, 63.5f, 63.5f, y, white);
+    } else {
+      ceiling(0.5f, 0.5f, 63.5f, 8.0f, y, white);
+      ceiling(0.5f, 56.0f, 63.5f, 63.5f, y, white);
+      ceiling(0.5f, 8.0f, 8.0f, 56.0f, y, white);
+      ceiling(56.0f, 8.0f, 63.5f, 56.0f, y, white);
+    }
+    ceiling(8.0f, 8.0f, 56.0f, 56.0f, panel, black);
+    const scene::Scene s = pointLit(b, {32.0f, 20.0f, 32.0f});
+    voxel::Octree::Settings settings;
+    settings.bounces = 2;  // the voxels hold one bounce
+    settings.bounceRays = 64;
+    auto built = build(s, 64, true, settings, true);
+    const std::vector<uint32_t> nodes = built->octree->readNodes();
+    const std::vector<uint32_t> rad = built->octree->readRadiance();
+    const int depth = built->octree->depth();
+    double sum = 0.0;
+    int count = 0;
+    for (int z = 16; z < 48; ++z)
+      for (int x = 16; x < 48; ++x) {
+        int reached = 0;
+        const uint32_t node = gpu::octreeLookup(nodes.data(), depth, {x, 0, z}, depth, reached);
+        if (reached != depth || nodes[node] == 0) continue;
+        sum += glm::unpackF3x9_E1x5(rad[node]).x;
+        ++count;
+      }
+    EXPECT_GT(count, 1000);
+    return sum / std::max(count, 1);
+  };
+  const double behind = floorLight(true), alone = floorLight(false);
+  std::printf("floor light: a black panel before a white ceiling %.4f, alone %.4f (%+.2f%%)\n",
+              behind, alone, 100.0 * (behind / alone - 1.0));
+  EXPECT_NEAR(behind, alone, 0.02 * alone);
+}
+
+// No leaf inside a closed box whose walls are a third of a voxel thick takes light
+// from a bright light outside it: the octree's light, leaf by leaf, with the light
+// outside on and off, the leaves' rays on the triangles, all bounces, four seeds.
+// The box's slabs overlap at its edges and their inner faces lie on voxel
+// boundaries, so the voxels along an edge hold both faces of one wall and a piece
+// of the next: a leaf there lies outside the room, faces into it, finds no surface
+// under its centre and holds the light outside, and a bounce ray from inside that
+// meets the wall by the edge can read it. Reading such a leaf's light, seed 1 had a
+// leaf inside by the corner lit 600 times over (RtgiTest.ClosedWallsDoNotLeakLight
+// failed with it); a ray reads it only if its hit sees the point where that light
+// was taken (octree_bounce.comp, hitLeaf).
+TEST_F(OctreeTest, NoLeafInsideAThinWalledBoxSeesTheLightOutside) {
+  for (uint32_t seed : {1u, 2u, 3u, 4u}) {
+    auto lit = [&](bool outsideOn) {
+      SceneBuilder b;
+      const int wall = b.addMaterial(glm::vec3(0.7f));
+      const float in = 1.0f, out = 1.02f;
+      b.addBox({-out, -out, -out}, {out, -in, out}, wall);
+      b.addBox({-out, in, -out}, {out, out, out}, wall);
+      b.addBox({-out, -out, -out}, {-in, out, out}, wall);
+      b.addBox({in, -out, -out}, {out, out, out}, wall);
+      b.addBox({-out, -out, -out}, {out, out, -in}, wall);
+      b.addBox({-out, -out, in}, {out, out, out}, wall);
+      scene::Scene s = b.finish();
+      s.scale.gridOrigin = glm::vec3(-2.0f);
+      s.scale.gridSize = 4.0f;  // 64^3: voxels of 6.25 cm
+      scene::Light inside;
+      inside.position = glm::vec3(0.0f, 0.5f, 0.0f);
+      inside.intensity = 1.0f;
+      scene::Light outside = inside;
+      outside.position = glm::vec3(0.0f, 0.0f, 1.32f);
+      outside.intensity = 1000.0f;
+      s.lights = {inside};
+      if (outsideOn) s.lights.push_back(outside);
+      s.defaultLight = false;
+      voxel::Octree::Settings settings;
+      settings.seed = seed;
+      return build(s, 64, true, settings, true);
+    };
+    auto off = lit(false);
+    auto on = lit(true);
+    const std::vector<uint32_t> nodesOff = off->octree->readNodes(),
+                                nodesOn = on->octree->readNodes();
+    const std::vector<uint32_t> lightOff = off->octree->readRadiance(),
+                                lightOn = on->octree->readRadiance();
+    const int depth = off->octree->depth();
+    int inside = 0, changed = 0;
+    for (int z = 0; z < 64; ++z)
+      for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+          const glm::vec3 w = glm::vec3(-2.0f) + (glm::vec3(x, y, z) + 0.5f) * (4.0f / 64.0f);
+          if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) >= 1.0f) continue;
+          int r1 = 0, r2 = 0;
+          const uint32_t a = gpu::octreeLookup(nodesOff.data(), depth, {x, y, z}, depth, r1);
+          const uint32_t c = gpu::octreeLookup(nodesOn.data(), depth, {x, y, z}, depth, r2);
+          ASSERT_EQ(r1, r2);
+          if (r1 != depth || nodesOff[a] == 0) continue;
+          ++inside;
+          if (lightOff[a] != lightOn[c]) ++changed;
+        }
+    EXPECT_GT(inside, 1000) << "seed " << seed;
+    EXPECT_EQ(changed, 0) << "seed " << seed;
   }
 }
 

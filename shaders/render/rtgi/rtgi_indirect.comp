@@ -103,7 +103,7 @@ vec3 hitRadiance(vec3 o, vec3 dir) {
     vec3 toMaterial = voxelToMaterial(h.s, h.roughness, h.base);
     if (!goOn || k + 1 == kMaxIndirectVertices || voxelStandsFor(node, h.ng)) {
       if (node >= 0)
-        result += throughput * toMaterial *
+        result += throughput * toMaterial * leafToHit(uint(node), h.base) *
                   max(bounce[lightSlot(uint(node), material[node].y, h.ng)].rgb, vec3(0.0));
       break;
     }
