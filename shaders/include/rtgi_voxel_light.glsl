@@ -1,7 +1,8 @@
 // The voxels' light at the hit of a ray on the exact triangles (rtgi's indirect rays
 // from the pixels and from reflected hits). Include after rtgi_bvh.glsl, with the
-// octree's radiance[] and material[] declared; with RTGI_VOXEL_AT_ONLY, voxelAt alone
-// (material[] only: the octree's bounce pass, which reads another light buffer).
+// octree's radiance[] and material[] declared; with RTGI_VOXEL_AT_ONLY, voxelAt and
+// leafToHit alone (material[] only: the octree's bounce pass, which reads another
+// light buffer).
 #ifndef VOXGI_RTGI_VOXEL_LIGHT_GLSL
 #define VOXGI_RTGI_VOXEL_LIGHT_GLSL
 
@@ -50,13 +51,6 @@ vec3 leafToHit(uint node, vec3 base) {
 }
 
 #ifndef RTGI_VOXEL_AT_ONLY
-// The voxels' light at that point (voxelAt); none where no leaf stands for it.
-vec3 voxelLightAt(vec3 o, vec3 dir, float t) {
-  int node = voxelAt(o, dir, t);
-  return node >= 0 ? unpackRgb9e5(radiance[lightSlot(uint(node), material[node].y, -dir)])
-                   : vec3(0.0);
-}
-
 // The voxels' light arriving at o from unit direction dir: where the ray meets a
 // triangle, none where it leaves the scene.
 vec3 voxelLightAlong(vec3 o, vec3 dir) {
