@@ -69,25 +69,6 @@ class RtgiTest : public GlProgramsTest {
                                            render::RtgiPass::Settings::IndirectMethod::kRays,
                                        int bounces = voxel::Octree::Settings::kAllBounces,
                                        int frames = 8) {
-    SceneBuilder b;
-    const int wall = b.addMaterial(glm::vec3(0.7f));
-    const float in = 1.0f, out = 1.0f + thickness;
-    // Six slabs that overlap at the edges: closed.
-    b.addBox({-out, -out, -out}, {out, -in, out}, wall);
-    b.addBox({-out, in, -out}, {out, out, out}, wall);
-    b.addBox({-out, -out, -out}, {-in, out, out}, wall);
-    b.addBox({in, -out, -out}, {out, out, out}, wall);
-    b.addBox({-out, -out, -out}, {out, out, -in}, wall);
-    b.addBox({-out, -out, in}, {out, out, out}, wall);
-    scene::Scene s = b.finish();
-    s.scale.gridOrigin = glm::vec3(-2.0f);
-    s.scale.gridSize = 4.0f;  // 64^3: voxels of 6.25 cm
-    scene::Light inside;
-    inside.position = glm::vec3(0.0f, 0.5f, 0.0f);
-    inside.intensity = 1.0f;
-    scene::Light outside = inside;
-    outside.position = glm::vec3(0.0f, 0.0f, 1.0f + thickness + 0.3f);
-    outside.intensity = 1000.0f;
     scene::Camera cam;
     cam.position = glm::vec3(0.0f, 0.0f, 0.8f);
     cam.forward = glm::vec3(0.0f, 0.0f, -1.0f);
@@ -95,10 +76,8 @@ class RtgiTest : public GlProgramsTest {
     render::RenderSettings rs = settings(48, 64, render::Mode::kRtgi);
     rs.rtgi.indirectMethod = method;
     rs.octree.bounces = bounces;
-    s.lights = {inside};
-    const double off = meanOf(render(s, rs, frames, cam));
-    s.lights = {inside, outside};
-    const double on = meanOf(render(s, rs, frames, cam));
+    const double off = meanOf(render(sealedBox(thickness, false), rs, frames, cam));
+    const double on = meanOf(render(sealedBox(thickness, true), rs, frames, cam));
     return {on, off};
   }
 };

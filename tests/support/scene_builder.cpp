@@ -308,4 +308,31 @@ void lightHeadOnFromZ(scene::Scene* s, float distance) {
   s->camera.zfar = 10.0f;
 }
 
+scene::Scene sealedBox(float thickness, bool outsideOn) {
+  SceneBuilder b;
+  const int wall = b.addMaterial(glm::vec3(0.7f));
+  const float in = 1.0f, out = 1.0f + thickness;
+  b.addBox({-out, -out, -out}, {out, -in, out}, wall);
+  b.addBox({-out, in, -out}, {out, out, out}, wall);
+  b.addBox({-out, -out, -out}, {-in, out, out}, wall);
+  b.addBox({in, -out, -out}, {out, out, out}, wall);
+  b.addBox({-out, -out, -out}, {out, out, -in}, wall);
+  b.addBox({-out, -out, in}, {out, out, out}, wall);
+  scene::Scene s = b.finish();
+  s.scale.gridOrigin = glm::vec3(-2.0f);
+  s.scale.gridSize = 4.0f;
+  scene::Light inside;
+  inside.position = glm::vec3(0.0f, 0.5f, 0.0f);
+  inside.intensity = 1.0f;
+  s.lights = {inside};
+  if (outsideOn) {
+    scene::Light outside = inside;
+    outside.position = glm::vec3(0.0f, 0.0f, out + 0.3f);
+    outside.intensity = 1000.0f;
+    s.lights.push_back(outside);
+  }
+  s.defaultLight = false;
+  return s;
+}
+
 }  // namespace voxgi::test

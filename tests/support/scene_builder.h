@@ -74,6 +74,13 @@ std::string writeMeshGltf(const std::string& name, const std::vector<glm::vec3>&
 std::string writeDeepChainGltf(const std::string& name, int depth, glm::dvec3 step,
                                bool animated = false);
 
+// A closed box of inner half-size 1: six slabs `thickness` thick that overlap at its
+// edges (albedo 0.7), their inner faces on voxel boundaries of the 64^3 grid over
+// [-2, 2]^3 it sets (voxels of 6.25 cm). Lit by a point light of 1 cd inside, at (0,
+// 0.5, 0); with `outsideOn`, also by one of 1000 cd 0.3 beyond the +z wall. The
+// leak tests' scene: nothing of the light outside may reach the inside.
+scene::Scene sealedBox(float thickness, bool outsideOn);
+
 }  // namespace voxgi::test
 
 #endif  // VOXGI_TESTS_SCENE_BUILDER_H

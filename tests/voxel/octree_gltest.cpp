@@ -705,30 +705,9 @@ TEST_F(OctreeTest, ABounceRayReadsTheSurfaceItMeets) {
 TEST_F(OctreeTest, NoLeafInsideAThinWalledBoxSeesTheLightOutside) {
   for (uint32_t seed : {1u, 2u, 3u, 4u}) {
     auto lit = [&](bool outsideOn) {
-      SceneBuilder b;
-      const int wall = b.addMaterial(glm::vec3(0.7f));
-      const float in = 1.0f, out = 1.02f;
-      b.addBox({-out, -out, -out}, {out, -in, out}, wall);
-      b.addBox({-out, in, -out}, {out, out, out}, wall);
-      b.addBox({-out, -out, -out}, {-in, out, out}, wall);
-      b.addBox({in, -out, -out}, {out, out, out}, wall);
-      b.addBox({-out, -out, -out}, {out, out, -in}, wall);
-      b.addBox({-out, -out, in}, {out, out, out}, wall);
-      scene::Scene s = b.finish();
-      s.scale.gridOrigin = glm::vec3(-2.0f);
-      s.scale.gridSize = 4.0f;  // 64^3: voxels of 6.25 cm
-      scene::Light inside;
-      inside.position = glm::vec3(0.0f, 0.5f, 0.0f);
-      inside.intensity = 1.0f;
-      scene::Light outside = inside;
-      outside.position = glm::vec3(0.0f, 0.0f, 1.32f);
-      outside.intensity = 1000.0f;
-      s.lights = {inside};
-      if (outsideOn) s.lights.push_back(outside);
-      s.defaultLight = false;
       voxel::Octree::Settings settings;
       settings.seed = seed;
-      return build(s, 64, true, settings, true);
+      return build(sealedBox(0.02f, outsideOn), 64, true, settings, true);
     };
     auto off = lit(false);
     auto on = lit(true);
