@@ -83,12 +83,13 @@ bool bvhHitStops(uint tri, vec2 bc) {
 }
 #endif
 
-// The base colour where a ray met triangle tri at barycentrics bc, with its texture
-// and vertex colour: what a leaf's albedo averages over the surfaces in its voxel.
-vec3 hitBaseColor(uint tri, vec2 bc) {
+// The material where a ray met triangle tri at barycentrics bc, with its textures
+// and vertex colour, as the path tracer reads it.
+GpuMaterial hitMaterial(uint tri, vec2 bc) {
   GpuMaterial m = materials[triangleMaterial(tri)];
 #ifdef RTGI_BVH_TEXTURES
-  if ((m.flags & kMaterialHasTexture) != 0u)
+  if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
+                  kMaterialHasMetallicRoughnessTexture)) != 0u)
     m = texturedMaterial(
         m, triangleUv(tri, bc),
         (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : triangleUv(tri, bc));
@@ -96,8 +97,11 @@ vec3 hitBaseColor(uint tri, vec2 bc) {
 #ifdef RTGI_BVH_COLORS
   m.baseColor *= triangleColor(tri, bc);
 #endif
-  return m.baseColor.rgb;
+  return m;
 }
+
+// Its base colour: what a leaf's albedo averages over the surfaces in its voxel.
+vec3 hitBaseColor(uint tri, vec2 bc) { return hitMaterial(tri, bc).baseColor.rgb; }
 
 // Ray offset off a triangle: a thousandth of a voxel, scaled with the scene.
 float bvhEpsilon() { return 1e-3 * octreeVoxelSize(); }

@@ -27,17 +27,7 @@ bool traceSurface(vec3 o, vec3 dir, out TriangleHit h) {
   if (!trace(o, dir, kInf, false, h.t, tri, bc)) return false;
   h.tri = tri;
   GpuPtTriangle T = loadTriangle(tri);
-  GpuMaterial m = materials[floatBitsToUint(T.v0.w)];
-#ifdef RTGI_BVH_TEXTURES
-  if ((m.flags & (kMaterialHasTexture | kMaterialHasEmissiveTexture |
-                  kMaterialHasMetallicRoughnessTexture)) != 0u)
-    m = texturedMaterial(
-        m, triangleUv(tri, bc),
-        (m.flags & kMaterialAnyUv2) != 0u ? triangleUv2(tri, bc) : triangleUv(tri, bc));
-#endif
-#ifdef RTGI_BVH_COLORS
-  m.baseColor *= triangleColor(tri, bc);
-#endif
+  GpuMaterial m = hitMaterial(tri, bc);
   vec3 p = T.v0.xyz + bc.x * T.e1.xyz + bc.y * T.e2.xyz;
   vec3 ng = normalize(cross(T.e1.xyz, T.e2.xyz));
   bool front = dot(ng, dir) < 0.0;
