@@ -4,11 +4,10 @@
 // with one shadow ray each; emissive surfaces by their exact unshadowed irradiance
 // (emitterFactor) times the visible fraction of shadow rays drawn in proportion to
 // it (leafEmitterRay), every emitter sampled in turn when there are few, else
-// emitters drawn by power. The leaf's
-// radiance becomes albedo / pi x irradiance (Lambertian exitance over pi). A voxel
-// whose normals cancel with no axis to keep apart is lit as if it faced each
-// light. A two-sided leaf (octree.glsl, leafAxis) is lit twice, once as each side of
-// its axis, into its two light slots.
+// emitters drawn by power. The leaf's radiance becomes albedo / pi x irradiance
+// (Lambertian exitance over pi). A voxel whose normals cancel with no axis to keep
+// apart is lit as if it faced each light. A two-sided leaf (octree.glsl, leafAxis)
+// is lit twice, once as each side of its axis, into its two light slots.
 // Effect-plan variants (scene/effects.h): VOXGI_NO_SHADOWS casts no shadow ray (every
 // sample point counts as visible); VOXGI_NO_EMISSION leaves emitters out.
 // OCTREE_BVH (rtgi with its BVH bound, rtgi_bvh.glsl's defines): the shadow rays run
