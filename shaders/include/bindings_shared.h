@@ -99,7 +99,11 @@ VOXGI_CONST uint kOctreeLightCdfBinding = 11u;
 VOXGI_CONST uint kOctreeDirectBinding = 12u;  // direct light of each leaf, while bouncing
 VOXGI_CONST uint kOctreeRayBinding = 13u;     // octree_raycast.comp: OctreeRay[] in
 VOXGI_CONST uint kOctreeRayHitBinding = 14u;  // octree_raycast.comp: ivec4[] out
-VOXGI_CONST uint kOctreeMeanBinding = 18u;    // vec4 per node: the running mean of the radiance
+// uvec2 per bounce ray of the first estimate's chain (octree_bounce.comp): the light
+// slot it brought the light of and the factor it took it with. Only the bounce
+// pass binds it, so it takes octree_raycast's number.
+VOXGI_CONST uint kOctreeReplayBinding = 13u;
+VOXGI_CONST uint kOctreeMeanBinding = 18u;  // vec4 per node: the running mean of the radiance
 // vec4 per node: the running mean of the radiance less its direct light (the voxel
 // bounces alone), which rtgi reads behind a hit it lights exactly.
 VOXGI_CONST uint kOctreeBounceBinding = 25u;

@@ -18,6 +18,10 @@
 // hall's second bounce against the path tracer's: 0.85 marched, 0.93 with these and
 // exact shadow rays (0.97-1.01 in most 16x16 blocks; the mirror ball's blocks, whose
 // reflections this term leaves out, hold the rest).
+// The first estimate's chain (Octree::estimate, octree.sides.y): its first bounce
+// records each ray's light slot and factor (kOctreeRaysRecorded), and the later
+// bounces read the previous bounce's light there again, tracing nothing
+// (kOctreeRaysReplayed).
 #include "scene_shared.h"
 #include "voxel_shared.h"
 #include "lighting.glsl"
@@ -30,6 +34,11 @@ layout(std430, binding = kOctreeRadianceBinding) writeonly buffer Radiance { uin
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(std430, binding = kOctreeScratchBinding) readonly buffer Previous { uint previous[]; };
 layout(std430, binding = kOctreeDirectBinding) readonly buffer Direct { uint directIn[]; };
+// The rays of the first estimate's chain, recorded by its first bounce and read again
+// by the later ones (Octree::estimate): ray r of side `side` of the i-th listed
+// voxel at (i * 2 + side) * rays + r, the light slot it read (kOctreeNoSurface:
+// none) and its factor (rgb9e5).
+layout(std430, binding = kOctreeReplayBinding) buffer Replay { uvec2 replay[]; };
 #ifdef OCTREE_BVH
 #include "rtgi_bvh.glsl"
 #define RTGI_VOXEL_AT_ONLY
@@ -92,7 +101,18 @@ int hitLeaf(vec3 p, vec3 dir, float start, bool nearField, out vec3 scale) {
 // rays start on its surface itself (surfaceBelow) and run on the exact triangles
 // from there, as the pixels' rays do: the gallery's mean 1.0098 -> 0.9967 (16
 // frames), and FLIP at 64 frames lower on 9 of the set's 10 views.
-vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot) {
+vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot, uint record) {
+  int rays = int(octree.light.x);
+  vec3 gathered = vec3(0.0);
+  uint mode = octree.sides.y;
+  if (mode == kOctreeRaysReplayed) {
+    for (int r = 0; r < rays; ++r) {
+      uvec2 hit = replay[record + uint(r)];
+      if (hit.x != kOctreeNoSurface)
+        gathered += unpackRgb9e5(hit.y) * unpackRgb9e5(previous[hit.x]);
+    }
+    return gathered / float(max(rays, 1));
+  }
   vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
 #ifdef OCTREE_BVH
@@ -101,8 +121,6 @@ vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot) {
   if (exact) p = onSurface;
 #endif
 
-  int rays = int(octree.light.x);
-  vec3 gathered = vec3(0.0);
   for (int r = 0; r < rays; ++r) {
     vec2 u = vec2(rand01(), rand01());
     vec3 dir;
@@ -116,17 +134,19 @@ vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot) {
 #ifdef OCTREE_BVH
     vec3 scale;
     int leaf = hitLeaf(p, dir, start, !exact, scale);
-    if (leaf < 0) continue;
-    uint hitNode = uint(leaf);
+    bool hit = leaf >= 0;
+    uint hitNode = uint(max(leaf, 0));
 #else
     MarchHit h = octreeTrace(octreeWorldRay(p, dir, 3.0e38), start, kRaySteps);
-    if (!h.hit) continue;
+    bool hit = h.hit;
     uint hitNode = h.node;
     const vec3 scale = vec3(1.0);
 #endif
-    uint word = material[hitNode].y;
-    if (!seenFromBehind(word, dir))
-      gathered += scale * unpackRgb9e5(previous[lightSlot(hitNode, word, -dir)]);
+    uint word = hit ? material[hitNode].y : 0u;
+    uint read =
+        hit && !seenFromBehind(word, dir) ? lightSlot(hitNode, word, -dir) : kOctreeNoSurface;
+    if (read != kOctreeNoSurface) gathered += scale * unpackRgb9e5(previous[read]);
+    if (mode == kOctreeRaysRecorded) replay[record + uint(r)] = uvec2(read, packRgb9e5(scale));
   }
   return gathered / float(max(rays, 1));
 }
@@ -151,7 +171,8 @@ void main() {
   for (int side = 0; side < (axis >= 0 ? 2 : 1); ++side) {
     if (axis >= 0) n = sideNormal(axis, side == 1);
     uint slot = side == 0 ? node : backSlot(m.y);
-    vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0, slot);
+    uint record = (i * 2u + uint(side)) * octree.light.x;
+    vec3 gathered = gatheredAt(centre, n, oriented || axis >= 0, slot, record);
     vec3 direct = unpackRgb9e5(directIn[slot]);
     radiance[slot] = packRgb9e5(direct + albedo.rgb * gathered);
   }

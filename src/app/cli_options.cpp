@@ -407,7 +407,10 @@ const std::vector<CliOption> kOptions = {
        to.settings->octree.injectRays = parseIntValue("--inject-rays", v, 1, 1024);
      }},
     {"--bounce-rays", nullptr, "N", kBothOptions, kRtgi,
-     "rays per voxel for each voxel bounce of that estimate (default 4)", nullptr,
+     "rays per voxel for each voxel bounce of that estimate (default 4;\n"
+     "with all bounces the first traces them and, up to 16, the later\n"
+     "bounces read the light where they met the leaves again)",
+     nullptr,
      [](const Targets& to, const std::string& v) {
        to.settings->octree.bounceRays = parseIntValue("--bounce-rays", v, 1, 1024);
      }},

@@ -29,6 +29,8 @@ constexpr uint64_t kRefineBytes = 4 + 4 + 4 + 16;
 // albedo a, is missing from the first seconds: 12% at a = 0.7 and K = 6, 1.4% at 12
 // (docs/octree.md).
 constexpr int kFirstChainBounces = 12;
+// The most bounce rays a side whose hits the chain records and reads again (estimate).
+constexpr int kMaxReplayRays = 16;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                                 GL_UNIFORM_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT;
 
@@ -350,9 +352,8 @@ uint32_t Octree::setSlice(int slice) {
 bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, int bounceRays,
                       bool feedback) {
   // A finite chain: bounces - 1 voxel bounces; feedback: one, from the running mean.
-  // All bounces start from a chain of kFirstChainBounces, the ones after the first
-  // with a quarter of the rays (they carry albedo^k of the light): refinement then
-  // has little bias left to remove, and mostly noise.
+  // All bounces start from a chain of kFirstChainBounces: refinement then has little
+  // bias left to remove, and mostly noise.
   const int voxelBounces = feedback       ? 1
                            : allBounces() ? kFirstChainBounces - 1
                                           : std::max(0, settings_.bounces - 1);
@@ -373,6 +374,26 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
   setPass(static_cast<uint32_t>(stats_.depth), 0, count, voxelBounces > 0 ? 1u : 0u);
   dispatch(inject_, count);
   paramsData_.light.x = static_cast<uint32_t>(bounceRays);
+  // All bounces' chain: its first bounce's rays are recorded, and the later bounces
+  // read the light of the same slots again instead of tracing rays of their own:
+  // Jacobi iterations on one Monte Carlo estimate of the transport matrix, as a
+  // radiosity solver iterates its form factors (M. Cohen and J. Wallace, "Radiosity
+  // and Realistic Image Synthesis", 1993). Tracing was the chain's cost: the Cornell
+  // room's 10 later bounces took 350 of its 650 ms with one new ray a leaf each, and
+  // they now read the first bounce's four. Reading one sample of the matrix k times
+  // biases only paths that come back to a leaf, and refinement's fresh rays, which
+  // outweigh the first estimate, remove it (docs/octree.md).
+  // Beyond kMaxReplayRays rays a side the records would outgrow the octree (1,024
+  // rays: 16 KiB a leaf); the later bounces then trace a quarter of the rays each.
+  const bool replays =
+      allBounces() && !feedback && voxelBounces >= 2 && bounceRays <= kMaxReplayRays;
+  gl::Buffer replay;
+  if (replays) {
+    replay = gl::createBuffer(static_cast<GLsizeiptr>(count) * 2 * bounceRays *
+                                  static_cast<GLsizeiptr>(sizeof(glm::uvec2)),
+                              nullptr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeReplayBinding, replay.id());
+  }
   const auto bytes = static_cast<GLsizeiptr>(stats_.nodes) * 4;
   const auto backBytes = static_cast<GLsizeiptr>(stats_.twoSidedLeaves) * 4;
   for (int b = 1; b <= voxelBounces; ++b) {
@@ -386,11 +407,15 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
       glMemoryBarrier(kBarrier);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kOctreeScratchBinding, previous_.id());
     }
-    if (b == 2 && allBounces() && !feedback)
+    if (b == 2 && allBounces() && !feedback && !replays)
       paramsData_.light.x = static_cast<uint32_t>(std::max(1, bounceRays / 4));
+    paramsData_.sides.y = !replays ? gpu::kOctreeRaysTraced
+                          : b == 1 ? gpu::kOctreeRaysRecorded
+                                   : gpu::kOctreeRaysReplayed;
     setPass(static_cast<uint32_t>(stats_.depth), 0, count, static_cast<uint32_t>(b));
     dispatch(bounce_, count);
   }
+  paramsData_.sides.y = gpu::kOctreeRaysTraced;
   return voxelBounces > 0;
 }
 

@@ -78,7 +78,8 @@ class Octree {
     // The first estimate's rays: few, since refinement averages their noise away
     // (docs/octree.md: 4 rays instead of 16 start 3-4x sooner for a FLIP within 0.002).
     int injectRays = 4;       // shadow rays per leaf towards emissive surfaces
-    int bounceRays = 4;       // rays per leaf per voxel bounce
+    int bounceRays = 4;       // rays per leaf per voxel bounce (all bounces: the first's,
+                              // read again by the later ones)
     int refineRays = 1;       // per leaf and refinement, direct and bounce (0: no refinement)
     int refineLeaves = 4096;  // leaves refined per frame at most: the rest wait their turn
     // Keep the voxel bounces apart from the direct light (bounceMean_, 16 bytes a

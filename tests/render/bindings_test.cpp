@@ -87,6 +87,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kOctreeDirectBinding),
       VOXGI_ENTRY(Ssbo, kOctreeRayBinding),
       VOXGI_ENTRY(Ssbo, kOctreeRayHitBinding),
+      VOXGI_ENTRY(Ssbo, kOctreeReplayBinding),
       VOXGI_ENTRY(Ssbo, kOctreeMeanBinding),
       VOXGI_ENTRY(Ssbo, kOctreeBounceBinding),
       VOXGI_ENTRY(Ssbo, kPixelListBinding),
