@@ -96,6 +96,12 @@ vec3 sideNormal(int axis, bool back) {
 int octreeDepth() { return int(octree.info.x); }
 int octreeRootSize() { return int(octree.info.y); }
 float octreeVoxelSize() { return octree.origin.w; }
+// The point a leaf's rays leave from, and its light is taken at, where no surface is
+// found under its centre (octree_inject.comp, octree_bounce.comp): leafRayOffset
+// voxels along n (world units).
+vec3 leafOffPoint(vec3 centre, vec3 n) {
+  return centre + n * (leafRayOffset(n) * octreeVoxelSize());
+}
 
 vec3 octreeToGrid(vec3 p) { return (p - octree.origin.xyz) / octree.origin.w; }
 vec3 octreeToWorld(vec3 g) { return octree.origin.xyz + g * octree.origin.w; }

@@ -76,7 +76,7 @@ int hitLeaf(vec3 p, vec3 dir, float start, bool nearField, out vec3 scale) {
     // not reading such sides at all left the night hall 0.4% darker).
     int axis = leafAxis(word);
     vec3 n = axis >= 0 ? sideNormal(axis, slot != uint(leaf)) : normalize(leafNormal(word));
-    vec3 lightPoint = octreeToWorld(vec3(cell) + 0.5) + n * (leafRayOffset(n) * octreeVoxelSize());
+    vec3 lightPoint = leafOffPoint(octreeToWorld(vec3(cell) + 0.5), n);
     vec3 from = p + dir * (t - bvhEpsilon());
     vec3 d = lightPoint - from;
     float dist = length(d);
@@ -113,7 +113,7 @@ vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot, uint record) {
     }
     return gathered / float(max(rays, 1));
   }
-  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
+  vec3 p = leafOffPoint(centre, n);
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
 #ifdef OCTREE_BVH
   vec3 onSurface;

@@ -81,7 +81,7 @@ layout(std430, binding = kOctreeDirectBinding) writeonly buffer Direct { uint di
 vec3 irradianceAt(vec3 centre, vec3 n, bool oriented, uint slot) {
   // Rays start off the surface; an unoriented voxel starts at its centre and skips
   // its own cell and neighbours by distance instead.
-  vec3 p = centre + n * (leafRayOffset(n) * octreeVoxelSize());
+  vec3 p = leafOffPoint(centre, n);
   float start = oriented ? 0.0 : kSurfaceOffsetVoxels;
   bool onSurface = false;
 #ifdef OCTREE_BVH
