@@ -9,6 +9,7 @@
 
 #include "app/cli.h"
 #include "app/stage_report.h"
+#include "core/memory.h"
 #include "gl/debug.h"
 #include "image/image.h"
 #include "scene/gltf_loader.h"
@@ -26,6 +27,7 @@ nlohmann::ordered_json benchRun(const RenderOptions& o, gl::ProgramCache& progra
   rs.voxelChecksum = false;  // not shown
   render::Renderer renderer(programs, scene, rs);
   renderer.renderFrame();  // warm-up: shader variants compile at first use
+  pauseHugePages(false);   // started: the frames want them (core/memory.h)
   StageTimes times;
   for (int f = 0; f < o.frames; ++f) {
     const auto t = std::chrono::steady_clock::now();

@@ -9,6 +9,7 @@
 
 #include "app/cli.h"
 #include "app/environment.h"
+#include "core/memory.h"
 
 namespace {
 
@@ -45,6 +46,7 @@ void startWithHugePages(char** argv) {
 int main(int argc, char** argv) {
   using namespace voxgi;
   startWithHugePages(argv);
+  pauseHugePages(true);  // until the first frame is drawn (core/memory.h)
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
     app::Invocation inv = app::parseCommandLine(args);

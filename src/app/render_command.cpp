@@ -401,6 +401,7 @@ int runRender(const RenderOptions& o) {
   // JIT-compiles them), which is start-up cost, not frame cost. The path tracer
   // warms up on one work group, not a whole image.
   renderer.warmUp();
+  pauseHugePages(false);  // started: the frames want them (core/memory.h)
   record.startupMs = msSince(start);
   ProgressBar bar(static_cast<int64_t>(o.render.width) * o.render.height);
   if (pathtrace && o.progress && !o.quiet && isatty(STDERR_FILENO)) {

@@ -789,7 +789,10 @@ void Viewer::drawFrame(int w, int h) {
   times_.add(ms, renderer_->lastStages());
   history_.push_back({start, ms, renderer_->lastStages()});
   while (msBetween(history_.front().when, start) > kGraphSeconds * 1000.0) history_.pop_front();
-  if (frame_ == 1) logInfo(strf("view: first frame in %.1f ms", ms));
+  if (frame_ == 1) {
+    pauseHugePages(false);  // started: the frames want them (core/memory.h)
+    logInfo(strf("view: first frame in %.1f ms", ms));
+  }
 }
 
 // The screenshot and stats asked for, the summary line, and the exit status.
