@@ -143,8 +143,10 @@ class Renderer {
   // The same from another camera (the viewer's).
   void renderFrame(const scene::Camera& camera);
   const std::vector<gl::StageTime>& lastStages() const { return stages_; }
-  // What the driver compiles at first use, without a whole frame's work.
+  // What the driver compiles at first use, without a whole frame's work: a frame at
+  // most kWarmUpSize pixels on its longer side (the path tracer: one work group).
   void warmUp();
+  static constexpr int kWarmUpSize = 32;
   // Pathtrace: called while a frame runs with samples per pixel done and total.
   void setProgress(Pathtracer::Progress progress) { progress_ = std::move(progress); }
   // Work done once at construction, by stage and wall-clock ms (Stage::kBvh).

@@ -62,6 +62,29 @@ TEST_F(RendererTest, ResizedMatchesFresh) {
   EXPECT_EQ(resized.settings().width, 96);  // a refused size leaves the targets alone
 }
 
+// The warm-up compiles and builds at a small size, and leaves nothing of that size
+// in the frames after it: rtgi's image is the one a warm-up frame at full size,
+// thrown away, would have led to (the voxels made and refined once, as by it).
+TEST_F(RendererTest, WarmUpLeavesTheImageAsAFullSizeFrameWould) {
+  render::RenderSettings s = settings(96, 64);
+  s.mode = render::Mode::kRtgi;
+  s.rtgi.seed = 7;
+  render::Renderer warmed(*programs_, scene_, s);
+  warmed.warmUp();
+  EXPECT_EQ(warmed.settings().width, 96);
+  EXPECT_EQ(warmed.settings().height, 64);
+  EXPECT_EQ(warmed.accumulatedFrames(), 0);
+  render::Renderer full(*programs_, scene_, s);
+  full.renderFrame();
+  full.restartAccumulation();
+  for (int f = 0; f < 2; ++f) {
+    warmed.renderFrame();
+    full.renderFrame();
+  }
+  EXPECT_EQ(warmed.readLinear().size(), 96u * 64u * 4u);
+  EXPECT_EQ(warmed.readLinear(), full.readLinear());
+}
+
 TEST_F(RendererTest, AccumulationRestartsOnAnyChange) {
   render::Renderer r(*programs_, scene_, settings(32, 32));
   r.renderFrame();
