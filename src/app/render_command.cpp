@@ -104,6 +104,7 @@ scene::Scene loadScene(const std::string& scenePath, const RenderOptions& o) {
 struct RenderRecord {
   std::string scenePath;
   double loadMs = 0.0, startupMs = 0.0, totalMs = 0.0;
+  double contextMs = 0.0;  // Stage::kContext
   StageTimes times;
   std::vector<double> traced;  // rtgi: each frame's traced share of the pixels
   double samplesPerSecond = 0.0;
@@ -111,6 +112,15 @@ struct RenderRecord {
 
   double tracedMedian() const { return traced.empty() ? 1.0 : median(traced); }
 };
+
+// Where the start-up went, in order: the context, then the renderer's stages (the
+// scene's loading is loadMs).
+std::vector<gl::StageTime> startupTimes(const render::Renderer& renderer,
+                                        const RenderRecord& record) {
+  std::vector<gl::StageTime> t = {{Stage::kContext, 0.0, record.contextMs}};
+  t.insert(t.end(), renderer.startupStages().begin(), renderer.startupStages().end());
+  return t;
+}
 
 // The timed frames: frame f shows time + f / fps when the scene is animated.
 void renderFrames(const RenderOptions& o, scene::Scene& scene, render::Renderer& renderer,
@@ -292,7 +302,7 @@ nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& co
   stats["startup_ms"] = record.startupMs;
   stats["load_ms"] = record.loadMs;
   nlohmann::ordered_json startupStages = nlohmann::ordered_json::object();
-  for (const gl::StageTime& st : renderer.startupStages())
+  for (const gl::StageTime& st : startupTimes(renderer, record))
     startupStages[stageName(st.stage)] = st.cpuMs;
   stats["startup_stages"] = startupStages;
   if (o.render.mode == render::Mode::kPathtrace) addPathtraceStats(stats, o, renderer, record);
@@ -358,8 +368,12 @@ void printSummary(const RenderOptions& o, const gl::Context& context, const scen
     std::printf("  %d spp, %.2f M samples/s (pixel samples, whole paths)\n", o.render.spp,
                 record.samplesPerSecond * 1e-6);
   std::printf("  load %.1f ms, start-up %.1f ms", record.loadMs, record.startupMs);
-  for (const gl::StageTime& st : renderer.startupStages())
-    std::printf(" (%s %.1f ms)", stageName(st.stage), st.cpuMs);
+  const char* sep = " (";
+  for (const gl::StageTime& st : startupTimes(renderer, record)) {
+    std::printf("%s%s %.1f", sep, stageName(st.stage), st.cpuMs);
+    sep = ", ";
+  }
+  std::printf(")");
   std::printf(", peak RSS %.0f MiB\n", static_cast<double>(peakResidentBytes()) / (1 << 20));
   if (o.render.targetFps > 0.0)
     std::printf("  budget: target %.1f ms, median frame %.1f ms, median traced share %.3f\n",
@@ -382,7 +396,9 @@ int runRender(const RenderOptions& o) {
   co.eglDevice = o.eglDevice;
   co.width = o.render.width;
   co.height = o.render.height;
+  const auto contextStart = Clock::now();
   auto context = gl::Context::create(co);
+  record.contextMs = msSince(contextStart);
   render::checkImageSize(o.render.width, o.render.height);
 
   const auto loadStart = Clock::now();

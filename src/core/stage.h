@@ -34,14 +34,19 @@ enum class Stage {
   kDvr,        // render/dvr_pass
   kPathtrace,  // render/pathtrace/pathtrace_pass, pathtrace_cpu
   kTonemap,    // render/tonemap_pass
+  // Start-up only (wall clock, CPU side), before the first frame:
+  kContext,  // app: the GL context made
+  kUpload,   // gpu_scene: the scene's buffers and textures made on the GPU
+  kPasses,   // render/renderer: the passes made, their programs compiled (bvh apart)
+  kWarmUp,   // render/renderer: the warm-up frame (the scene stages and first-use JIT)
 };
 
-inline constexpr std::array<Stage, 21> kStages = {
+inline constexpr std::array<Stage, 25> kStages = {
     Stage::kVoxelize, Stage::kOctree,     Stage::kInject,    Stage::kRefine,  Stage::kBvh,
     Stage::kGbuffer,  Stage::kSelect,     Stage::kShadows,   Stage::kDirect,  Stage::kIndirect,
     Stage::kSpecular, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise, Stage::kMask,
     Stage::kUpsample, Stage::kRaster,     Stage::kPoints,    Stage::kDvr,     Stage::kPathtrace,
-    Stage::kTonemap};
+    Stage::kTonemap,  Stage::kContext,    Stage::kUpload,    Stage::kPasses,  Stage::kWarmUp};
 
 // The stage's name in stats, tables and debug groups ("gbuffer" for kGbuffer).
 inline const char* stageName(Stage s) {
@@ -49,7 +54,8 @@ inline const char* stageName(Stage s) {
   static constexpr std::array<const char*, kStages.size()> kNames = {
       "voxelize", "octree",   "inject",   "refine",   "bvh",        "gbuffer",   "select",
       "shadows",  "direct",   "indirect", "specular", "accumulate", "reproject", "denoise",
-      "mask",     "upsample", "raster",   "points",   "dvr",        "pathtrace", "tonemap"};
+      "mask",     "upsample", "raster",   "points",   "dvr",        "pathtrace", "tonemap",
+      "context",  "upload",   "passes",   "warmup"};
   return kNames[static_cast<std::size_t>(s)];
 }
 

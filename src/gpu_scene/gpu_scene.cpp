@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -63,6 +64,7 @@ std::vector<gpu::GpuLight> GpuScene::packLights(const Scene& s) {
 }
 
 GpuScene::GpuScene(const Scene& s) : scene_(s) {
+  const auto start = std::chrono::steady_clock::now();
   hasOcclusion_ = std::any_of(s.materials.begin(), s.materials.end(),
                               [](const Material& m) { return m.occlusionTexture >= 0; });
   bytes_ = createGeometry(s);
@@ -74,6 +76,8 @@ GpuScene::GpuScene(const Scene& s) : scene_(s) {
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glSamplerParameteri(sampler_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  uploadMs_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 size_t GpuScene::createGeometry(const Scene& s) {

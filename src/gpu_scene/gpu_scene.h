@@ -67,6 +67,8 @@ class GpuScene {
   void bindMaterialTextures(const Material& m) const;
   static void unbindMaterialTextures();
   size_t bytes() const { return bytes_; }
+  // Wall-clock ms the constructor took (Stage::kUpload).
+  double uploadMs() const { return uploadMs_; }
   // Of bytes(): the textures, every mip level (RGBA8 or sRGB8_ALPHA8, 4 bytes a texel).
   size_t textureBytes() const { return textureBytes_; }
 
@@ -98,6 +100,7 @@ class GpuScene {
   int lightCount_ = 0, emitterCount_ = 0;
   bool hasOcclusion_ = false;  // some material has an occlusion texture
   size_t bytes_ = 0, textureBytes_ = 0;
+  double uploadMs_ = 0.0;
 };
 
 }  // namespace voxgi::scene

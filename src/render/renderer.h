@@ -145,11 +145,14 @@ class Renderer {
   const std::vector<gl::StageTime>& lastStages() const { return stages_; }
   // What the driver compiles at first use, without a whole frame's work: a frame at
   // most kWarmUpSize pixels on its longer side (the path tracer: one work group).
+  // Its wall-clock time is the start-up stage kWarmUp: the scene stages (voxelize,
+  // octree, inject: sceneStages()) and each program's first-use JIT.
   void warmUp();
   static constexpr int kWarmUpSize = 32;
   // Pathtrace: called while a frame runs with samples per pixel done and total.
   void setProgress(Pathtracer::Progress progress) { progress_ = std::move(progress); }
-  // Work done once at construction, by stage and wall-clock ms (Stage::kBvh).
+  // Work done once before the first frame, by stage and wall-clock ms: kUpload,
+  // kBvh, kPasses at construction, then kWarmUp (warmUp()).
   const std::vector<gl::StageTime>& startupStages() const { return startup_; }
   const Pathtracer* pathtrace() const { return pathtrace_.get(); }
   // The scene's BVH, shared by the path tracer and rtgi's reflections; null until a
@@ -299,6 +302,7 @@ class Renderer {
   // Keeps the latest times of the scene stages (sceneStages()).
   void recordSceneStages(bool voxelized);
   void createTargets();
+  void warmUpFrame();  // warmUp's work
   // Builds the BVH at its first use (the "bvh" start-up stage).
   std::shared_ptr<const GpuBvh> sharedBvh();
   void createPasses();

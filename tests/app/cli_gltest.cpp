@@ -117,6 +117,31 @@ TEST(Cli, TextureMemoryInStats) {
 // with its hit data: for this textured quad's 2 triangles, 1 node (64), 2 triangles
 // (48 each), 4 texels (16), the table of textures (16) and, as the quad emits, 2
 // emitter entries (96 each); normals and UVs are read from the scene's own buffers.
+// The start-up is named, stage by stage, in the order it runs: the context, the
+// scene's upload, the BVH (rtgi here), the passes and the warm-up frame; with the
+// load they account for it, all but what no stage holds (a few lines of setup).
+TEST(Cli, StartUpStagesAccountForTheStartUp) {
+  const std::string dir = scratchDir();
+  const auto r = runCommand(voxgi("render " + cornellRoom() + " --size 16x16 --frames 1 --stats " +
+                                  dir + "/s.json -o " + dir + "/s.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(dir + "/s.json");
+  const auto stats = nlohmann::ordered_json::parse(in);
+  std::vector<std::string> names;
+  double sum = stats["load_ms"].get<double>();
+  for (const auto& [name, ms] : stats["startup_stages"].items()) {
+    names.push_back(name);
+    EXPECT_GE(ms.get<double>(), 0.0) << name;
+    sum += ms.get<double>();
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"context", "upload", "bvh", "passes", "warmup"}));
+  const double startup = stats["startup_ms"].get<double>();
+  EXPECT_LE(sum, startup * 1.001);
+  EXPECT_GE(sum, startup * 0.8);
+  EXPECT_NE(r.output.find("start-up"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warmup"), std::string::npos) << r.output;
+}
+
 // The raster mode builds no BVH.
 TEST(Cli, MemoryInStats) {
   const std::string dir = scratchDir();
