@@ -1,6 +1,7 @@
-// Images on disk through OpenImageIO. PNG holds display-referred sRGB 8-bit,
-// EXR linear float radiance (no tonemap). Writes go to a temporary file beside the
-// target and are renamed into place only when complete, so a failed write never
+// Images on disk. PNG holds display-referred sRGB 8-bit, written and read by
+// stb_image; EXR linear float radiance (no tonemap), and any other format read,
+// through OpenImageIO, in a module loaded on first use (oiio_module.h). Writes go to a temporary
+// file beside the target and are renamed into place only when complete, so a failed write never
 // leaves a partial file or destroys an earlier one.
 #ifndef VOXGI_IMAGE_IMAGE_H
 #define VOXGI_IMAGE_IMAGE_H
