@@ -47,12 +47,12 @@ struct OctreeParams {
                 // y: 1 when the estimate has voxel bounces beside its direct light;
                 // z: 1 to keep the bounces' mean apart (Settings::keepBounces)
   uvec4 sides;  // x: the first of the two-sided leaves' - side slots in the light
-                // buffers (octree.glsl, backSlot); y: the bounce pass's rays
-                // (octree_bounce.comp): kOctreeRaysTraced, kOctreeRaysRecorded or
-                // kOctreeRaysReplayed; zw 0
+                // buffers (octree.glsl, backSlot); yzw 0
+  uvec4 rays;   // x: the bounce pass's rays (octree_bounce.comp): kOctreeRaysTraced,
+                // kOctreeRaysRecorded or kOctreeRaysReplayed; yzw 0
 };
 
-// octree_bounce.comp's rays (OctreeParams::sides.y): traced; traced and their hits
+// octree_bounce.comp's rays (OctreeParams::rays.x): traced; traced and their hits
 // recorded (kOctreeReplayBinding); or the recorded hits read again, none traced.
 VOXGI_CONST uint kOctreeRaysTraced = 0u;
 VOXGI_CONST uint kOctreeRaysRecorded = 1u;
@@ -76,7 +76,7 @@ struct OctreeRay {
 
 #ifdef __cplusplus
 static_assert(sizeof(OctreeRay) == 48);
-static_assert(sizeof(OctreeParams) == 112);
+static_assert(sizeof(OctreeParams) == 128);
 static_assert(sizeof(OctreeCounters) == 64);
 }  // namespace voxgi::gpu
 #endif

@@ -18,7 +18,7 @@
 // hall's second bounce against the path tracer's: 0.85 marched, 0.93 with these and
 // exact shadow rays (0.97-1.01 in most 16x16 blocks; the mirror ball's blocks, whose
 // reflections this term leaves out, hold the rest).
-// The first estimate's chain (Octree::estimate, octree.sides.y): its first bounce
+// The first estimate's chain (Octree::estimate, octree.rays.x): its first bounce
 // records each ray's light slot and factor (kOctreeRaysRecorded), and the later
 // bounces read the previous bounce's light there again, tracing nothing
 // (kOctreeRaysReplayed).
@@ -104,7 +104,7 @@ int hitLeaf(vec3 p, vec3 dir, float start, bool nearField, out vec3 scale) {
 vec3 gatheredAt(vec3 centre, vec3 n, bool oriented, uint slot, uint record) {
   int rays = int(octree.light.x);
   vec3 gathered = vec3(0.0);
-  uint mode = octree.sides.y;
+  uint mode = octree.rays.x;
   if (mode == kOctreeRaysReplayed) {
     for (int r = 0; r < rays; ++r) {
       uvec2 hit = replay[record + uint(r)];

@@ -409,13 +409,13 @@ bool Octree::estimate(const scene::GpuScene& scene, uint32_t count, int rays, in
     }
     if (b == 2 && allBounces() && !feedback && !replays)
       paramsData_.light.x = static_cast<uint32_t>(std::max(1, bounceRays / 4));
-    paramsData_.sides.y = !replays ? gpu::kOctreeRaysTraced
-                          : b == 1 ? gpu::kOctreeRaysRecorded
-                                   : gpu::kOctreeRaysReplayed;
+    paramsData_.rays.x = !replays ? gpu::kOctreeRaysTraced
+                         : b == 1 ? gpu::kOctreeRaysRecorded
+                                  : gpu::kOctreeRaysReplayed;
     setPass(static_cast<uint32_t>(stats_.depth), 0, count, static_cast<uint32_t>(b));
     dispatch(bounce_, count);
   }
-  paramsData_.sides.y = gpu::kOctreeRaysTraced;
+  paramsData_.rays.x = gpu::kOctreeRaysTraced;
   return voxelBounces > 0;
 }
 

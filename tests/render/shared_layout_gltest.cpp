@@ -63,7 +63,8 @@ TEST_F(SharedLayoutTest, OctreeParamsMatchCpp) {
                  VOXGI_MEMBER("octree.", OctreeParams, light, ""),
                  VOXGI_MEMBER("octree.", OctreeParams, slice, ""),
                  VOXGI_MEMBER("octree.", OctreeParams, blend, ""),
-                 VOXGI_MEMBER("octree.", OctreeParams, sides, "")});
+                 VOXGI_MEMBER("octree.", OctreeParams, sides, ""),
+                 VOXGI_MEMBER("octree.", OctreeParams, rays, "")});
   EXPECT_EQ(query(p, GL_UNIFORM_BLOCK, "OctreeBlock", GL_BUFFER_DATA_SIZE),
             static_cast<GLint>(sizeof(OctreeParams)));
 }
