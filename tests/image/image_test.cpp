@@ -28,6 +28,17 @@ TEST(ImageIo, PngRoundTripsBytesAndOrientation) {
       EXPECT_NEAR(img.pixels[p * 3 + c] * 255.0f, px[p * 4 + c], 1e-3) << p;
 }
 
+// A 16-bit PNG keeps its precision: 0.3 is stored as 19661/65535, where 8 bits
+// would give 77/255 = 0.302. The file was made with `oiiotool --pattern
+// constant:color=0.3 2x1 1 -d uint16 -o grey16.png`.
+TEST(ImageIo, SixteenBitPngReadsAtFullPrecision) {
+  const Image img = readImage(test::testDataDir() + "/images/grey16.png");
+  ASSERT_EQ(img.width, 2);
+  ASSERT_EQ(img.height, 1);
+  ASSERT_EQ(img.channels, 1);
+  for (float v : img.pixels) EXPECT_NEAR(v, 0.3f, 1e-4f);
+}
+
 TEST(ImageIo, ExrKeepsLinearFloats) {
   const std::string dir = test::scratchDir();
   std::vector<float> px = {0.0f, 1.5f, 100.0f, 1.0f, 1e-4f, 0.25f, 15.0f, 1.0f};
