@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "bindings_shared.h"
 #include "core/log.h"
 #include "pathtrace_shared.h"
@@ -85,15 +88,20 @@ GpuBvh::GpuBvh(const scene::GpuScene& gs, bool textures)
   }
   // Each triangle's record carries its material, emitter pdf and first index; the
   // rest of what a hit reads comes from the scene's own buffers.
+  // On every core, as the build: the records read the scene's vertices in BVH
+  // order, at random.
   triangles_ = uploadFilled<gpu::GpuPtTriangle>(order.size(), [&](gpu::GpuPtTriangle* out) {
-    for (size_t slot = 0; slot < order.size(); ++slot) {
-      const uint32_t t = order[slot];
-      gpu::GpuPtTriangle& g = out[slot];
-      g = Bvh::gpuTriangle(triangle(t));
-      g.v0.w = std::bit_cast<float>(static_cast<uint32_t>(pt.material[t]));
-      g.e1.w = clustered[t] ? -pt.emitterAreaPdf[t] : pt.emitterAreaPdf[t];
-      g.e2.w = std::bit_cast<float>(pt.firstIndex[t]);
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 1 << 14),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t slot = r.begin(); slot != r.end(); ++slot) {
+                          const uint32_t t = order[slot];
+                          gpu::GpuPtTriangle& g = out[slot];
+                          g = Bvh::gpuTriangle(triangle(t));
+                          g.v0.w = std::bit_cast<float>(static_cast<uint32_t>(pt.material[t]));
+                          g.e1.w = clustered[t] ? -pt.emitterAreaPdf[t] : pt.emitterAreaPdf[t];
+                          g.e2.w = std::bit_cast<float>(pt.firstIndex[t]);
+                        }
+                      });
   });
   triangleTexels_ = bufferTexels(triangles_, order.size() * sizeof(gpu::GpuPtTriangle), maxTexels);
 
