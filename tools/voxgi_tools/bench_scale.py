@@ -14,7 +14,7 @@ the same machine load:
              writes one PLY per primitive, loads them into Mitsuba 3 (llvm_ad_rgb;
              diffuse base colours, emitters, punctual lights) and renders 1 spp at
              the same size: wall clock from the command to the written image, and
-             its peak RSS.
+             its peak RSS; with transparent huge pages off, as voxgi starts.
 
 Each renderer first runs once untimed at each size (see main). Medians are
 printed as a table and written to OUT/results.json, and drawn in OUT/scale.png. The ratios the
@@ -110,6 +110,13 @@ def run_mitsuba(args, scene, out):
 
 # --- the Mitsuba side: glTF -> PLY -> one image ------------------------------------
 def mitsuba_worker(scene_path, size, out):
+    # Transparent huge pages off, as voxgi has them until its first frame: where the
+    # kernel has no free 2 MiB page at hand it compacts memory at each first touch,
+    # and Mitsuba's time to its image drifted 2x within one run with it (1.2-3.0 s,
+    # its system time 0.2-2.4 s), whatever it rendered.
+    if sys.platform.startswith("linux"):
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(41, 1, 0, 0, 0)  # PR_SET_THP_DISABLE
     import numpy as np
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
