@@ -395,11 +395,14 @@ void Renderer::warmUp() {
 
 void Renderer::warmUpFrame() {
   if (settings_.mode != Mode::kPathtrace) {
-    // A frame at most kWarmUpSize pixels wide or high: every program a frame uses
-    // is compiled at its first dispatch, whatever the size, and the voxels are made
-    // and lit, which do not depend on it, while the per-pixel stages cost next to
-    // nothing (at full size the warm-up was a whole frame of work thrown away:
-    // 0.4 s in the hall). It is not part of the image.
+    // A frame at most kWarmUpSize pixels wide or high: the programs are compiled at
+    // their first dispatch, whatever the size, and the voxels are made and lit,
+    // which do not depend on it, while the per-pixel stages cost next to nothing
+    // (at full size the warm-up was a whole frame of work thrown away: 0.4 s in the
+    // hall). It is not part of the image. The first frame after it still makes
+    // llvmpipe build variants of its own for refine, shadows, indirect and specular
+    // (a second state, as after a full-size warm-up): read back from Mesa's disk
+    // cache in a few ms, 0.6-1.4 s each with the cache off or cold.
     const int w = settings_.width, h = settings_.height;
     const int longest = std::max(w, h);
     if (longest > kWarmUpSize)
