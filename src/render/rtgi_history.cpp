@@ -20,13 +20,13 @@ size_t RtgiHistory::makeMoments() {
 }
 
 void RtgiHistory::reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint mean,
-                            const PreviousFrame& previous, GLuint materials, bool moments,
+                            const ReprojectInputs& inputs, GLuint materials, bool moments,
                             std::vector<std::string> defines) {
   gl::StageScope stage(ctx.timer, Stage::kReproject);
   glBindTextureUnit(gpu::kHistoryUnit, mean);
-  glBindTextureUnit(gpu::kGPreviousPositionUnit, previous.position);
-  glBindTextureUnit(gpu::kGPreviousNormalUnit, previous.normal);
-  glBindTextureUnit(gpu::kGMotionUnit, previous.motion);
+  glBindTextureUnit(gpu::kGPreviousPositionUnit, inputs.previousPosition);
+  glBindTextureUnit(gpu::kGPreviousNormalUnit, inputs.previousNormal);
+  glBindTextureUnit(gpu::kGMotionUnit, inputs.motion);
   glBindImageTexture(gpu::kReprojectedImage, mean_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kMaterialBinding, materials);
   if (moments) {

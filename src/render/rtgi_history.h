@@ -35,9 +35,10 @@ class RtgiHistory {
   size_t makeMoments();
   bool hasMoments() const { return static_cast<bool>(moments_); }
 
-  // The previous frame's G-buffer and this frame's motion, as reproject() reads them.
-  struct PreviousFrame {
-    GLuint position = 0, normal = 0, motion = 0;
+  // What reproject() reads besides the mean: the previous frame's G-buffer (its
+  // positions and normals) and this frame's motion.
+  struct ReprojectInputs {
+    GLuint previousPosition = 0, previousNormal = 0, motion = 0;
   };
   // The reproject stage: `mean` (the accumulation target, holding the previous
   // frame's image) and, with `moments` (the pass denoises; makeMoments() made them),
@@ -45,7 +46,7 @@ class RtgiHistory {
   // rtgi's per-pixel stages; `materials`: the scene's (which of them emit);
   // `defines`: the scene's shader features.
   void reproject(gl::FrameContext& ctx, GLuint gx, GLuint gy, GLuint mean,
-                 const PreviousFrame& previous, GLuint materials, bool moments,
+                 const ReprojectInputs& inputs, GLuint materials, bool moments,
                  std::vector<std::string> defines);
 
   // The images, 0 where not made: the reprojected mean (rgba32f, the target's
