@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Writes moving_box.gltf: a static floor and a box whose node slides along x
-from -0.5 to +0.5 over one second (LINEAR), then back by 2 s (a second key).
+from -0.5 to +0.5 over one second (LINEAR), then back by 2 s (a second key);
+cubic_box.gltf, the same with CUBICSPLINE keys and a turn; thin_bar.gltf: a thin
+white bar crossing a dark floor, its own width every 1/30 s.
 Self-contained: the buffer is a base64 data: URI. Run from anywhere."""
 from gltf_writer import Buffer, bounds, write
 
@@ -85,3 +87,40 @@ cubic["animations"] = [{"name": "glide", "samplers": [
     "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}},
                  {"sampler": 1, "target": {"node": 1, "path": "rotation"}}]}]
 write(buf.finish(cubic), "cubic_box.gltf")
+
+# thin_bar.gltf: a white bar 4 cm wide, 1 cm high and 1.6 m long (along z) on a dark
+# floor (albedo 0.05, a twentieth of the bar's), under the default sun; the bar
+# slides along x from -0.6 to +0.6 m in 1 s (LINEAR): its own width every 1/30 s.
+buf = Buffer()
+add = buf.add
+dark_pos = [(-1.0, 0, 1.0), (1.0, 0, 1.0), (1.0, 0, -1.0), (-1.0, 0, -1.0)]
+bar_pos, bar_idx = box((-0.02, 0.0, -0.8), (0.02, 0.01, 0.8))
+dp = add(dark_pos, "<3f", "VEC3", 5126, 34962, bounds(dark_pos))
+di = add(floor_idx, "<I", "SCALAR", 5125, 34963)
+bp = add(bar_pos, "<3f", "VEC3", 5126, 34962, bounds(bar_pos))
+bi = add(bar_idx, "<I", "SCALAR", 5125, 34963)
+ti = add([0.0, 1.0], "<f", "SCALAR", 5126, None, [[0.0], [1.0]])
+tv = add([(-0.6, 0.0, 0.0), (0.6, 0.0, 0.0)], "<3f", "VEC3", 5126)
+bar = {
+    "asset": {"version": "2.0", "generator": "voxgi tests/data/animated/make_animated.py"},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1, 2]}],
+    "nodes": [
+        {"name": "floor", "mesh": 0},
+        {"name": "bar", "mesh": 1, "translation": [-0.6, 0.0, 0.0]},
+        {"name": "camera", "camera": 0, "translation": [0.0, 2.2, 0.0],
+         "rotation": [-0.7071068, 0.0, 0.0, 0.7071068]},
+    ],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+    "materials": [
+        {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.05, 0.05, 1], "metallicFactor": 0}},
+        {"name": "bar", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1], "metallicFactor": 0}},
+    ],
+    "meshes": [
+        {"primitives": [{"attributes": {"POSITION": dp}, "indices": di, "material": 0}]},
+        {"primitives": [{"attributes": {"POSITION": bp}, "indices": bi, "material": 1}]},
+    ],
+    "animations": [{"name": "cross", "samplers": [{"input": ti, "output": tv, "interpolation": "LINEAR"}],
+                    "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}]}],
+}
+write(buf.finish(bar), "thin_bar.gltf")
