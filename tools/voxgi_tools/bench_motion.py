@@ -75,10 +75,11 @@ def orbit(eye, target, degrees):
             target[2] - dx * math.sin(a) + dz * math.cos(a))
 
 
-def path_scene(view, move, hold, degrees, outdir):
-    """A copy of the view's scene whose camera orbits into the view over `move`
-    frames and then holds for `hold` (glTF animations loop: the last key holds the
-    end pose past every frame rendered). Returns the path of the copy's glTF."""
+def path_scene(view, move, hold, degrees, outdir, settle=0):
+    """A copy of the view's scene whose camera holds its start pose for `settle`
+    frames, orbits into the view over `move` frames and then holds for `hold` (glTF
+    animations loop: the last key holds the end pose past every frame rendered).
+    Returns the path of the copy's glTF."""
     scene, eye, target = VIEWS[view]
     src = os.path.dirname(scene_path(scene))
     dst = os.path.join(outdir, "scenes", view)
@@ -89,16 +90,21 @@ def path_scene(view, move, hold, degrees, outdir):
         g = json.load(f)
     cam = next(i for i, n in enumerate(g["nodes"]) if "camera" in n)
     times, moves, turns = [], [], []
+    if settle > 0:
+        e = orbit(eye, target, -degrees)
+        times.append(0.0)
+        moves.append(e)
+        turns.append(look_rotation(e, target))
     for k in range(move):
         u = k / (move - 1) if move > 1 else 1.0
         e = orbit(eye, target, -degrees * (1.0 - u))
-        times.append(k / FPS)
+        times.append((settle + k) / FPS)
         moves.append(e)
         turns.append(look_rotation(e, target))
-    times.append((move + hold + 1) / FPS)
+    times.append((settle + move + hold + 1) / FPS)
     moves.append(moves[-1])
     turns.append(turns[-1])
-    move += 1
+    move = len(times)
     blob = struct.pack(f"<{len(times)}f", *times)
     blob += b"".join(struct.pack("<3f", *e) for e in moves)
     blob += b"".join(struct.pack("<4f", *q) for q in turns)

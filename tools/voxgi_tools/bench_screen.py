@@ -3,11 +3,13 @@ its frame budget, against the path tracer at the same pose.
 
 For each view of bench_motion.py, the camera orbits into the view over --move
 frames played at 30 fps (a glTF camera path), then holds still. rtgi renders the
-sequence at --size with `--target-fps 30` (the viewer's default: the frame budget
-sets the share of pixels that trace each frame), with the denoiser off and on.
+sequence at --size with `--target-fps 30` and `--sparse-start` (the viewer's
+defaults: the frame budget sets the share of pixels that trace each frame, the
+first frame included), with the denoiser off and on.
 Measured, FLIP on sRGB 8-bit against a path-traced reference at that pose:
 
-  - moving: the frame half way through the move;
+  - moving: the frame half way through the move (which starts as the viewer
+    opens, or --settle frames later);
   - 1 s after: --after frames (default 30, one second) after the camera stopped;
   - still: the end pose rendered still for 64 frames with every pixel traced and
     denoised (render's defaults: the converged image the viewer approaches).
@@ -68,6 +70,9 @@ def main(argv=None):
     ap.add_argument("--move", type=int, default=30, help="frames of the move (default 30)")
     ap.add_argument("--orbit", type=float, default=10.0,
                     help="degrees the camera turns about the target (default 10)")
+    ap.add_argument("--settle", type=int, default=0,
+                    help="frames the camera holds its start pose before it moves (default "
+                         "0: the move starts as the viewer opens; 30: a second after)")
     ap.add_argument("--after", type=int, default=30,
                     help="frames after the camera stopped (default 30: 1 s at 30 fps)")
     ap.add_argument("--ref-spp", type=int, default=512,
@@ -83,14 +88,18 @@ def main(argv=None):
         raise SystemExit("bench-screen: error: build/voxgi missing (tools/build)")
     if a.move < 3 or a.after < 1:
         raise SystemExit("bench-screen: error: --move must be at least 3 and --after at least 1")
+    if a.settle < 0:
+        raise SystemExit("bench-screen: error: --settle must be at least 0")
     if not re.fullmatch(r"\d+x\d+", a.size):
         raise SystemExit(f"bench-screen: error: --size {a.size}: not WxH")
     scales = a.scales or [1.0]
     if any(not 0.25 <= x <= 1.0 for x in scales):
         raise SystemExit("bench-screen: error: --render-scale must be in [0.25, 1]")
     mid = a.move // 2
+    settled = f", after {a.settle} frames still" if a.settle else ""
     lines = [f"rtgi at {a.size} under `--target-fps 30`, the camera orbiting {a.orbit:g} degrees "
-             f"over {a.move} frames at 30 fps; FLIP against the path tracer at each pose.", "",
+             f"over {a.move} frames at 30 fps{settled}; FLIP against the path tracer at each pose.",
+             "",
              "| view | scale | denoiser | moving (frame %d) | %d frames after it stopped "
              "| still, 64 frames | frame ms, median | frame ms, 95th percentile "
              "| traced share, median |" % (mid + 1, a.after),
@@ -99,7 +108,7 @@ def main(argv=None):
     for view in motion.VIEWS:
         if a.view and view not in a.view:
             continue
-        scene = motion.path_scene(view, a.move, a.after + 1, a.orbit, a.out)
+        scene = motion.path_scene(view, a.move, a.after + 1, a.orbit, a.out, a.settle)
         eye_mid, target = pose_of(view, a.move, a.orbit, mid)
         eye_end, _ = pose_of(view, a.move, a.orbit, a.move - 1)
         ref_mid = reference(view, f"orbit{a.orbit:g}_{mid}of{a.move}", eye_mid, target, a.size,
@@ -115,11 +124,15 @@ def main(argv=None):
         still_flip = metrics.measure(base, *ref_end)["flip"]
         for scale in scales:
             for denoise in a.denoise or ["off", "on"]:
-                flags = ["--target-fps", "30", "--denoise", denoise, "--render-scale", f"{scale:g}"]
-                tag = os.path.join(runs, f"{view}_s{scale:g}_{denoise}")
-                render(scene, a.size, mid + 1, flags, tag + "_moving")
+                # The viewer's settings: its budget, and its sparse start (the first
+                # frame traces the budget's share, like the others).
+                flags = ["--target-fps", "30", "--sparse-start", "--denoise", denoise,
+                         "--render-scale", f"{scale:g}"]
+                tag = os.path.join(runs, f"{view}_s{scale:g}_{denoise}_settle{a.settle}")
+                render(scene, a.size, a.settle + mid + 1, flags, tag + "_moving")
                 moving = metrics.measure(tag + "_moving", *ref_mid)["flip"]
-                stats = render(scene, a.size, a.move - 1 + a.after + 1, flags, tag + "_after")
+                stats = render(scene, a.size, a.settle + a.move - 1 + a.after + 1, flags,
+                               tag + "_after")
                 after = metrics.measure(tag + "_after", *ref_end)["flip"]
                 budget = stats.get("budget", {})
                 each = sorted(budget.get("frame_ms_each", [stats["frame_ms"]])[1:] or
