@@ -111,6 +111,10 @@ VOXGI_CONST uint kOctreeBounceBinding = 25u;
 // rtgi (rtgi_shared.h), which reads the scene and the octree beside its own.
 VOXGI_CONST uint kPixelListBinding = 15u;      // PixelList
 VOXGI_CONST uint kMaskHistogramBinding = 16u;  // uint[kMaskBins]
+// The specular pixels among those that trace (rtgi_specular_select.comp writes it;
+// the specular stage reads it at kPixelListBinding): a PixelList. Only the
+// selection binds it, so it takes the mask histogram's number.
+VOXGI_CONST uint kSpecularListBinding = 16u;
 // The shadows stage's light reservoirs (ReSTIR DI, rtgi_restir.glsl): vec4 per
 // pixel.
 VOXGI_CONST uint kRtgiReservoirBinding = 26u;

@@ -121,9 +121,18 @@ bool outside(ivec2 px) {
 // interleave (a mask over a full-image dispatch would leave most lanes idle).
 // Pixels come block by block (4x4), so neighbouring lanes trace neighbouring pixels.
 // False past the last pixel.
+// RTGI_SPECULAR_LIST (the specular stage): the list at kPixelListBinding is
+// rtgi_specular_select.comp's, of the specular pixels among those, whatever selects
+// them.
 bool tracePixel(out ivec2 px) {
   uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kRtgiTraceGroup +
            gl_LocalInvocationID.x;
+#ifdef RTGI_SPECULAR_LIST
+  if (i >= pixelHeader.count.x) return false;
+  uint code = pixels[i];
+  px = ivec2(code & 0xffffu, code >> 16u);
+  return true;
+#endif
 #ifdef RTGI_PIXEL_LIST
   if (selectedByList()) {
     if (i >= pixelHeader.count.x) return false;

@@ -211,6 +211,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
                          : rt.tracesTriangles()  ? "triangles"
                                                  : "voxels";
   stats["traced_fraction"] = record.tracedMedian();
+  stats["specular_fraction"] = rt.lastSpecularFraction();  // the last frame's
   const glm::ivec2 internal =
       render::scaledSize(o.render.width, o.render.height, o.render.renderScale);
   stats["render_scale"] = o.render.renderScale;

@@ -42,8 +42,11 @@ void RtgiPass::buildOptionalStages() {
   if (settings_.indirect && !indirect_ && !raysHitTriangles() &&
       settings_.indirectMethod == Settings::IndirectMethod::kRays)
     indirect_ = &programs_.get({{"render/rtgi/rtgi_indirect.comp"}, {}});
-  if (settings_.specular && !specular_ && !tracesTriangles())
-    specular_ = &programs_.get({{"render/rtgi/rtgi_specular.comp"}, conesDefine()});
+  if (settings_.specular && !specular_ && !tracesTriangles()) {
+    std::vector<std::string> defines = conesDefine();
+    defines.emplace_back("RTGI_SPECULAR_LIST");
+    specular_ = &programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
+  }
 }
 
 std::vector<std::string> RtgiPass::bvhDefines(const GpuScene& gs) const {
@@ -140,6 +143,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
   if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+  defines.emplace_back("RTGI_SPECULAR_LIST");  // traceSpecular's list
   return programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
 }
 
@@ -450,8 +454,39 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
                          GL_READ_ONLY, GL_RGBA32F);
     runStage(ctx, Stage::kIndirect, indirectProgram(gs), plan);
   }
-  if (settings_.specular) runStage(ctx, Stage::kSpecular, specularProgram(gs), plan);
+  if (settings_.specular) traceSpecular(ctx, gs, plan);
   if (bvh_) unbindBvh();
+}
+
+void RtgiPass::traceSpecular(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan) {
+  gl::StageScope scope(ctx.timer, Stage::kSpecular);
+  // The specular pixels among those that trace, listed (rtgi_specular_select.comp),
+  // then the stage over the list alone.
+  const size_t bytes =
+      sizeof(gpu::PixelListHeader) + 4 * static_cast<size_t>(width_) * static_cast<size_t>(height_);
+  if (!specularList_ || specularListBytes_ != bytes) {
+    specularList_ =
+        gl::createBuffer(static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    specularListBytes_ = bytes;
+  }
+  const gpu::PixelListHeader header{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
+  glNamedBufferSubData(specularList_.id(), 0, sizeof(header), &header);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kSpecularListBinding, specularList_.id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_specular_select.comp"}, {}}).id());
+  if (plan.listed)
+    glDispatchComputeIndirect(0);
+  else
+    glDispatchCompute(plan.tx, plan.ty, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, specularList_.id());
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, specularList_.id());
+  glUseProgram(specularProgram(gs).id());
+  glDispatchComputeIndirect(0);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  // The frame's own list again, for the stages after.
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, pixelList_.id());
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, plan.listed ? pixelList_.id() : 0);
 }
 
 void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
@@ -489,6 +524,11 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
 }
 
 void RtgiPass::finishFrame(const FramePlan& plan) {
+  if (settings_.specular && specularList_) {
+    gpu::PixelListHeader header{};
+    glGetNamedBufferSubData(specularList_.id(), 0, sizeof(header), &header);
+    lastSpecular_ = static_cast<double>(header.count.x) / static_cast<double>(plan.pixelsTotal);
+  }
   if (plan.listed) {
     gpu::PixelListHeader header{};
     glGetNamedBufferSubData(pixelList_.id(), 0, sizeof(header), &header);

@@ -178,6 +178,9 @@ class RtgiPass {
   void setMeshesMoved(bool moved) { meshesMoved_ = moved; }
   // Pixels that traced in the last frame, as a share of all.
   double lastTracedFraction() const { return lastTraced_; }
+  // Of all pixels, those the last frame's specular stage traced (the specular ones
+  // among those that traced; 0 without the specular effect).
+  double lastSpecularFraction() const { return lastSpecular_; }
   // Non-finite terms accumulate met and dropped since the pass was made
   // (nonfinite.glsl); reads back from the GPU.
   uint32_t nonfiniteTerms() const;
@@ -260,6 +263,9 @@ class RtgiPass {
                 const FramePlan& plan);
   // The shadows (or direct), indirect and specular stages.
   void traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
+  // The specular stage: the specular pixels among those that trace listed, then
+  // traced (rtgi_specular_select.comp).
+  void traceSpecular(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
   void accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan);
   // The traced share of a listed frame, and the units the frame bound, unbound.
   void finishFrame(const FramePlan& plan);
@@ -293,6 +299,7 @@ class RtgiPass {
   double traceFraction_ = 1.0;
   bool meshesMoved_ = false;
   double lastTraced_ = 1.0;
+  double lastSpecular_ = 0.0;
   RtgiWorkMask mask_;
   gl::Texture tracedImage_;
   gl::Buffer pixelList_;
@@ -301,6 +308,9 @@ class RtgiPass {
   // The shadows stage's reservoirs (kRtgiReservoirBinding), made on first use.
   gl::Buffer reservoirs_;
   size_t reservoirBytes_ = 0;
+  // The specular stage's pixels (kSpecularListBinding), made on first use.
+  gl::Buffer specularList_;
+  size_t specularListBytes_ = 0;
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.
   gl::Texture position_[2], normal_[2], albedo_, emission_, motion_, depth_;

@@ -92,6 +92,7 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kOctreeBounceBinding),
       VOXGI_ENTRY(Ssbo, kPixelListBinding),
       VOXGI_ENTRY(Ssbo, kMaskHistogramBinding),
+      VOXGI_ENTRY(Ssbo, kSpecularListBinding),
       VOXGI_ENTRY(Ssbo, kRtgiBvhIndexBinding),
       VOXGI_ENTRY(Ssbo, kRtgiBvhTextureBinding),
       VOXGI_ENTRY(Ssbo, kRtgiBvhColorBinding),

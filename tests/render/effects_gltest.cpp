@@ -133,8 +133,10 @@ TEST_F(EffectsTest, SkippedStagesCompileNothing) {
     r.renderFrame();
     return cache.size();
   };
-  EXPECT_EQ(programsFor("+specular"), programsFor("") + 1);
-  EXPECT_EQ(programsFor("+specular,-indirect"), programsFor(""));  // one traded for the other
+  // The specular stage is two programs: its selection of the specular pixels, and
+  // the stage over them.
+  EXPECT_EQ(programsFor("+specular"), programsFor("") + 2);
+  EXPECT_EQ(programsFor("+specular,-indirect"), programsFor("") + 1);  // one traded for one
 }
 
 TEST_F(EffectsTest, ForcedOffEffectsLoseTheirStage) {

@@ -348,5 +348,54 @@ TEST_F(ReflectionTest, OnlyAPlanWithMirrorsReflectsTheBvh) {
   }
 }
 
+// The specular stage traces the specular pixels among those that trace, and no
+// others (rtgi_specular_select.comp lists them): every pixel where the view is all
+// mirror, whatever chooses the pixels that trace (all of them, the interleave, the
+// frame budget's list), and none where the view holds no specular surface.
+TEST_F(ReflectionTest, TheSpecularStageTracesTheSpecularPixelsAlone) {
+  const scene::Scene mirror = mirrorAndChecker();
+  struct Case {
+    const char* name;
+    int interleave;
+    double targetFps;
+  };
+  for (const Case c :
+       {Case{"every pixel", 1, 0.0}, Case{"interleave 4", 4, 0.0}, Case{"budget", 1, 1000.0}}) {
+    SCOPED_TRACE(c.name);
+    render::RenderSettings rs;
+    rs.mode = render::Mode::kRtgi;
+    rs.width = rs.height = 64;
+    rs.voxels = 32;
+    rs.rtgi.interleave = c.interleave;
+    rs.targetFps = c.targetFps;
+    render::Renderer r(*programs_, mirror, rs);
+    for (int f = 0; f < 3; ++f) {
+      r.renderFrame();
+      const double traced = r.rtgi()->lastTracedFraction();
+      // After the first, the interleave's and the budget's frames trace a share.
+      if (f > 0 && (c.interleave > 1 || c.targetFps > 0.0)) EXPECT_LT(traced, 0.9);
+      EXPECT_EQ(r.rtgi()->lastSpecularFraction(), traced) << "frame " << f;
+    }
+  }
+  // The Cornell room's mirror sphere out of view: the stage traces nothing.
+  scene::Scene room = scene::loadGltf(cornellRoom());
+  room.camera.forward = glm::normalize(glm::vec3(-1.0f, 0.0f, -0.2f));  // the red wall
+  render::RenderSettings rs;
+  rs.mode = render::Mode::kRtgi;
+  rs.width = rs.height = 64;
+  rs.voxels = 32;
+  render::Renderer r(*programs_, room, rs);
+  r.renderFrame();
+  ASSERT_TRUE(r.rtgi()->settings().specular);
+  EXPECT_EQ(r.rtgi()->lastTracedFraction(), 1.0);
+  EXPECT_EQ(r.rtgi()->lastSpecularFraction(), 0.0);
+  // And in its default view, the sphere's pixels: a few percent.
+  const scene::Scene defaultView = scene::loadGltf(cornellRoom());
+  render::Renderer seen(*programs_, defaultView, rs);
+  seen.renderFrame();
+  EXPECT_GT(seen.rtgi()->lastSpecularFraction(), 0.02);
+  EXPECT_LT(seen.rtgi()->lastSpecularFraction(), 0.2);
+}
+
 }  // namespace
 }  // namespace voxgi::test
