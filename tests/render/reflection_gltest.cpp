@@ -373,7 +373,9 @@ TEST_F(ReflectionTest, TheSpecularStageTracesTheSpecularPixelsAlone) {
       r.renderFrame();
       const double traced = r.rtgi()->lastTracedFraction();
       // After the first, the interleave's and the budget's frames trace a share.
-      if (f > 0 && (c.interleave > 1 || c.targetFps > 0.0)) EXPECT_LT(traced, 0.9);
+      if (f > 0 && (c.interleave > 1 || c.targetFps > 0.0)) {
+        EXPECT_LT(traced, 0.9);
+      }
       EXPECT_EQ(r.rtgi()->lastSpecularFraction(), traced) << "frame " << f;
     }
   }
