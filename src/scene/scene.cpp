@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/log.h"
+#include "scene/emitters.h"
 #include "scene_shared.h"
 
 namespace voxgi::scene {
@@ -132,8 +133,31 @@ void fitClipPlanes(Camera* camera, const Bounds& bounds) {
   camera->znear = std::min(camera->znear, camera->zfar * 0.5f);
 }
 
+float Scene::emittedLightPerArea() const {
+  double emitted = 0.0;
+  double area = 0.0;
+  for (const Draw& d : draws) {
+    const Material& m = materials[static_cast<size_t>(d.material)];
+    for (size_t t = 0; t < d.indexCount / 3; ++t) {
+      const size_t i = d.firstIndex + t * 3;
+      const glm::vec3 a = vertices[indices[i]].position;
+      const glm::vec3 b = vertices[indices[i + 1]].position;
+      const glm::vec3 c = vertices[indices[i + 2]].position;
+      const double triangleArea = 0.5 * static_cast<double>(glm::length(glm::cross(b - a, c - a)));
+      area += triangleArea;
+      if (!m.isEmissive()) continue;
+      const glm::vec3 L = triangleEmission(*this, d, t);
+      const double luminance = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;
+      emitted += 3.14159265358979 * luminance * triangleArea * (m.doubleSided ? 2.0 : 1.0);
+    }
+  }
+  return area > 0.0 ? static_cast<float>(emitted / area) : 0.0f;
+}
+
 void Scene::addDefaultLightIfUnlit() {
-  if (!lights.empty() || hasEmission()) return;
+  if (!lights.empty()) return;
+  const float emitted = hasEmission() ? emittedLightPerArea() : 0.0f;
+  if (emitted >= kLitByEmitters) return;
   Light l;
   l.type = LightType::kDirectional;
   l.name = "default";
@@ -141,7 +165,12 @@ void Scene::addDefaultLightIfUnlit() {
   l.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.5f));
   lights.push_back(l);
   defaultLight = true;
-  logInfo(path + ": the scene has no light; added a default directional light");
+  logInfo(hasEmission()
+              ? strf("%s: no light, and its emitters are too faint to light it (%.3g per unit "
+                     "area, below %.3g); added a default directional light",
+                     path.c_str(), static_cast<double>(emitted),
+                     static_cast<double>(kLitByEmitters))
+              : path + ": the scene has no light; added a default directional light");
 }
 
 namespace {

@@ -249,7 +249,8 @@ struct Scene {
   Camera camera;
   Bounds bounds;
   AutoScale scale;
-  bool defaultLight = false;  // no light in the file: one was added (see addDefaultLightIfUnlit)
+  bool defaultLight =
+      false;  // nothing in the file lights it: one was added (addDefaultLightIfUnlit)
   // Animation: nodes, channels and the vertex ranges they move. Bounds (and so the
   // voxel grid) cover every pose of the animation.
   std::vector<SceneNode> nodes;
@@ -306,9 +307,23 @@ struct Scene {
   // refits the clip planes and keeps the camera there through pose() (render
   // --look-from/--look-at).
   void lookAt(const glm::vec3& from, const glm::vec3& at);
-  // Adds a directional light when there is no punctual light and no emissive
-  // material, so an unlit file never renders black by surprise.
+  // Adds a directional light when there is no punctual light and the emitters, if
+  // any, are too faint to light the scene (emittedLightPerArea below
+  // kLitByEmitters), so an unlit file never renders black by surprise: a model whose
+  // only emission is a glowing detail (DamagedHelmet's lamps, WaterBottle's label)
+  // is lit as one with none.
   void addDefaultLightIfUnlit();
+  // The light the emitters send out (exitance pi L, luminance, times area, both
+  // faces of a double-sided one), over the area of every surface of the scene: the
+  // mean irradiance they would give the scene's surfaces if all of it landed there.
+  // Scale-free: a radiance.
+  float emittedLightPerArea() const;
+  // The default light (intensity 3) gives a closed object a mean irradiance of 3/4
+  // (a sphere's projected area is a quarter of its surface); emitters light the
+  // scene from 1/30 of that. The samples: the validation set's darkest scene,
+  // dark_plane (a lamp over a wide plane), 0.062; DamagedHelmet 0.0058;
+  // WaterBottle 0.00013; scenes lit by their lamps 0.36-1.03.
+  static constexpr float kLitByEmitters = 0.75f / 30.0f;
   // Frames the bounds from the front (+z side), looking along -z.
   void autoFrameCamera();
   // Where the voxel grid goes: the bounds, less the reach of a few huge triangles.

@@ -10,6 +10,10 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "support/scene_builder.h"
+
 namespace voxgi::scene {
 namespace {
 
@@ -494,6 +498,40 @@ TEST(Emitters, LampsOfOnePrimitiveStayExactWhenTheyFit) {
   const std::vector<Emitter> few = buildEmitters(s, EmitterOptions{32, 800});
   EXPECT_LT(few.size(), 800u);
   EXPECT_EQ(few.front().kind, Emitter::Kind::kCluster);
+}
+
+// A model whose only emission is a glowing detail is lit as one with none: the default
+// light is added where the emitters are too faint to light the scene
+// (Scene::kLitByEmitters), and not where they are its lamps, at any scale.
+// A 2 m box (24 m^2) with a 10 x 10 cm double-sided panel of radiance L beside it
+// sends pi L x 0.02 m^2 over 24.01 m^2: 0.0026 L.
+TEST(DefaultLight, AddedWhereTheEmittersAreTooFaintToLightTheScene) {
+  auto make = [](float radiance, float scale) {
+    test::SceneBuilder b;
+    const glm::mat4 s = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
+    b.addBox(glm::vec3(-1.0f), glm::vec3(1.0f), b.addMaterial(glm::vec3(0.5f)), s);
+    const int lamp = b.addMaterial(glm::vec3(0.5f), glm::vec3(radiance));
+    b.addTriangles({{1.5f, 0.0f, 0.0f},
+                    {1.6f, 0.0f, 0.0f},
+                    {1.6f, 0.1f, 0.0f},
+                    {1.5f, 0.0f, 0.0f},
+                    {1.6f, 0.1f, 0.0f},
+                    {1.5f, 0.1f, 0.0f}},
+                   lamp, s);
+    Scene scene = b.finish();
+    scene.addDefaultLightIfUnlit();
+    return scene;
+  };
+  for (float scale : {0.001f, 1.0f, 1000.0f}) {
+    const Scene faint = make(1.0f, scale);  // a glowing label
+    EXPECT_NEAR(faint.emittedLightPerArea(), kPi * 0.02 / 24.01, 1e-5) << scale;
+    EXPECT_TRUE(faint.defaultLight) << scale;
+    ASSERT_EQ(faint.lights.size(), 1u);
+    EXPECT_EQ(faint.lights[0].type, LightType::kDirectional);
+    const Scene lit = make(100.0f, scale);  // a lamp: 0.26
+    EXPECT_FALSE(lit.defaultLight) << scale;
+    EXPECT_TRUE(lit.lights.empty()) << scale;
+  }
 }
 
 }  // namespace
