@@ -21,6 +21,15 @@ VOXGI_FN uint pcgHash(uint v) {
   return (word >> 22u) ^ word;
 }
 
+// A number in [0, 1) from the bits of point p: as good as a uniform draw for each
+// point a jittered sample meets, and the same for the same point (the coverage of a
+// blended surface in the raster passes; texture_shared.h's alphaHash for rays).
+VOXGI_FN float pointHash01(vec3 p) {
+  uint h =
+      pcgHash(floatBitsToUint(p.x) ^ pcgHash(floatBitsToUint(p.y) ^ pcgHash(floatBitsToUint(p.z))));
+  return float(h >> 8u) * (1.0f / 16777216.0f);
+}
+
 // Advances the stream and returns a float in [0, 1) with 24 random bits.
 VOXGI_FN float pcgNext01(VOXGI_INOUT(uint) state) {
   state = state * 747796405u + 2891336453u;

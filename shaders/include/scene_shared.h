@@ -57,6 +57,10 @@ VOXGI_CONST uint kMaterialMetallicRoughnessUv2 = 256u;
 VOXGI_CONST uint kMaterialNormalUv2 = 512u;
 VOXGI_CONST uint kMaterialOcclusionUv2 = 1024u;
 VOXGI_CONST uint kMaterialAnyUv2 = 1920u;  // all four
+// glTF alphaMode BLEND, drawn as coverage: a ray that meets the surface stops with
+// probability alpha (texture_shared.h's alphaStops), so accumulated frames and samples
+// blend it over what lies behind, and its shadows are as dense as it is opaque.
+VOXGI_CONST uint kMaterialAlphaBlend = 2048u;
 
 // The texture table's flags (the w of each entry; render/pathtrace/pathtrace_scene.h, read by
 // texture_shared.h): sRGB-encoded texels, nearest magnification, and a 2-bit wrap

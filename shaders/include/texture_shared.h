@@ -15,6 +15,7 @@
 
 #include "normal_map_shared.h"
 #include "pathtrace_shared.h"
+#include "sampling_shared.h"
 #include "scene_shared.h"
 #include "shared_fn.h"
 
@@ -99,16 +100,30 @@ VOXGI_FN vec4 sampleTexture(VOXGI_TABLES_PARAM uvec4 t, vec2 uv) {
 }
 
 // --- alpha masks ------------------------------------------------------------------------
+// A number in [0, 1) for the point at barycentric coordinates bc of triangle tri, a
+// hash of the two: as good as a uniform draw for each ray that meets the surface
+// (rays meet it at points that differ in their low bits), and the same for the
+// same point. The threshold of a blended material's alpha (alphaStops); hashed
+// alpha testing (Wyman and McGuire 2017, "Hashed alpha testing") at the hit point's
+// own precision instead of a grid, since samples accumulate.
+VOXGI_FN float alphaHash(uint tri, vec2 bc) {
+  uint h = pcgHash(tri ^ pcgHash(floatBitsToUint(bc.x) ^ pcgHash(floatBitsToUint(bc.y))));
+  return float(h >> 8u) * (1.0f / 16777216.0f);
+}
+
 // Whether a ray stops at a hit at uv on material m: an alpha-masked material (glTF
 // MASK) lets rays through where base alpha x texture alpha < its cutoff, as the
-// raster modes discard those fragments. `texture` is m's table entry (read only
-// when `textured` and m has a texture).
-VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 texture, vec2 uv) {
-  if ((m.flags & kMaterialAlphaMask) == 0u) return true;
+// raster modes discard those fragments; a blended one (BLEND) where alpha <=
+// `threshold`, a uniform number in [0, 1) for this hit (alphaHash): the ray stops
+// with probability alpha, the surface's coverage. `texture` is m's table entry
+// (read only when `textured` and m has a texture).
+VOXGI_FN bool alphaStops(VOXGI_TABLES_PARAM GpuMaterial m, bool textured, uvec4 texture, vec2 uv,
+                         float threshold) {
+  if ((m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return true;
   float a = m.baseColor.a;
   if (textured && (m.flags & kMaterialHasTexture) != 0u)
     a *= sampleTexture(VOXGI_TABLES_ARG texture, uv).a;
-  return a >= m.alphaCutoff;
+  return (m.flags & kMaterialAlphaBlend) != 0u ? a > threshold : a >= m.alphaCutoff;
 }
 
 #ifdef VOXGI_TEXTURE

@@ -4,6 +4,7 @@
 // VOXGI_NO_COLORS, VOXGI_NO_NORMALMAPS; VOXGI_NO_UV2 (no texture-coordinate channel 1).
 #include "scene_shared.h"
 #include "normal_map_shared.h"  // outside #if: its #line markers must stay
+#include "sampling_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
@@ -49,6 +50,8 @@ void main() {
 #endif
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
+  // Blended: the fragment is kept with probability alpha (scene_shared.h).
+  if ((m.flags & kMaterialAlphaBlend) != 0u && !(base.a > pointHash01(vPosition))) discard;
 #endif
   float metallic = m.metallic;
   float roughness = m.roughness;

@@ -69,9 +69,9 @@ bool bvhHitStops(uint tri, vec2 bc) {
 #endif
 #ifndef VOXGI_NO_TEXTURES
   uvec4 t = (m.flags & kMaterialHasTexture) != 0u ? textures[m.texture] : uvec4(0u);
-  return alphaStops(m, true, t, triangleUv(tri, bc));
+  return alphaStops(m, true, t, triangleUv(tri, bc), alphaHash(tri, bc));
 #else
-  return alphaStops(m, false, uvec4(0u), vec2(0.0));
+  return alphaStops(m, false, uvec4(0u), vec2(0.0), alphaHash(tri, bc));
 #endif
 }
 #endif

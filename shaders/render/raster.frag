@@ -8,6 +8,7 @@
 #include "scene_shared.h"
 #include "normal_map_shared.h"  // outside #if: its #line markers must stay
 #include "lighting.glsl"
+#include "sampling_shared.h"
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 layout(std430, binding = kMaterialBinding) readonly buffer Materials { GpuMaterial materials[]; };
@@ -54,6 +55,8 @@ void main() {
 #endif
 #ifndef VOXGI_NO_ALPHA
   if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
+  // Blended: the fragment is kept with probability alpha (scene_shared.h).
+  if ((m.flags & kMaterialAlphaBlend) != 0u && !(base.a > pointHash01(vPosition))) discard;
 #endif
   float metallic = m.metallic;
   float roughness = m.roughness;

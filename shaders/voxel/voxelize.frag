@@ -38,7 +38,9 @@ void main() {
   base *= 1.0 + gColor;  // COLOR_0 (as its offset from white); white where the scene has none
 #endif
 #ifndef VOXGI_NO_ALPHA
-  if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) discard;
+  // Blended surfaces where they are at least half opaque (their cutoff: GpuScene).
+  if ((m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) != 0u && base.a < m.alphaCutoff)
+    discard;
 #endif
 
   uint weight = uint(bitCount(gl_SampleMaskIn[0]));

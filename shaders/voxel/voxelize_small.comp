@@ -214,7 +214,8 @@ void main() {
     if (hasColors != 0u) base *= b0 * vc[0] + b1 * vc[1] + b2 * vc[2];
 #endif
 #ifndef VOXGI_NO_ALPHA
-    if ((m.flags & kMaterialAlphaMask) != 0u && base.a < m.alphaCutoff) continue;
+    if ((m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) != 0u && base.a < m.alphaCutoff)
+      continue;
 #endif
     vec3 nn = normalize(b0 * vn[0] + b1 * vn[1] + b2 * vn[2]);
     if (any(isnan(nn))) nn = vec3(0.0);

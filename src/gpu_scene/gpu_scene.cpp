@@ -18,7 +18,9 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
     g.emission = m.emission;
     g.metallic = m.metallic;
     g.roughness = m.roughness;
-    g.alphaCutoff = m.alphaCutoff;
+    // BLEND: alphaStops draws its threshold; the voxels, solid or empty, take the
+    // surface where it is at least half opaque.
+    g.alphaCutoff = m.alphaMode == AlphaMode::kBlend ? 0.5f : m.alphaCutoff;
     if (m.normalTexture >= 0) {
       g.normalTexture = static_cast<uint32_t>(m.normalTexture);
       g.normalScale = m.normalScale;
@@ -26,6 +28,7 @@ std::vector<gpu::GpuMaterial> GpuScene::packMaterials(const Scene& s) {
     g.flags = (m.baseColorTexture >= 0 ? gpu::kMaterialHasTexture : 0u) |
               (m.doubleSided ? gpu::kMaterialDoubleSided : 0u) |
               (m.alphaMode == AlphaMode::kMask ? gpu::kMaterialAlphaMask : 0u) |
+              (m.alphaMode == AlphaMode::kBlend ? gpu::kMaterialAlphaBlend : 0u) |
               (m.emissiveTexture >= 0 ? gpu::kMaterialHasEmissiveTexture : 0u) |
               (m.metallicRoughnessTexture >= 0 ? gpu::kMaterialHasMetallicRoughnessTexture : 0u) |
               (m.normalTexture >= 0 ? gpu::kMaterialHasNormalTexture : 0u) |

@@ -82,7 +82,7 @@ EffectPlan planEffects(const Scene& scene) {
     for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture,
                   m.normalTexture, m.occlusionTexture})
       textured = textured || (t >= 0 && static_cast<size_t>(t) < scene.textures.size());
-    masked = masked || m.alphaMode == AlphaMode::kMask;
+    masked = masked || m.alphaMode != AlphaMode::kOpaque;
   }
   const bool lit = !scene.lights.empty() || emissive;
   EffectPlan plan;
@@ -97,7 +97,7 @@ EffectPlan planEffects(const Scene& scene) {
   decide(Effect::kIndirect, lit, "no light and no emissive surface");
   decide(Effect::kSpecular, specular, "no mirror or glossy material");
   decide(Effect::kTextures, textured, "no textured material");
-  decide(Effect::kAlpha, masked, "no alpha-masked material");
+  decide(Effect::kAlpha, masked, "no alpha-masked or blended material");
   decide(Effect::kColors, scene.hasVertexColors(), "no vertex colours");
   decide(Effect::kNormalMaps, scene.hasNormalMaps(), "no normal-mapped material");
   decide(Effect::kAnimation, scene.animated(), "nothing animated");

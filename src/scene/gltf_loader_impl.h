@@ -171,7 +171,6 @@ class Loader {
   static bool degenerateInFloat(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
   void applyOrigin();
   void warnIgnored();
-  void warnBlend();
   void addCamera(int index, int node, const glm::dmat4& world);
   void addLight(int index, int node, const glm::dmat4& world);
   void addMesh(int meshIndex, int nodeIndex, const glm::dmat4& world);

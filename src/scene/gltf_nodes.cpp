@@ -300,8 +300,8 @@ void Loader::applyOrigin() {
 
 // --- read with a warning, or not read -------------------------------------------
 // One line per kind and file, however many places share it: optional extensions
-// voxgi does not implement, extra scenes, skins, morph targets, BLEND materials,
-// points and lines, cameras not used.
+// voxgi does not implement, extra scenes, skins, morph targets, points
+// and lines, cameras not used.
 void Loader::warnIgnored() {
   for (const std::string& e : model_.extensionsUsed)
     if (!kSupportedExtensions.count(e))
@@ -319,7 +319,6 @@ void Loader::warnIgnored() {
           ": morph targets are not applied; the base geometry is drawn");
   if (i.weightChannels.count())
     warn_(i.weightChannels.named("channels") + ": morph target weights are not animated; skipped");
-  warnBlend();
   if (i.pointsAndLines.count())
     warn_(i.pointsAndLines.named("primitives") + ": points and lines are not rendered; skipped");
   const std::string view =
@@ -328,17 +327,6 @@ void Loader::warnIgnored() {
     warn_(i.orthographic.named("cameras") + ": orthographic cameras are not used; " + view);
   if (i.laterCameras.count())
     warn_(i.laterCameras.named("cameras") + ": only the first perspective camera is used; " + view);
-}
-
-// The materials drawn with alphaMode BLEND: drawn opaque (alpha ignored).
-void Loader::warnBlend() {
-  std::set<int> drawn;
-  for (const Draw& d : scene_.draws) drawn.insert(d.material);
-  Tally blend;
-  for (int m : drawn)
-    if (m != defaultMaterial_ && model_.materials[static_cast<size_t>(m)].alphaMode == "BLEND")
-      blend.add(strf("materials[%d]", m));
-  if (blend.count()) warn_(blend.named("materials") + ": alphaMode BLEND is drawn opaque");
 }
 
 void Loader::addCamera(int index, int node, const glm::dmat4& world) {

@@ -629,6 +629,49 @@ TEST_P(PathtraceTest, AlphaMaskedTexelsLetRaysThrough) {
   EXPECT_LT(right, 0.01);
 }
 
+// A blended quad (glTF BLEND) of alpha 0.25, black, in front of the white plane of
+// the test above, lit along the view: a camera ray passes it with probability 0.75
+// and sees the plane, whose shadow ray passes it with probability 0.75, so the
+// image is 0.75 x 0.75 = 0.5625 of the lit plane. Drawn opaque, it would be black;
+// ignored, 1. 16 x 16 pixels x 16 samples: the mean of 4096 draws of 0 or 1 at
+// 0.5625 has a standard deviation of 0.008.
+TEST_P(PathtraceTest, BlendedSurfacesCoverTheirAlpha) {
+  std::vector<scene::Vertex> v;
+  for (float z : {0.0f, 1.0f})
+    for (glm::vec2 p : {glm::vec2(-2, -2), glm::vec2(2, -2), glm::vec2(2, 2), glm::vec2(-2, 2)})
+      v.push_back({glm::vec3(p, z), glm::vec3(0, 0, 1), glm::vec2(0.0f)});
+  scene::Material plane;
+  plane.baseColor = glm::vec4(1.0f);
+  plane.metallic = 0.0f;
+  plane.roughness = 1.0f;
+  scene::Material glass = plane;
+  glass.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 0.25f);
+  glass.alphaMode = scene::AlphaMode::kBlend;
+  scene::Camera cam;
+  cam.position = glm::vec3(0, 0, 3);
+  cam.yfov = 2.0f * std::atan(0.25f);
+  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, plane, cam);
+  s.materials.push_back(glass);
+  for (uint32_t i : {4u, 5u, 6u, 4u, 6u, 7u}) s.indices.push_back(i);
+  s.draws.push_back({6, 6, 1, -1, -1});
+  scene::Light sun;
+  sun.type = scene::LightType::kDirectional;
+  sun.direction = glm::vec3(0, 0, -1);
+  sun.intensity = kPi;
+  s.lights.push_back(sun);
+  s.finalize();
+  Settings r;
+  r.size = 16;
+  r.spp = 16;
+  const auto px = renderLinear(s, r);
+  ASSERT_TRUE(allFinite(px));
+  double mean = 0.0;
+  for (size_t i = 0; i < px.size(); i += 4) mean += px[i];
+  mean /= static_cast<double>(px.size() / 4);
+  std::printf("blended quad of alpha 0.25: %.4f (expected 0.5625)\n", mean);
+  EXPECT_NEAR(mean, 0.5625, 0.03);
+}
+
 // Both devices render the same image on every scene in scenes/: with the same seed
 // their random streams agree and every decision is made by the same shared code,
 // so paths match sample for sample, and only a rounding difference in a hit point

@@ -43,12 +43,13 @@ TEST(EffectPlan, CornellRoom) {
   EXPECT_EQ(skippedNames(p),
             (std::vector<std::string>{"textures", "alpha", "colors", "normalmaps", "animation"}));
   EXPECT_EQ(p.skipped.at(Effect::kTextures), "no textured material");
-  EXPECT_EQ(p.skipped.at(Effect::kAlpha), "no alpha-masked material");
+  EXPECT_EQ(p.skipped.at(Effect::kAlpha), "no alpha-masked or blended material");
   EXPECT_EQ(p.skipped.at(Effect::kColors), "no vertex colours");
   EXPECT_EQ(p.skipped.at(Effect::kAnimation), "nothing animated");
   EXPECT_EQ(p.summary(),
             "shadows, emission, indirect, specular (skipped: textures \u2014 no textured "
-            "material, alpha \u2014 no alpha-masked material, colors \u2014 no vertex colours, "
+            "material, alpha \u2014 no alpha-masked or blended material, colors \u2014 no vertex "
+            "colours, "
             "normalmaps \u2014 no normal-mapped material, animation \u2014 nothing animated)");
 }
 

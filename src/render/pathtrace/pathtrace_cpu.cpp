@@ -166,7 +166,8 @@ void CpuPathtracer::alphaFilter(const RTCFilterFunctionNArguments* args) {
     const glm::uvec4 texture = self->textured_ && (m.flags & gpu::kMaterialHasTexture) != 0u
                                    ? self->textureTable_[m.texture]
                                    : glm::uvec4(0u);
-    if (!gpu::alphaStops(tables, m, self->textured_, texture, uv)) args->valid[i] = 0;
+    const float threshold = gpu::alphaHash(RTCHitN_primID(args->hit, args->N, i), glm::vec2(u, v));
+    if (!gpu::alphaStops(tables, m, self->textured_, texture, uv, threshold)) args->valid[i] = 0;
   }
 }
 

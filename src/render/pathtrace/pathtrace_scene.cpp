@@ -127,7 +127,7 @@ bool ptReadsTextures(const scene::Scene& s, bool allowed) {
 bool ptReadsAlphaMasks(const scene::Scene& s, bool allowed) {
   if (!allowed) return false;
   for (const scene::Draw& d : s.draws)
-    if (s.materials[static_cast<size_t>(d.material)].alphaMode == scene::AlphaMode::kMask)
+    if (s.materials[static_cast<size_t>(d.material)].alphaMode != scene::AlphaMode::kOpaque)
       return true;
   return false;
 }
