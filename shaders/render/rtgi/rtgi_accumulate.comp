@@ -50,16 +50,18 @@ vec4 previousMoments(ivec2 px) {
 #endif
 }
 
-vec3 previousDirect(ivec2 px) {
+// The direct term's mean so far, and in alpha the base colour's (packAlbedoMean;
+// 0 after a camera move: reproject starts it again).
+vec4 previousDirect(ivec2 px) {
 #ifdef RTGI_REPROJECTED
-  return texelFetch(reprojectedDirect, px, 0).rgb;
+  return texelFetch(reprojectedDirect, px, 0);
 #else
-  return rtgi.frameIndex > 0u ? imageLoad(directMean, px).rgb : vec3(0.0);
+  return rtgi.frameIndex > 0u ? imageLoad(directMean, px) : vec4(0.0);
 #endif
 }
 
-void storeTerms(ivec2 px, vec3 direct, vec4 m) {
-  imageStore(directMean, px, vec4(direct, 0.0));
+void storeTerms(ivec2 px, vec4 direct, vec4 m) {
+  imageStore(directMean, px, direct);
   imageStore(moments, px, m);
 }
 #endif
@@ -221,7 +223,7 @@ void main() {
     vec3 direct = vec3(0.0);
     imageStore(accum, px, vec4(c + (covered ? borrowedLight(px, direct) : vec3(0.0)), 0.0));
 #ifdef RTGI_MOMENTS
-    storeTerms(px, direct, vec4(0.0));
+    storeTerms(px, vec4(direct, 0.0), vec4(0.0));
 #endif
     return;
   }
@@ -241,7 +243,11 @@ void main() {
   vec3 albedo = demodulation(px);
   float ld = luminance(direct / albedo), lr = luminance((light - direct) / albedo);
   vec4 m = stale ? vec4(0.0) : previousMoments(px);
-  vec3 d = stale ? vec3(0.0) : previousDirect(px);
-  storeTerms(px, d + (direct - d) / n, m + (vec4(ld, ld * ld, lr, lr * lr) - m) / n);
+  vec4 d = stale ? vec4(0.0) : previousDirect(px);
+  // The base colour's mean over the same samples (rtgi_denoise.glsl).
+  vec3 base = texelFetch(gAlbedo, px, 0).rgb;
+  vec3 a = d.a > 0.0 ? mix(unpackAlbedoMean(d.a), base, 1.0 / n) : base;
+  storeTerms(px, vec4(d.rgb + (direct - d.rgb) / n, packAlbedoMean(a)),
+             m + (vec4(ld, ld * ld, lr, lr * lr) - m) / n);
 #endif
 }

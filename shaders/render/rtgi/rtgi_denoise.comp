@@ -29,6 +29,8 @@ layout(binding = kDenoiseOutImage, rgba32ui) uniform writeonly uimage2D filtered
 layout(binding = kDenoisedImage, rgba32f) uniform writeonly image2D denoised;
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform readonly uimage2D keys;
 layout(binding = kHistoryUnit) uniform sampler2D mean;  // the accumulation target
+// The direct term's mean: its alpha holds the base colour's (rtgi_denoise.glsl).
+layout(binding = kHistoryDirectUnit) uniform sampler2D directMean;
 
 const float kKernel[2] = float[2](1.0 / 2.0, 1.0 / 4.0);
 
@@ -106,7 +108,8 @@ void main() {
   vec4 out2 = vec4(light2.rgb, variance2 + light2.a * light2.a * c2.a);
   if (last) {
     imageStore(denoised, px,
-               vec4((out1.rgb + out2.rgb) * demodulation(px), texelFetch(mean, px, 0).a));
+               vec4((out1.rgb + out2.rgb) * denoiseAlbedo(px, texelFetch(directMean, px, 0).a),
+                    texelFetch(mean, px, 0).a));
   } else {
     imageStore(filtered, px, packDenoiseTerms(out1, out2));
   }

@@ -42,7 +42,7 @@ DenoiseKey keyAt(ivec2 px) {
   DenoiseKey k;
   vec4 p = texelFetch(gPosition, px, 0);
   k.position = p.xyz;
-  k.normal = normalize(texelFetch(gNormal, px, 0).xyz);
+  k.normal = denoiseNormal(px);
   k.material = uint(p.w) & 1023u;
   return k;
 }
@@ -90,9 +90,10 @@ void main() {
     return;
   }
   vec4 position = texelFetch(gPosition, px, 0);
-  imageStore(keys, px, packDenoiseKey(position, normalize(texelFetch(gNormal, px, 0).xyz)));
-  vec3 albedo = demodulation(px);
-  vec3 direct = texelFetch(directMean, px, 0).rgb;
+  imageStore(keys, px, packDenoiseKey(position, denoiseNormal(px)));
+  vec4 directAndAlbedo = texelFetch(directMean, px, 0);
+  vec3 albedo = denoiseAlbedo(px, directAndAlbedo.a);
+  vec3 direct = directAndAlbedo.rgb;
   float n = c.a;
   vec4 m = texelFetch(moments, px, 0);
   if (n < kDenoiseTemporalSamples) {
