@@ -568,45 +568,58 @@ TEST_P(PathtraceTest, BaseColourTexturesMapOntoTheSurface) {
   EXPECT_NEAR(whiteLeft.g, 1.0, 0.02);
 }
 
-// An alpha-masked quad (glTF MASK, cutoff 0.5) whose texture is transparent on its
-// left half, in front of a white Lambertian plane lit along the view by a
-// directional light of irradiance pi (so the lit plane's radiance is 1). Through
-// the cut-out, the camera sees the plane, and the plane is lit through it: camera
-// rays and shadow rays both pass the mask. The opaque half is black.
-TEST_P(PathtraceTest, AlphaMaskedTexelsLetRaysThrough) {
+// Lambert of `albedo` (metallic 0, roughness 1), opaque.
+scene::Material lambert(glm::vec3 albedo) {
+  scene::Material m;
+  m.baseColor = glm::vec4(albedo, 1.0f);
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  return m;
+}
+
+// A white Lambertian plane at z = 0 and a 4 x 4 quad of material `front` at z = 1
+// (uv across it), seen from (0, 0, 3), where the quad fills the view (x, y in
+// [-0.5, 0.5] at it), lit along the view by a directional light of irradiance pi: the
+// lit plane's radiance is 1.
+scene::Scene quadBeforeLitPlane(const scene::Material& front,
+                                std::vector<scene::Texture> textures = {}) {
   std::vector<scene::Vertex> v;
   for (float z : {0.0f, 1.0f})
     for (glm::vec2 p : {glm::vec2(-2, -2), glm::vec2(2, -2), glm::vec2(2, 2), glm::vec2(-2, 2)})
       v.push_back({glm::vec3(p, z), glm::vec3(0, 0, 1), glm::vec2((p.x + 2) / 4, (2 - p.y) / 4)});
-  scene::Material plane;
-  plane.baseColor = glm::vec4(1.0f);
-  plane.metallic = 0.0f;
-  plane.roughness = 1.0f;
-  scene::Material mask = plane;
-  mask.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  mask.baseColorTexture = 0;
-  mask.alphaMode = scene::AlphaMode::kMask;
-  mask.alphaCutoff = 0.5f;
   scene::Camera cam;
   cam.position = glm::vec3(0, 0, 3);
-  cam.yfov = 2.0f * std::atan(0.25f);  // x, y in [-0.5, 0.5] at the quad (z = 1)
-  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, plane, cam);
-  s.materials.push_back(mask);
+  cam.yfov = 2.0f * std::atan(0.25f);
+  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, lambert(glm::vec3(1.0f)), cam);
+  s.materials.push_back(front);
   for (uint32_t i : {4u, 5u, 6u, 4u, 6u, 7u}) s.indices.push_back(i);
   s.draws.push_back({6, 6, 1, -1, -1});
-  scene::Texture t;
-  t.width = t.height = 4;
-  for (int y = 0; y < 4; ++y)
-    for (int x = 0; x < 4; ++x)
-      for (uint8_t c : {uint8_t(255), uint8_t(255), uint8_t(255), uint8_t(x < 2 ? 0 : 255)})
-        t.rgba8.push_back(c);
-  s.textures.push_back(t);
+  s.textures = std::move(textures);
   scene::Light sun;
   sun.type = scene::LightType::kDirectional;
   sun.direction = glm::vec3(0, 0, -1);
   sun.intensity = kPi;
   s.lights.push_back(sun);
   s.finalize();
+  return s;
+}
+
+// An alpha-masked quad (glTF MASK, cutoff 0.5), black, whose texture is transparent on
+// its left half, in front of the lit plane (quadBeforeLitPlane). Through the cut-out,
+// the camera sees the plane, and the plane is lit through it: camera rays and shadow
+// rays both pass the mask. The opaque half is black.
+TEST_P(PathtraceTest, AlphaMaskedTexelsLetRaysThrough) {
+  scene::Material mask = lambert(glm::vec3(0.0f));
+  mask.baseColorTexture = 0;
+  mask.alphaMode = scene::AlphaMode::kMask;
+  mask.alphaCutoff = 0.5f;
+  scene::Texture t;
+  t.width = t.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (uint8_t c : {uint8_t(255), uint8_t(255), uint8_t(255), uint8_t(x < 2 ? 0 : 255)})
+        t.rgba8.push_back(c);
+  const scene::Scene s = quadBeforeLitPlane(mask, {t});
   Settings r;
   r.size = 16;
   r.spp = 4;
@@ -629,37 +642,17 @@ TEST_P(PathtraceTest, AlphaMaskedTexelsLetRaysThrough) {
   EXPECT_LT(right, 0.01);
 }
 
-// A blended quad (glTF BLEND) of alpha 0.25, black, in front of the white plane of
-// the test above, lit along the view: a camera ray passes it with probability 0.75
-// and sees the plane, whose shadow ray passes it with probability 0.75, so the
-// image is 0.75 x 0.75 = 0.5625 of the lit plane. Drawn opaque, it would be black;
-// ignored, 1. 16 x 16 pixels x 16 samples: the mean of 4096 draws of 0 or 1 at
-// 0.5625 has a standard deviation of 0.008.
+// A blended quad (glTF BLEND) of alpha 0.25, black, in front of the lit plane
+// (quadBeforeLitPlane): a camera ray passes it with probability 0.75 and sees the
+// plane, whose shadow ray passes it with probability 0.75, so the image is 0.75 x
+// 0.75 = 0.5625 of the lit plane. Drawn opaque, it would be black; ignored, 1. 16 x
+// 16 pixels x 16 samples: the mean of 4096 draws of 0 or 1 at 0.5625 has a standard
+// deviation of 0.008.
 TEST_P(PathtraceTest, BlendedSurfacesCoverTheirAlpha) {
-  std::vector<scene::Vertex> v;
-  for (float z : {0.0f, 1.0f})
-    for (glm::vec2 p : {glm::vec2(-2, -2), glm::vec2(2, -2), glm::vec2(2, 2), glm::vec2(-2, 2)})
-      v.push_back({glm::vec3(p, z), glm::vec3(0, 0, 1), glm::vec2(0.0f)});
-  scene::Material plane;
-  plane.baseColor = glm::vec4(1.0f);
-  plane.metallic = 0.0f;
-  plane.roughness = 1.0f;
-  scene::Material glass = plane;
-  glass.baseColor = glm::vec4(0.0f, 0.0f, 0.0f, 0.25f);
+  scene::Material glass = lambert(glm::vec3(0.0f));
+  glass.baseColor.a = 0.25f;
   glass.alphaMode = scene::AlphaMode::kBlend;
-  scene::Camera cam;
-  cam.position = glm::vec3(0, 0, 3);
-  cam.yfov = 2.0f * std::atan(0.25f);
-  scene::Scene s = sceneOf(v, {0, 1, 2, 0, 2, 3}, plane, cam);
-  s.materials.push_back(glass);
-  for (uint32_t i : {4u, 5u, 6u, 4u, 6u, 7u}) s.indices.push_back(i);
-  s.draws.push_back({6, 6, 1, -1, -1});
-  scene::Light sun;
-  sun.type = scene::LightType::kDirectional;
-  sun.direction = glm::vec3(0, 0, -1);
-  sun.intensity = kPi;
-  s.lights.push_back(sun);
-  s.finalize();
+  const scene::Scene s = quadBeforeLitPlane(glass);
   Settings r;
   r.size = 16;
   r.spp = 16;
