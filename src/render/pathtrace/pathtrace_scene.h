@@ -48,7 +48,8 @@ BvhTriangle sceneTriangle(const scene::Scene& scene, uint32_t firstIndex);
 bool ptReadsTextures(const scene::Scene& scene, bool allowed);
 
 // Whether the path tracer applies alpha masks: `allowed` (the effect plan) and some
-// draw's material is alpha-masked (glTF MASK).
+// draw's material is alpha-masked or blended (glTF MASK or BLEND; texture_shared.h's
+// alphaStops).
 bool ptReadsAlphaMasks(const scene::Scene& scene, bool allowed);
 
 // Every texture's RGBA8 texels, one uint each, rows top first, in one array;
