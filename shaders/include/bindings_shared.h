@@ -116,7 +116,9 @@ VOXGI_CONST uint kMaskHistogramBinding = 16u;  // uint[kMaskBins]
 // selection binds it, so it takes the mask histogram's number.
 VOXGI_CONST uint kSpecularListBinding = 16u;
 // The shadows stage's light reservoirs (ReSTIR DI, rtgi_restir.glsl): vec4 per
-// pixel.
+// pixel. With few enough emitters that the light tree draws among them all, where
+// reservoirs are not reused, the same binding holds the light tiles
+// (rtgi_light_tiles.comp): the emitters drawn for each tile of pixels.
 VOXGI_CONST uint kRtgiReservoirBinding = 26u;
 // The BVH's stages (RTGI_BVH; render/gpu_bvh.h): the scene's index buffer (uint
 // per triangle corner), which a triangle's record points into (GpuPtTriangle).

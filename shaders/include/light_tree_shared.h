@@ -97,6 +97,51 @@ VOXGI_FN float lightNodeImportance(GpuLightNode n, vec3 p, vec3 nrm) {
   return power * cosEmitter * cosReceiver / dist2;
 }
 
+// What node `n` may contribute at any point of a region of receivers: points within
+// `radius` of p, normals within `cosN` (a cosine) of the unit axis nrm. It is 0 only
+// where no point and normal of the region can take light from the node: seen from
+// any receiver point, the node's points lie in the sphere of radius r + radius about
+// its centre (the two spheres' Minkowski sum), so the angle bounds of
+// lightNodeImportance hold with that radius, the receiver's widened by the normals'
+// half-angle as well. The distance counts from the region's nearest point, and a
+// region reaching into the node's sphere counts its radius², as there. With radius 0
+// and cosN 1 it is lightNodeImportance. The light tiles of rtgi's shadows stage
+// (rtgi_light_tiles.comp) weigh each emitter for a tile of pixels by it.
+VOXGI_FN float lightNodeRegionImportance(GpuLightNode n, vec3 p, float radius, vec3 nrm,
+                                         float cosN) {
+  float power = n.info.x;
+  if (!(power > 0.0f)) return 0.0f;
+  vec3 toC = vec3(n.sphere) - p;
+  float dist = sqrt(dot(toC, toC));
+  float r = n.sphere.w + radius;
+  float near = max(dist - radius, n.sphere.w);
+  float near2 = max(near * near, 1e-30f);
+  if (dist <= r) return power / near2;
+  vec3 w = toC / dist;
+  float sinU = min(r / dist * 1.0001f + 1e-6f, 1.0f);
+  float cosU = sqrt(1.0f - sinU * sinU);
+  // At the receivers: theta_i less theta_u and the normals' half-angle theta_n.
+  float sinN = sqrt(max(1.0f - cosN * cosN, 0.0f));
+  float cosB = cosU * cosN - sinU * sinN;  // theta_u + theta_n
+  float sinB = sinU * cosN + cosU * sinN;
+  float cosI = dot(nrm, w);
+  float sinI = sqrt(max(1.0f - cosI * cosI, 0.0f));
+  float cosReceiver = sinB < 0.0f || cosI > cosB ? 1.0f : cosI * cosB + sinI * sinB;
+  if (!(cosReceiver > 0.0f)) return 0.0f;
+  float cosT = -dot(vec3(n.cone), w);
+  float sinT = sqrt(max(1.0f - cosT * cosT, 0.0f));
+  float cosO = n.cone.w;
+  float sinO = sqrt(max(1.0f - cosO * cosO, 0.0f));
+  float cosEmitter = 1.0f;
+  if (cosT < cosO) {
+    float cosTO = cosT * cosO + sinT * sinO;
+    float sinTO = sinT * cosO - cosT * sinO;
+    cosEmitter = cosTO > cosU ? 1.0f : cosTO * cosU + sinTO * sinU;
+  }
+  if (!(cosEmitter > 0.0f)) return 0.0f;
+  return power * cosEmitter * cosReceiver / near2;
+}
+
 // Draws an emitter for point p (normal nrm) with uniform number u (the walk) and
 // random bits `seed` (the draw among leaves); returns its index in the emitter buffer
 // and its probability in pmf, or -1 (pmf 0) where the walk finds no emitter that can

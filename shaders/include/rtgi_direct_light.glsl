@@ -33,6 +33,12 @@ layout(std430, binding = kLightTreeBinding) readonly buffer LightTree { GpuLight
 GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
 #endif
 
+#ifdef RTGI_EMITTER_TILES
+// Where the pixels draw their emitters from light tiles (rtgi_light_tiles.comp),
+// rtgi_direct.comp, the one stage that does, defines the draw.
+int pickTileEmitter(float u, out float pmf, out GpuLightNode leaf);
+#endif
+
 // The Lambert part of the light arriving at s from emitter e along l, divided by the
 // direction's pdf: with the exact highlight sum, what directLight scales by
 // visibility.
@@ -242,22 +248,41 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
     for (int i = 0; i < candidates; ++i) {
       float p;
       float u = rand01();
+#ifdef RTGI_EMITTER_TILES
+      // Drawn from the pixel's light tile, and weighed by the emitter's own bound at
+      // the pixel (what the draw without tiles is in proportion to), not by its
+      // exact contribution (areaLightParts), which for a triangle costs many times
+      // as much: resampling the tile's draw by the bound approaches that draw. The
+      // bound is above 0 wherever the emitter can send light, so the estimate stays
+      // unbiased.
+      GpuLightNode leaf;
+      int k = pickTileEmitter(u, p, leaf);
+      float r = rand01();
+      if (k < 0 || !(p > 0.0)) continue;
+      float h = lightNodeImportance(leaf, s.p, s.n);
+#else
       int k = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, p);
       float r = rand01();
       if (k < 0 || !(p > 0.0)) continue;
       vec3 spec;
       float h = emitterTarget(k, s, spec);
+#endif
       if (!(h > 0.0)) continue;
       float w = h / p;
       wSum += w;
       if (r * wSum < w) {
         pick = k;
         pickedH = h;
+#ifndef RTGI_EMITTER_TILES
         specular = spec;
+#endif
       }
     }
     if (pick >= 0) {
       pmf = pickedH * float(kRtgiEmitterCandidates) / wSum;
+#ifdef RTGI_EMITTER_TILES
+      emitterTarget(pick, s, specular);
+#endif
       specular /= pmf;
     }
 #endif

@@ -37,6 +37,9 @@ VOXGI_CONST uint kRtgiTraceGroup = 64u;  // tracing stages: 1D groups over packe
 VOXGI_CONST uint kRtgiGroupX = 8u;
 VOXGI_CONST uint kRtgiGroupY = 8u;
 VOXGI_CONST uint kDenoisePrepareGroup = 16u;  // rtgi_denoise_prepare.comp: square groups
+VOXGI_CONST uint kLightTileSize = 8u;  // rtgi_light_tiles.comp: a tile's width and height in pixels
+VOXGI_CONST uint kLightTileSamples =
+    kLightTileSize * kLightTileSize;  // emitters drawn per light tile, one per lane
 
 // RtgiParams::flags: which terms accumulate adds.
 VOXGI_CONST uint kRtgiHasDirect = 1u;

@@ -343,6 +343,14 @@ const std::vector<CliOption> kOptions = {
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.reuseLights = parseOnOff("--light-reuse", v);
      }},
+    {"--light-tiles", nullptr, "on|off", kBothOptions, kRtgi,
+     "on (default): with 5 to 128 emitters, each pixel draws its\n"
+     "emitter candidates from its 8x8 tile's distribution and\n"
+     "resamples them; off: it weighs every emitter at its point",
+     nullptr,
+     [](const Targets& to, const std::string& v) {
+       to.settings->rtgi.lightTiles = parseOnOff("--light-tiles", v);
+     }},
     {"--denoise", nullptr, "on|off", kBothOptions, kRtgi,
      "on (default): the image is each pixel's running mean\n"
      "filtered by a variance-guided, edge-avoiding wavelet (SVGF),\n"

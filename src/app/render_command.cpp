@@ -201,6 +201,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
   stats["interleave"] = rt.settings().interleave;
   stats["reproject"] = rt.settings().reproject;
   stats["light_reuse"] = rt.settings().reuseLights;
+  stats["light_tiles"] = rt.settings().lightTiles;
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;
   stats["rays"] = rt.raysHitTriangles() ? "triangles" : "voxels";

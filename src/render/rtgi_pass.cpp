@@ -77,7 +77,38 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   // highlights whole.
   if (!sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_SAMPLED");
   if (*restir != '\0') defines.emplace_back(restir);
+  if (usesLightTiles(gs)) {
+    defines.emplace_back("RTGI_EMITTER_TILES");
+    // In place of lightDefines' one candidate: a candidate from a tile costs a read
+    // and one bound, not a bound per emitter, and the tile's distribution is looser
+    // than the pixel's own bounds.
+    std::erase(defines, std::string("RTGI_EMITTER_CANDIDATES=1"));
+    defines.push_back("RTGI_EMITTER_CANDIDATES=" + std::to_string(settings_.tileCandidates));
+  }
   return programs_.get({{"render/rtgi/rtgi_direct.comp"}, defines});
+}
+
+bool RtgiPass::usesLightTiles(const GpuScene& gs) const {
+  return settings_.lightTiles && settings_.features.shadows && settings_.features.emission &&
+         static_cast<int>(gs.emitterCount()) > settings_.exactEmitters &&
+         static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw;
+}
+
+void RtgiPass::makeLightTiles(gl::FrameContext& ctx) {
+  const GLuint tilesX =
+      (static_cast<GLuint>(width_) + gpu::kLightTileSize - 1) / gpu::kLightTileSize;
+  const GLuint tilesY =
+      (static_cast<GLuint>(height_) + gpu::kLightTileSize - 1) / gpu::kLightTileSize;
+  const size_t bytes = 8 * size_t{tilesX} * size_t{tilesY} * gpu::kLightTileSamples;
+  if (!lightTiles_ || lightTileBytes_ != bytes) {
+    lightTiles_ = gl::createBuffer(static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    lightTileBytes_ = bytes;
+  }
+  gl::StageScope scope(ctx.timer, Stage::kShadows);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiReservoirBinding, lightTiles_.id());
+  glUseProgram(programs_.get({{"render/rtgi/rtgi_light_tiles.comp"}, {}}).id());
+  glDispatchCompute(tilesX, tilesY, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 // Where the tree draws among all the emitters at once, each with its own tight
@@ -444,6 +475,7 @@ void RtgiPass::traceLight(gl::FrameContext& ctx, const GpuScene& gs, const Frame
     runStage(ctx, Stage::kShadows, directProgram(gs, "RTGI_RESTIR"), plan);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   } else if (plan.direct) {
+    if (usesLightTiles(gs)) makeLightTiles(ctx);
     runStage(ctx, plan.shadows ? Stage::kShadows : Stage::kDirect, directProgram(gs), plan);
   }
   if (settings_.indirect) {

@@ -271,5 +271,57 @@ TEST(LightTree, DrawsSmallLampsBesideALargePanelInProportionToTheirLight) {
   EXPECT_LT(hallRelativeVariance(), 8.0);
 }
 
+// A node's importance for a region of receivers (lightNodeRegionImportance, what
+// rtgi's light tiles weigh emitters by) bounds its importance at every point and
+// normal of the region: an emitter that can light one pixel of a tile keeps a
+// probability above 0 in the tile, and the draw stays unbiased. Every node of a
+// tree over mixedScene(), regions of radius 0 to 0.6 whose normals spread by up to
+// 90 degrees, points and normals drawn inside them.
+TEST(LightTree, ARegionsImportanceBoundsItsPoints) {
+  const auto emitters = packEmitters(mixedScene());
+  const auto nodes = buildLightTree(emitters);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+  auto unit = [&] {
+    for (;;) {
+      const glm::vec3 v(u(rng), u(rng), u(rng));
+      if (glm::length(v) > 0.1f && glm::length(v) <= 1.0f) return glm::normalize(v);
+    }
+  };
+  int compared = 0, positive = 0;
+  for (int region = 0; region < 300; ++region) {
+    const glm::vec3 c(1.5f * u(rng), 1.0f + 1.5f * u(rng), 1.5f * u(rng));
+    const float radius = 0.6f * u01(rng) * u01(rng);
+    const glm::vec3 axis = unit();
+    const float cosN = std::cos(1.5707963f * u01(rng) * u01(rng));
+    for (int k = 0; k < 20; ++k) {
+      // A point inside the region's sphere and a normal inside its cone.
+      const glm::vec3 p = c + unit() * radius * std::cbrt(u01(rng));
+      glm::vec3 n = unit();
+      if (glm::dot(n, axis) < cosN) {
+        const glm::vec3 side = glm::normalize(n - glm::dot(n, axis) * axis);
+        const float cosA = cosN + (1.0f - cosN) * u01(rng);
+        n = cosA * axis + std::sqrt(std::max(1.0f - cosA * cosA, 0.0f)) * side;
+      }
+      for (size_t i = 0; i < nodes.size(); i += 7) {
+        const float atPoint = gpu::lightNodeImportance(nodes[i], p, n);
+        const float atRegion = gpu::lightNodeRegionImportance(nodes[i], c, radius, axis, cosN);
+        ++compared;
+        if (atPoint > 0.0f) ++positive;
+        EXPECT_GE(atRegion, 0.999f * atPoint)
+            << "node " << i << ", region radius " << radius << ", cos " << cosN;
+      }
+    }
+  }
+  EXPECT_GT(positive, compared / 4);  // the test saw many lit pairs
+  // A region of one point and one normal is that point.
+  for (size_t i = 0; i < nodes.size(); i += 13) {
+    const glm::vec3 p(0.3f, 0.4f, -0.2f), n = glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f));
+    EXPECT_NEAR(gpu::lightNodeRegionImportance(nodes[i], p, 0.0f, n, 1.0f),
+                gpu::lightNodeImportance(nodes[i], p, n),
+                1e-5f * gpu::lightNodeImportance(nodes[i], p, n));
+  }
+}
+
 }  // namespace
 }  // namespace voxgi::scene

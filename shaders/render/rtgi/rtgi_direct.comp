@@ -15,7 +15,9 @@
 // Scene variants (RtgiPass): RTGI_LIGHTS when there are punctual lights,
 // RTGI_EMITTERS_EXACT (few emitters) or RTGI_EMITTERS_SAMPLED (many) when there are
 // emitters; RTGI_RESTIR_INITIAL and RTGI_RESTIR, the two dispatches of reservoir
-// resampling of many emitters (rtgi_restir.glsl). A software rasterizer runs both sides of every
+// resampling of many emitters (rtgi_restir.glsl); RTGI_EMITTER_TILES, candidates taken
+// from the pixel's light tile (rtgi_light_tiles.comp) where the tree draws among all
+// the emitters at once. A software rasterizer runs both sides of every
 // branch under a lane mask, and a loop's body at least once: code for what the scene lacks would
 // cost as much as code that runs, so it is compiled out.
 #include "scene_shared.h"
@@ -45,6 +47,32 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 }
 
 #include "rtgi_direct_light.glsl"
+#ifdef RTGI_EMITTER_TILES
+// The light tiles (rtgi_light_tiles.comp): for each 8x8 tile of pixels,
+// kLightTileSamples emitters drawn from its distribution, each as its place among
+// the light tree's leaves and its probability.
+layout(std430, binding = kRtgiReservoirBinding) readonly buffer LightTiles { uvec2 lightTiles[]; };
+// The pixel whose tile the candidates come from; main sets it.
+ivec2 tilePixel = ivec2(0);
+
+// One of the emitters drawn for the pixel's tile, taken at random (uniform number u):
+// its index, its probability under the tile's distribution in pmf and its leaf node
+// in `leaf`; -1 (pmf 0) where no emitter can light the tile. Each of the tile's
+// emitters was drawn from that distribution, so the one taken is too, whichever
+// entry it is (the candidates of a pixel, and of its tile's pixels, may repeat one:
+// resampled importance sampling stays unbiased for candidates that depend on each
+// other, as long as each is drawn from the distribution its weight divides by).
+int pickTileEmitter(float u, out float pmf, out GpuLightNode leaf) {
+  uint tilesX = (rtgi.width + kLightTileSize - 1u) / kLightTileSize;
+  uint tile = uint(tilePixel.y) / kLightTileSize * tilesX + uint(tilePixel.x) / kLightTileSize;
+  uint slot = min(uint(u * float(kLightTileSamples)), kLightTileSamples - 1u);
+  uvec2 entry = lightTiles[tile * kLightTileSamples + slot];
+  pmf = uintBitsToFloat(entry.y);
+  if (!(pmf > 0.0)) return -1;
+  leaf = lightTree[int(lightTree[0].info.z) + int(entry.x)];
+  return int(leaf.info.y);
+}
+#endif
 #if defined(RTGI_RESTIR) || defined(RTGI_RESTIR_INITIAL)
 #include "rtgi_restir.glsl"
 #endif
@@ -65,6 +93,9 @@ void main() {
   vec3 result = vec3(0.0);
   if (p.covered) {
     seedPixel(px, 1u);
+#ifdef RTGI_EMITTER_TILES
+    tilePixel = px;
+#endif
     Surface s = p.s;
     if (p.roughness < kMirrorRoughness) s.f0 = vec3(0.0);
 #ifdef RTGI_HIGHLIGHT_MIS
