@@ -346,7 +346,8 @@ const std::vector<CliOption> kOptions = {
     {"--light-tiles", nullptr, "on|off", kBothOptions, kRtgi,
      "on (default): with 5 to 128 emitters, each pixel draws its\n"
      "emitter candidates from its 8x8 tile's distribution and\n"
-     "resamples them; off: it weighs every emitter at its point",
+     "resamples them (not with --target-fps or an interleave\n"
+     "above 4); off: it weighs every emitter at its point",
      nullptr,
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.lightTiles = parseOnOff("--light-tiles", v);

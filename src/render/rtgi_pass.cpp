@@ -88,10 +88,17 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   return programs_.get({{"render/rtgi/rtgi_direct.comp"}, defines});
 }
 
+// The tile pass costs what weighing every emitter at about a sixth of the pixels
+// does, whatever share of them traces: tiles pay where the frames trace a quarter
+// of the pixels or more (dark_plane at 640x360, render scale 0.5, an interleave of
+// 16: `shadows` 4.2-4.3 ms without tiles, 6.9-8.5 with them). A frame budget
+// (select mask or uniform) traces as little as a sixteenth, and would switch
+// variants from frame to frame: no tiles there.
 bool RtgiPass::usesLightTiles(const GpuScene& gs) const {
   return settings_.lightTiles && settings_.features.shadows && settings_.features.emission &&
          static_cast<int>(gs.emitterCount()) > settings_.exactEmitters &&
-         static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw;
+         static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw &&
+         settings_.select == Settings::Select::kPattern && settings_.interleave <= 4;
 }
 
 void RtgiPass::makeLightTiles(gl::FrameContext& ctx) {

@@ -287,7 +287,8 @@ class RtgiPass {
   // emitters and shadow rays).
   bool reusesLights(const GpuScene& gs) const;
   // Whether the direct stage draws its emitters from light tiles (lightTiles with
-  // few enough emitters that the tree draws among them all).
+  // few enough emitters that the tree draws among them all, and frames that trace a
+  // quarter of the pixels or more).
   bool usesLightTiles(const GpuScene& gs) const;
   // The light tiles for this frame's G-buffer (rtgi_light_tiles.comp).
   void makeLightTiles(gl::FrameContext& ctx);
