@@ -53,6 +53,21 @@ VOXGI_CONST float kLightTreeLeafDraw = 128.0f;
 GpuLightNode lightTreeNode(int i);
 #endif
 
+// The largest cosine at node n's emitters towards the receivers, which lie in
+// directions within theta_u (cosU, sinU) of -w from them: the angle from the cone's
+// axis to -w, less the cone's half-angle theta_o and theta_u,
+// max(theta - theta_o - theta_u, 0).
+VOXGI_FN float lightNodeEmitterCos(GpuLightNode n, vec3 w, float cosU, float sinU) {
+  float cosT = -dot(vec3(n.cone), w);
+  float sinT = sqrt(max(1.0f - cosT * cosT, 0.0f));
+  float cosO = n.cone.w;
+  float sinO = sqrt(max(1.0f - cosO * cosO, 0.0f));
+  if (!(cosT < cosO)) return 1.0f;
+  float cosTO = cosT * cosO + sinT * sinO;  // theta - theta_o, in [0, pi]
+  float sinTO = sinT * cosO - cosT * sinO;
+  return cosTO > cosU ? 1.0f : cosTO * cosU + sinTO * sinU;
+}
+
 // What node `n` may contribute at point p with normal nrm (unit); 0 where none of its
 // emitters can send light there: all face away from p, or all lie below p's horizon.
 // A point inside the node's sphere excludes no direction, and its distance² counts
@@ -81,18 +96,7 @@ VOXGI_FN float lightNodeImportance(GpuLightNode n, vec3 p, vec3 nrm) {
   float sinI = sqrt(max(1.0f - cosI * cosI, 0.0f));
   float cosReceiver = cosI > cosU ? 1.0f : cosI * cosU + sinI * sinU;
   if (!(cosReceiver > 0.0f)) return 0.0f;
-  // At the emitters: the angle from the cone's axis to the direction towards p, less
-  // the cone's half-angle theta_o and theta_u, max(theta - theta_o - theta_u, 0).
-  float cosT = -dot(vec3(n.cone), w);
-  float sinT = sqrt(max(1.0f - cosT * cosT, 0.0f));
-  float cosO = n.cone.w;
-  float sinO = sqrt(max(1.0f - cosO * cosO, 0.0f));
-  float cosEmitter = 1.0f;
-  if (cosT < cosO) {
-    float cosTO = cosT * cosO + sinT * sinO;  // theta - theta_o, in [0, pi]
-    float sinTO = sinT * cosO - cosT * sinO;
-    cosEmitter = cosTO > cosU ? 1.0f : cosTO * cosU + sinTO * sinU;
-  }
+  float cosEmitter = lightNodeEmitterCos(n, w, cosU, sinU);
   if (!(cosEmitter > 0.0f)) return 0.0f;
   return power * cosEmitter * cosReceiver / dist2;
 }
@@ -128,16 +132,7 @@ VOXGI_FN float lightNodeRegionImportance(GpuLightNode n, vec3 p, float radius, v
   float sinI = sqrt(max(1.0f - cosI * cosI, 0.0f));
   float cosReceiver = sinB < 0.0f || cosI > cosB ? 1.0f : cosI * cosB + sinI * sinB;
   if (!(cosReceiver > 0.0f)) return 0.0f;
-  float cosT = -dot(vec3(n.cone), w);
-  float sinT = sqrt(max(1.0f - cosT * cosT, 0.0f));
-  float cosO = n.cone.w;
-  float sinO = sqrt(max(1.0f - cosO * cosO, 0.0f));
-  float cosEmitter = 1.0f;
-  if (cosT < cosO) {
-    float cosTO = cosT * cosO + sinT * sinO;
-    float sinTO = sinT * cosO - cosT * sinO;
-    cosEmitter = cosTO > cosU ? 1.0f : cosTO * cosU + sinTO * sinU;
-  }
+  float cosEmitter = lightNodeEmitterCos(n, w, cosU, sinU);
   if (!(cosEmitter > 0.0f)) return 0.0f;
   return power * cosEmitter * cosReceiver / near2;
 }
