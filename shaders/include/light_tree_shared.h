@@ -140,14 +140,16 @@ VOXGI_FN float lightNodeRegionImportance(GpuLightNode n, vec3 p, float radius, v
 // Draws an emitter for point p (normal nrm) with uniform number u (the walk) and
 // random bits `seed` (the draw among leaves); returns its index in the emitter buffer
 // and its probability in pmf, or -1 (pmf 0) where the walk finds no emitter that can
-// contribute. Nodes must hold a tree of at least one node.
+// contribute. The walk stops at the first node of at most `leafDraw` emitters
+// (kLightTreeLeafDraw, or fewer where a draw must cost less than one bound per
+// emitter). Nodes must hold a tree of at least one node.
 VOXGI_FN int pickLightTree(VOXGI_LIGHT_NODES_PARAM float u, uint seed, vec3 p, vec3 nrm,
-                           VOXGI_OUT(float) pmf) {
+                           float leafDraw, VOXGI_OUT(float) pmf) {
   pmf = 1.0f;
   GpuLightNode n = VOXGI_LIGHT_NODE(0);
   // One uniform number for the whole walk: rescaled after each choice, it stays
   // uniform on [0, 1).
-  while (n.info.w > kLightTreeLeafDraw) {
+  while (n.info.w > leafDraw) {
     int first = int(n.info.y);
     GpuLightNode left = VOXGI_LIGHT_NODE(first);
     GpuLightNode right = VOXGI_LIGHT_NODE(first + 1);

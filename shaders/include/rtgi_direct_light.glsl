@@ -29,6 +29,12 @@
 #define RTGI_EMITTER_CANDIDATES 4
 #endif
 const int kRtgiEmitterCandidates = RTGI_EMITTER_CANDIDATES;
+// Where the light tree's walk stops and draws among a node's emitters, each weighed
+// by its own bound (pickLightTree): fewer at the indirect rays' hits (RtgiPass).
+#ifndef RTGI_LEAF_DRAW
+#define RTGI_LEAF_DRAW kLightTreeLeafDraw
+#endif
+const float kRtgiLeafDraw = RTGI_LEAF_DRAW;
 layout(std430, binding = kLightTreeBinding) readonly buffer LightTree { GpuLightNode lightTree[]; };
 GpuLightNode lightTreeNode(int i) { return lightTree[i]; }
 #endif
@@ -261,7 +267,7 @@ vec3 directLight(Surface s, vec3 o, vec3 ng) {
       if (k < 0 || !(p > 0.0)) continue;
       float h = lightNodeImportance(leaf, s.p, s.n);
 #else
-      int k = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, p);
+      int k = pickLightTree(u, floatBitsToUint(rand01()), s.p, s.n, kRtgiLeafDraw, p);
       float r = rand01();
       if (k < 0 || !(p > 0.0)) continue;
       vec3 spec;

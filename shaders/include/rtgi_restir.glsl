@@ -14,8 +14,9 @@
 // (kRestirCandidates for every pixel's own reservoir). Reuse
 // weighs its inputs by pairwise MIS (restirDirect): unbiased, so a neighbour across
 // an edge, whose surface faces other emitters, neither darkens nor brightens the
-// pixel. A light tree draw costs 10-12 node tests on the way down; a reused
-// reservoir two targets, so reuse adds candidates at a fraction of their price.
+// pixel. A light tree draw costs a few node tests on the way down and a bound for
+// each emitter of the node it ends in; a reused reservoir two targets, so reuse
+// adds candidates at a fraction of their price.
 //
 // No temporal reuse: each pixel's running mean already averages its frames (after a
 // camera move, its reprojected history), and a reservoir carried from frame to frame
@@ -34,8 +35,19 @@
 
 layout(std430, binding = kRtgiReservoirBinding) buffer Reservoirs { vec4 reservoirs[]; };
 
-// Light-tree candidates a pixel draws each frame.
-const int kRestirCandidates = 2;
+// Light-tree candidates a pixel draws each frame, each walking down to nodes of at
+// most kRestirLeafDraw emitters (RtgiPass::Settings::restirCandidates,
+// restirLeafDraw): a draw among a node's emitters costs a bound for each, so small
+// nodes make candidates cheap, and resampling by the exact target makes up for
+// their looser distribution.
+#ifndef RTGI_RESTIR_CANDIDATES
+#define RTGI_RESTIR_CANDIDATES 4
+#endif
+const int kRestirCandidates = RTGI_RESTIR_CANDIDATES;
+#ifndef RTGI_RESTIR_LEAF_DRAW
+#define RTGI_RESTIR_LEAF_DRAW 8.0
+#endif
+const float kRestirLeafDraw = RTGI_RESTIR_LEAF_DRAW;
 // Neighbours reused, and the radius they are drawn from as a share of the image's
 // height (Bitterli et al.: 30 pixels at 1080), at least kRestirMinRadius pixels.
 const int kRestirNeighbours = 8;
@@ -102,7 +114,7 @@ void restirInitial(ivec2 px, Pixel p) {
   int emitterCount = int(rtgi.emitterCount);
   for (int i = 0; i < kRestirCandidates && emitterCount > 0; ++i) {
     float pmf;
-    int k = pickLightTree(rand01(), floatBitsToUint(rand01()), s.p, s.n, pmf);
+    int k = pickLightTree(rand01(), floatBitsToUint(rand01()), s.p, s.n, kRestirLeafDraw, pmf);
     vec3 spec = vec3(0.0);
     float h = k >= 0 && pmf > 0.0 ? emitterTarget(k, s, spec) : 0.0;
     stream(r, k, h, spec, h > 0.0 ? h / pmf : 0.0, 1.0);

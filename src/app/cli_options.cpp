@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "app/viewer_input.h"
+#include "light_tree_shared.h"
 
 namespace voxgi::app {
 
@@ -351,6 +352,15 @@ const std::vector<CliOption> kOptions = {
      nullptr,
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.lightTiles = parseOnOff("--light-tiles", v);
+     }},
+    {"--leaf-draw-at-hits", nullptr, "N", kBothOptions, kRtgi,
+     "at the indirect rays' hits, the light tree's walk goes down\n"
+     "to nodes of at most N emitters (1-128, default 16) and\n"
+     "draws among them by each one's bound; 128: as at the pixels",
+     nullptr,
+     [](const Targets& to, const std::string& v) {
+       to.settings->rtgi.leafDrawAtHits = parseIntValue(
+           "--leaf-draw-at-hits", v, 1, static_cast<int>(gpu::kLightTreeLeafDraw));
      }},
     {"--denoise", nullptr, "on|off", kBothOptions, kRtgi,
      "on (default): the image is each pixel's running mean\n"

@@ -202,6 +202,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
   stats["reproject"] = rt.settings().reproject;
   stats["light_reuse"] = rt.settings().reuseLights;
   stats["light_tiles"] = rt.settings().lightTiles;
+  stats["leaf_draw_at_hits"] = rt.settings().leafDrawAtHits;
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;
   stats["rays"] = rt.raysHitTriangles() ? "triangles" : "voxels";

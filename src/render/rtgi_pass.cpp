@@ -77,6 +77,10 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   // highlights whole.
   if (!sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_SAMPLED");
   if (*restir != '\0') defines.emplace_back(restir);
+  if (*restir != '\0') {
+    defines.push_back("RTGI_RESTIR_CANDIDATES=" + std::to_string(settings_.restirCandidates));
+    defines.push_back("RTGI_RESTIR_LEAF_DRAW=" + std::to_string(settings_.restirLeafDraw) + ".0");
+  }
   if (usesLightTiles(gs)) {
     defines.emplace_back("RTGI_EMITTER_TILES");
     // In place of lightDefines' one candidate: a candidate from a tile costs a read
@@ -150,6 +154,9 @@ std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs, bool atHits)
   // frames that time buys (the hall at equal time).
   if (atHits || static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw)
     defines.emplace_back("RTGI_EMITTER_CANDIDATES=1");
+  if (atHits &&
+      static_cast<float>(gs.emitterCount()) > static_cast<float>(settings_.leafDrawAtHits))
+    defines.push_back("RTGI_LEAF_DRAW=" + std::to_string(settings_.leafDrawAtHits) + ".0");
   return defines;
 }
 

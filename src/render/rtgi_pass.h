@@ -68,10 +68,21 @@ class RtgiPass {
     int exactLights = 8;
     // The same at the indirect rays' hits, whose light a cosine ray already scatters.
     int exactLightsAtHits = 4;
+    // At the indirect rays' hits, the light tree's walk goes on down to nodes of at
+    // most this many emitters before it weighs each one's bound (at the pixels and
+    // the mirrors' hits: up to gpu::kLightTreeLeafDraw, 128). A bound per emitter at
+    // every hit cost dark_plane (96 emitters) half its indirect stage.
+    int leafDrawAtHits = 16;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
     // is resampled with its neighbours' (ReSTIR DI's spatial reuse,
     // rtgi_restir.glsl); false: each pixel draws from its own candidates only.
     bool reuseLights = true;
+    // There, each pixel's light-tree candidates, each walking down to nodes of at
+    // most restirLeafDraw emitters before it weighs each one's bound: more, cheaper
+    // candidates than two walks to 128 each (the hall's `shadows` -30%, FLIP at 16
+    // frames 0.072 -> 0.069).
+    int restirCandidates = 4;
+    int restirLeafDraw = 8;
     // Few emitters (where the light tree draws among them all): each pixel takes its
     // emitter candidates among those drawn for its 8x8 tile (rtgi_light_tiles.comp)
     // and resamples them by its own bound on each; false: every pixel weighs every

@@ -1,7 +1,8 @@
 // The light tree's walk (light_tree_shared.h) agrees between its GLSL build (run by
 // llvmpipe) and its C++ build, which tests/scene/light_tree_test.cpp checks against
 // the emitters' exact contributions: the same emitter drawn, with the same
-// probability, on random points, normals and numbers.
+// probability, on random points, normals and numbers, walking down to nodes of at most
+// kLightTreeLeafDraw emitters (the pixels) or 8 (as rtgi's indirect hits may).
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -68,8 +69,9 @@ TEST_F(GlTest, LightTreeWalkAgreesBetweenGlslAndCpp) {
   for (int i = 0; i < kCases; ++i) {
     const glm::vec3 p(inputs[2 * i]), n(inputs[2 * i + 1]);
     const uint32_t stream = std::bit_cast<uint32_t>(inputs[2 * i + 1].w);
+    const float leafDraw = i % 2 != 0 ? 8.0f : gpu::kLightTreeLeafDraw;
     float pmf = 0.0f;
-    const int pick = gpu::pickLightTree(tree.data(), inputs[2 * i].w, stream, p, n, pmf);
+    const int pick = gpu::pickLightTree(tree.data(), inputs[2 * i].w, stream, p, n, leafDraw, pmf);
     const glm::vec4 g = gpuOut[static_cast<size_t>(i)];
     if (pick >= 0) ++drawn;
     if (agrees(g, pick, pmf)) {
@@ -80,7 +82,7 @@ TEST_F(GlTest, LightTreeWalkAgreesBetweenGlslAndCpp) {
     for (float du : {-1e-5f, 1e-5f}) {
       float nearPmf = 0.0f;
       const int nearPick =
-          gpu::pickLightTree(tree.data(), inputs[2 * i].w + du, stream, p, n, nearPmf);
+          gpu::pickLightTree(tree.data(), inputs[2 * i].w + du, stream, p, n, leafDraw, nearPmf);
       nearby = nearby || agrees(g, nearPick, nearPmf);
     }
     ++(nearby ? boundary : differ);
