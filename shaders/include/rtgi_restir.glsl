@@ -37,7 +37,7 @@ layout(std430, binding = kRtgiReservoirBinding) buffer Reservoirs { vec4 reservo
 
 // Light-tree candidates a pixel draws each frame, each walking down to nodes of at
 // most kRestirLeafDraw emitters (RtgiPass::Settings::restirCandidates,
-// restirLeafDraw): a draw among a node's emitters costs a bound for each, so small
+// candidateLeafDraw): a draw among a node's emitters costs a bound for each, so small
 // nodes make candidates cheap, and resampling by the exact target makes up for
 // their looser distribution.
 #ifndef RTGI_RESTIR_CANDIDATES

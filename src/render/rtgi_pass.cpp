@@ -79,7 +79,8 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   if (*restir != '\0') defines.emplace_back(restir);
   if (*restir != '\0') {
     defines.push_back("RTGI_RESTIR_CANDIDATES=" + std::to_string(settings_.restirCandidates));
-    defines.push_back("RTGI_RESTIR_LEAF_DRAW=" + std::to_string(settings_.restirLeafDraw) + ".0");
+    defines.push_back("RTGI_RESTIR_LEAF_DRAW=" + std::to_string(settings_.candidateLeafDraw) +
+                      ".0");
   }
   if (usesLightTiles(gs)) {
     defines.emplace_back("RTGI_EMITTER_TILES");
@@ -154,9 +155,14 @@ std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs, bool atHits)
   // frames that time buys (the hall at equal time).
   if (atHits || static_cast<float>(gs.emitterCount()) <= gpu::kLightTreeLeafDraw)
     defines.emplace_back("RTGI_EMITTER_CANDIDATES=1");
-  if (atHits &&
-      static_cast<float>(gs.emitterCount()) > static_cast<float>(settings_.leafDrawAtHits))
-    defines.push_back("RTGI_LEAF_DRAW=" + std::to_string(settings_.leafDrawAtHits) + ".0");
+  // Where candidates are resampled by their exact contribution (the mirrors' hits,
+  // the pixels without reuse), walks end in small nodes, as ReSTIR's candidates do.
+  const int leafDraw = atHits ? settings_.leafDrawAtHits
+                       : static_cast<float>(gs.emitterCount()) > gpu::kLightTreeLeafDraw
+                           ? settings_.candidateLeafDraw
+                           : static_cast<int>(gpu::kLightTreeLeafDraw);
+  if (static_cast<float>(gs.emitterCount()) > static_cast<float>(leafDraw))
+    defines.push_back("RTGI_LEAF_DRAW=" + std::to_string(leafDraw) + ".0");
   return defines;
 }
 

@@ -78,11 +78,12 @@ class RtgiPass {
     // rtgi_restir.glsl); false: each pixel draws from its own candidates only.
     bool reuseLights = true;
     // There, each pixel's light-tree candidates, each walking down to nodes of at
-    // most restirLeafDraw emitters before it weighs each one's bound: more, cheaper
-    // candidates than two walks to 128 each (the hall's `shadows` -30%, FLIP at 16
-    // frames 0.072 -> 0.069).
+    // most candidateLeafDraw emitters before it weighs each one's bound: more,
+    // cheaper candidates than two walks to 128 each (the hall's `shadows` -30%, FLIP
+    // at 16 frames 0.072 -> 0.069). The same walks where candidates are resampled
+    // without reuse (the mirrors' hits, --light-reuse off).
     int restirCandidates = 4;
-    int restirLeafDraw = 8;
+    int candidateLeafDraw = 8;
     // Few emitters (where the light tree draws among them all): each pixel takes its
     // emitter candidates among those drawn for its 8x8 tile (rtgi_light_tiles.comp)
     // and resamples them by its own bound on each; false: every pixel weighs every
