@@ -30,7 +30,8 @@
 #endif
 const int kRtgiEmitterCandidates = RTGI_EMITTER_CANDIDATES;
 // Where the light tree's walk stops and draws among a node's emitters, each weighed
-// by its own bound (pickLightTree): fewer at the indirect rays' hits (RtgiPass).
+// by its own bound (pickLightTree): fewer at the indirect rays' hits and where
+// candidates are resampled (RtgiPass::lightDefines).
 #ifndef RTGI_LEAF_DRAW
 #define RTGI_LEAF_DRAW kLightTreeLeafDraw
 #endif

@@ -76,8 +76,8 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   // reflections, which do not see the emitters), the light sample carries the
   // highlights whole.
   if (!sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_SAMPLED");
-  if (*restir != '\0') defines.emplace_back(restir);
   if (*restir != '\0') {
+    defines.emplace_back(restir);
     defines.push_back("RTGI_RESTIR_CANDIDATES=" + std::to_string(settings_.restirCandidates));
     defines.push_back("RTGI_RESTIR_LEAF_DRAW=" + std::to_string(settings_.candidateLeafDraw) +
                       ".0");

@@ -69,9 +69,10 @@ class RtgiPass {
     // The same at the indirect rays' hits, whose light a cosine ray already scatters.
     int exactLightsAtHits = 4;
     // At the indirect rays' hits, the light tree's walk goes on down to nodes of at
-    // most this many emitters before it weighs each one's bound (at the pixels and
-    // the mirrors' hits: up to gpu::kLightTreeLeafDraw, 128). A bound per emitter at
-    // every hit cost dark_plane (96 emitters) half its indirect stage.
+    // most this many emitters before it weighs each one's bound (elsewhere: up to
+    // gpu::kLightTreeLeafDraw, 128, or candidateLeafDraw where candidates are
+    // resampled). A bound per emitter at every hit cost dark_plane (96 emitters)
+    // half its indirect stage.
     int leafDrawAtHits = 16;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
     // is resampled with its neighbours' (ReSTIR DI's spatial reuse,
