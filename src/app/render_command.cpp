@@ -196,12 +196,14 @@ void addPathtraceStats(nlohmann::ordered_json& stats, const RenderOptions& o,
 }
 
 void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const render::RtgiPass& rt,
-                  const RenderRecord& record) {
+                  const render::GpuScene& gs, const RenderRecord& record) {
   using Settings = render::RtgiPass::Settings;
   stats["interleave"] = rt.settings().interleave;
   stats["reproject"] = rt.settings().reproject;
   stats["light_reuse"] = rt.settings().reuseLights;
   stats["light_tiles"] = rt.settings().lightTiles;
+  stats["emitter_sampling"] = rt.emitterSampling(gs);
+  stats["punctual_sampling"] = rt.punctualSampling(gs);
   stats["leaf_draw_at_hits"] = rt.settings().leafDrawAtHits;
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;
@@ -309,7 +311,8 @@ nlohmann::ordered_json renderStats(const RenderOptions& o, const gl::Context& co
     startupStages[stageName(st.stage)] = st.cpuMs;
   stats["startup_stages"] = startupStages;
   if (o.render.mode == render::Mode::kPathtrace) addPathtraceStats(stats, o, renderer, record);
-  if (o.render.mode == render::Mode::kRtgi) addRtgiStats(stats, o, *renderer.rtgi(), record);
+  if (o.render.mode == render::Mode::kRtgi)
+    addRtgiStats(stats, o, *renderer.rtgi(), renderer.gpuScene(), record);
   const nlohmann::ordered_json stages = record.times.json();
   stats["stages"] = stages;
   stats["stage_timing"] = gl::stageTimingMethod();

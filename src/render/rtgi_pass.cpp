@@ -132,6 +132,20 @@ bool RtgiPass::reusesLights(const GpuScene& gs) const {
          static_cast<float>(gs.emitterCount()) > gpu::kLightTreeLeafDraw;
 }
 
+const char* RtgiPass::emitterSampling(const GpuScene& gs) const {
+  if (gs.emitterCount() == 0 || !settings_.features.emission) return "none";
+  // Without shadows every emitter's unshadowed light is summed.
+  if (static_cast<int>(gs.emitterCount()) <= settings_.exactEmitters || !settings_.features.shadows)
+    return "exact";
+  if (reusesLights(gs)) return "restir";
+  return usesLightTiles(gs) ? "light_tiles" : "light_tree";
+}
+
+const char* RtgiPass::punctualSampling(const GpuScene& gs) const {
+  if (gs.lightCount() == 0) return "none";
+  return static_cast<int>(gs.lightCount()) > settings_.exactLights ? "sampled" : "exact";
+}
+
 // How direct light treats the scene's lights (rtgi_direct_light.glsl): punctual
 // lights each with its shadow ray (RTGI_LIGHTS) or, beyond exactLights (at the
 // indirect hits exactLightsAtHits), one drawn per pixel (RTGI_LIGHTS_SAMPLED); emitters summed

@@ -233,6 +233,12 @@ class RtgiPass {
   }
   // Whether the shadow and indirect rays do.
   bool raysHitTriangles() const { return bvh_ != nullptr && settings_.exactRays; }
+  // How the pixels' direct light samples gs's emitters, as --stats says it: "none",
+  // "exact" (each one weighed at every pixel), "light_tiles", "light_tree" or
+  // "restir"; and its punctual lights: "none", "exact" (a shadow ray each) or
+  // "sampled" (one drawn a pixel). What runs, which the settings alone do not say.
+  const char* emitterSampling(const GpuScene& gs) const;
+  const char* punctualSampling(const GpuScene& gs) const;
   // Whether the G-buffer is made by rays (Settings::primary).
   bool primaryRays() const {
     return bvh_ != nullptr && settings_.primary == Settings::Primary::kRays;

@@ -302,6 +302,28 @@ TEST(Cli, FrameBudgetWritesItsMaskAndStats) {
   EXPECT_FALSE(fs::exists(dir + "/m2.png"));
 }
 
+// --stats says how the direct light sampled the emitters and the punctual lights in
+// the run, which the settings alone do not say: it follows the scene's counts.
+TEST(Cli, StatsSayHowTheLightsWereSampled) {
+  const std::string dir = scratchDir();
+  const auto sampling = [&](const std::string& scene, const std::string& options) {
+    const std::string stats = dir + "/s.json";
+    const auto r = runCommand(voxgi("render " + scene + " --size 16x16 --frames 1 --voxels 32 " +
+                                    options + " --stats " + stats));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(stats);
+    const auto s = nlohmann::json::parse(in);
+    return s["emitter_sampling"].get<std::string>() + " " +
+           s["punctual_sampling"].get<std::string>();
+  };
+  const std::string hall = sourceDir() + "/scenes/hall/";
+  EXPECT_EQ(sampling(cornellRoom(), ""), "exact none");      // one emitter
+  EXPECT_EQ(sampling(darkPlane(), ""), "light_tiles none");  // 96 emitters
+  EXPECT_EQ(sampling(darkPlane(), "--light-tiles off"), "light_tree none");
+  EXPECT_EQ(sampling(hall + "hall.gltf", ""), "restir exact");        // 2,882; 6 lights
+  EXPECT_EQ(sampling(hall + "hall_night.gltf", ""), "none sampled");  // 23 lights
+}
+
 TEST(Cli, RendersPngExrAndStats) {
   const std::string dir = scratchDir();
   const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " +
