@@ -128,14 +128,4 @@ float logEdgeWeight(DenoiseKey p, DenoiseKey q, float scale) {
   return 128.0 * log(c) - plane / scale;
 }
 
-// The same weight itself: the normals' cosine to the 128th power by seven squarings,
-// where the log and the exp of each tap cost a software rasterizer more than the
-// rest of a tap of the variance's 7x7 estimate (rtgi_denoise_prepare.comp).
-float edgeWeight(DenoiseKey p, DenoiseKey q, float scale) {
-  if (q.material != p.material) return 0.0;
-  float c = max(dot(p.normal, q.normal), 0.0);
-  for (int i = 0; i < 7; ++i) c *= c;
-  return c * exp(-abs(dot(p.normal, q.position - p.position)) / scale);
-}
-
 #endif

@@ -88,7 +88,7 @@ void rowSum(int e, out vec4 pooled, out vec4 variance) {
     int i = centre + dx;
     float nq = tilePosition[i].w;
     if (!(nq >= 1.0)) continue;
-    float w = dx == 0 ? 1.0 : edgeWeight(p, tileKey(i), scale);
+    float w = dx == 0 ? 1.0 : exp(logEdgeWeight(p, tileKey(i), scale));
     vec4 mq = tileMoments[i];
     pooled += w * mq;
     variance.z += w;
@@ -184,7 +184,7 @@ void main() {
     for (int dy = -3; dy <= 3; ++dy) {
       int i = (local.y + 3 + dy) * kTile + local.x + 3;
       if (!(tilePosition[i].w >= 0.0)) continue;
-      float w = dy == 0 ? 1.0 : edgeWeight(p, tileKey(i), scale);
+      float w = dy == 0 ? 1.0 : exp(logEdgeWeight(p, tileKey(i), scale));
       int e = (local.y + 3 + dy) * int(kDenoisePrepareGroup) + local.x;
       pooled += w * tileMoments[e];
       variance += w * rowVariance[e];
