@@ -8,12 +8,20 @@ at the matching depth:
   direct + 1       rtgi --bounces 1 --effects -specular pathtrace --max-depth 3
   all              rtgi (every effect)                  pathtrace --max-depth 64
 
-(The path tracer's depth-limited images also hold what a mirror shows at that depth,
-which rtgi's terms without specular leave out: read the mirror ball's blocks with
-that in mind.) Each pair is measured with `voxgi compare --blocks 16`: mean
-luminance ratio, the lowest and highest 16x16-block ratio, and the share of blocks
-off by more than 3%, plus FLIP. A bias shows where it lives: in the direct term, or
-only once light bounces.
+The terms without specular render a copy of the scene whose mirrors (materials
+smoother than roughness 0.05, what rtgi's specular stage alone lights) are black and
+diffuse: the path tracer's depth-limited image of a mirror holds what the mirror
+shows at that depth, which those terms leave out by design, so both images are dark
+there and the comparison is of the light the term does carry. Each pair is measured
+with `voxgi compare --blocks 16`: mean luminance ratio, the lowest and highest
+16x16-block ratio, and the share of blocks off by more than 3%, plus FLIP. A bias
+shows where it lives: in the direct term, or only once light bounces.
+
+Both images are noisy: at 64 frames and 256 spp a block of a dim or small-lamp-lit
+region scatters by several percent. With --seeds 2, rtgi and the path tracer each
+render a second seed, and the row gives the same share of blocks off by more than 3%
+between each renderer's two seeds: the share that noise alone makes. A bias shows as
+a share of blocks off against the path tracer well above those two.
 
 Leaks: for each pair of the set's "leaks" (a sealed room rendered with the light on
 the other side of its wall on, then off; nothing can pass the wall, so the two
@@ -36,6 +44,9 @@ from voxgi_tools import reference as refs
 
 SIZE = "256x256"
 SEED = 7
+# rtgi's kMirrorRoughness (rtgi_shared.h): smoother surfaces are mirrors, which only
+# its specular stage lights.
+MIRROR_ROUGHNESS = 0.05
 TERMS = [
     ("direct", ["--effects", "-indirect,-specular"], ["--max-depth", "2"]),
     ("direct + 1", ["--bounces", "1", "--effects", "-specular"], ["--max-depth", "3"]),
@@ -57,16 +68,50 @@ def compare(test, ref):
     return m
 
 
-def pathtraced(view, term, scene, extra, flags, spp):
+def pathtraced(view, term, scene, extra, flags, spp, seed=refs.SEED):
     """The path tracer's image of `view` for `term` (its depth in `flags`), made once
-    into out/reference and made again where the one there has another depth."""
+    into out/reference and made again where the one there has another depth. A scene
+    without mirrors (without_mirrors) and a seed other than the references' are
+    named in the file's name."""
     tag = re.sub(r"[^a-z0-9]+", "_", term)
+    if os.path.basename(os.path.dirname(os.path.dirname(scene))) == "mirrors-dark":
+        tag += "_mirrors_dark"
+    if seed != refs.SEED:
+        tag += f"_seed{seed}"
     base = os.path.join(refs.MADE, f"{view}_{tag}_{SIZE}_{spp}spp")
     depth = int(flags[flags.index("--max-depth") + 1])
     if not os.path.exists(base + ".exr") or refs.depth_of(base + ".exr") != depth:
-        print(f"bench-terms: path tracing {view}, {term} ({spp} spp)", flush=True)
-        refs.render(scene, extra, SIZE, spp, base, flags)
+        print(f"bench-terms: path tracing {view}, {term} ({spp} spp, seed {seed})", flush=True)
+        refs.render(scene, extra, SIZE, spp, base, flags, seed=seed)
     return base
+
+
+def without_mirrors(scene, out):
+    """`scene`, or where it has mirrors (materials smoother than MIRROR_ROUGHNESS) a
+    copy of it in out/mirrors-dark/ whose mirrors are black and diffuse; the copy's
+    folder links the scene's other files (buffers, images)."""
+    with open(scene) as f:
+        gltf = json.load(f)
+    mirrors = [m for m in gltf.get("materials", [])
+               if m.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0) < MIRROR_ROUGHNESS]
+    if not mirrors:
+        return scene
+    for m in mirrors:
+        m["pbrMetallicRoughness"] = {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                     "metallicFactor": 0.0, "roughnessFactor": 1.0}
+        for key in ("extensions", "normalTexture", "occlusionTexture"):
+            m.pop(key, None)
+    src = os.path.dirname(scene)
+    dst = os.path.join(out, "mirrors-dark", os.path.basename(src))
+    os.makedirs(dst, exist_ok=True)
+    for name in os.listdir(src):
+        link = os.path.join(dst, name)
+        if not name.endswith(".gltf") and not os.path.lexists(link):
+            os.symlink(os.path.join(src, name), link)
+    copy = os.path.join(dst, os.path.basename(scene))
+    with open(copy, "w") as f:
+        json.dump(gltf, f)
+    return copy
 
 
 def row(cells):
@@ -87,6 +132,9 @@ def main(argv=None):
     ap.add_argument("--term", action="append", choices=[t[0] for t in TERMS],
                     help="only this term (repeatable; default: every term)")
     ap.add_argument("--no-leaks", action="store_true", help="only the terms")
+    ap.add_argument("--seeds", type=int, choices=(1, 2), default=1,
+                    help="2: each renderer renders a second seed too, and the rows give "
+                    "the share of blocks off between its two seeds (default 1)")
     a = ap.parse_args(argv)
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-terms: error: build/voxgi missing (tools/build)")
@@ -94,22 +142,36 @@ def main(argv=None):
     os.makedirs(runs, exist_ok=True)
     lines = []
     if not a.no_terms:
+        header = ["view", "term", "rtgi ms", "FLIP", "mean ratio", "worst blocks (min, max)",
+                  "blocks off > 3%"]
+        if a.seeds == 2:
+            header += ["rtgi seed to seed", "path tracer seed to seed"]
         lines += [f"rtgi, {a.frames} frames, --denoise off, seed {SEED}, against the path tracer "
-                  f"at {a.pt_spp} spp and the matching depth ({SIZE}):", "",
-                  row(["view", "term", "rtgi ms", "FLIP", "mean ratio", "worst blocks (min, max)",
-                       "blocks off > 3%"]), "|---|---|---:|---:|---:|---|---:|"]
+                  f"at {a.pt_spp} spp and the matching depth ({SIZE}); the terms without "
+                  "specular with the scene's mirrors black:", "",
+                  row(header), "|---|---|---:|---:|---:|---|" + "---:|" * (len(header) - 6)]
         for view, scene, extra in validation_set.views(a.view, make=False):
             for term, rtgi_flags, pt_flags in [t for t in TERMS if t[0] in (a.term or [t[0]])]:
+                shown = without_mirrors(scene, a.out) if "-specular" in " ".join(rtgi_flags) \
+                    else scene
                 tag = re.sub(r"[^a-z0-9]+", "_", f"{view}_{term}")
                 base = os.path.join(runs, tag)
-                stats = render(scene, extra + rtgi_flags + ["--frames", str(a.frames), "--denoise",
-                                                            "off", "--seed", str(SEED)], base)
-                ref = pathtraced(view, term, scene, extra, pt_flags, a.pt_spp)
+                flags = extra + rtgi_flags + ["--frames", str(a.frames), "--denoise", "off"]
+                stats = render(shown, flags + ["--seed", str(SEED)], base)
+                ref = pathtraced(view, term, shown, extra, pt_flags, a.pt_spp)
                 m = compare(base, ref)
-                lines.append(row([view, term, f"{stats['total_ms']:.0f}", f"{m['flip']:.4f}",
-                                  f"{m['mean_luminance_ratio']:.3f}",
-                                  f"{m['block_ratio_min']:.2f}, {m['block_ratio_max']:.2f}",
-                                  f"{100 * m['blocks_off_3_percent']:.0f}%"]))
+                cells = [view, term, f"{stats['total_ms']:.0f}", f"{m['flip']:.4f}",
+                         f"{m['mean_luminance_ratio']:.3f}",
+                         f"{m['block_ratio_min']:.2f}, {m['block_ratio_max']:.2f}",
+                         f"{100 * m['blocks_off_3_percent']:.0f}%"]
+                if a.seeds == 2:
+                    render(shown, flags + ["--seed", str(SEED + 1)], base + "_seed2")
+                    ref2 = pathtraced(view, term, shown, extra, pt_flags, a.pt_spp,
+                                      seed=refs.SEED + 1)
+                    for x, y in ((base + "_seed2", base), (ref2, ref)):
+                        off = metrics.compare(x + ".exr", y + ".exr", blocks=16)
+                        cells.append(f"{100 * off['blocks_off_3_percent']:.0f}%")
+                lines.append(row(cells))
                 print(lines[-1], flush=True)
         lines.append("")
     if not a.no_leaks:

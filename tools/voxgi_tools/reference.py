@@ -52,14 +52,15 @@ def find(view, size, folders=(COMMITTED, MADE), depth=DEPTH):
     return best[1], best[1][:-4] + ".png", best[0]
 
 
-def render(scene, extra, size, spp, base, flags=(), binary=None):
+def render(scene, extra, size, spp, base, flags=(), binary=None, seed=SEED):
     """Renders the reference of `scene` (with its view's flags `extra`) into base.exr,
     base.png and base.json. `flags` add to the path tracer's; a --max-depth among
-    them (a term's depth cut) replaces DEPTH."""
+    them (a term's depth cut) replaces DEPTH. `seed`: another than SEED gives an
+    image of the same expectation with other samples (its noise)."""
     os.makedirs(os.path.dirname(base), exist_ok=True)
     depth = [] if "--max-depth" in flags else ["--max-depth", str(DEPTH)]
     cmd = [binary or voxgi(), "render", scene] + list(extra) + [
-        "--mode", "pathtrace", "--size", size, "--spp", str(spp), "--seed", str(SEED)
+        "--mode", "pathtrace", "--size", size, "--spp", str(spp), "--seed", str(seed)
     ] + depth + list(flags) + [
         "--out", base + ".exr", "--out", base + ".png", "--stats", base + ".json",
         "--no-progress", "-q"]
