@@ -15,6 +15,10 @@ same scene with voxgi's material model, its render time after a first run that
 compiles its kernels), at 16 and 64 spp, and rtgi renders as many frames as fit in
 each of Mitsuba's times (from its 16-frame run's time a frame): the race of the
 validation set's targets, rtgi's image within Mitsuba's time against Mitsuba's.
+Each side's time in the race is the median of --race-runs renders (default 3): on
+this machine one render's time scatters by tens of percent, and a heat decided by
+one of them was decided by that scatter (dark_plane's one frame took 452 ms in one
+heat and 299 ms in the same run's table).
 
 Writes out/bench-convergence/table.md and convergence.png (FLIP against time per
 view, rtgi and the path tracer), and prints the table. References come from
@@ -25,6 +29,7 @@ import argparse
 import json
 import os
 import re
+import statistics
 import subprocess
 import sys
 
@@ -83,12 +88,25 @@ def mitsuba(view, scene, entry_flags, spps, outdir):
     return out
 
 
-def frames_within(view, scene, extra, budget_ms, frame_ms, outdir):
+def timed(view, scene, extra, args, outdir, tag, runs):
+    """run() `runs` times: its base and stats, total_ms the median of the runs' (the
+    same seed gives the same image each time, so only the time is measured again)."""
+    times = []
+    for _ in range(runs):
+        base, stats = run(view, scene, extra, args, outdir, tag)
+        times.append(stats["total_ms"])
+    stats["total_ms"] = statistics.median(times)
+    return base, stats
+
+
+def frames_within(view, scene, extra, budget_ms, frame_ms, outdir, runs=1):
     """rtgi with as many frames as fit in budget_ms: (frames, base, stats). The count
-    comes from frame_ms and is cut while the render takes longer."""
+    comes from frame_ms and is cut while the render takes longer (the median of
+    `runs` renders)."""
     n = max(1, int(budget_ms // frame_ms))
     while True:
-        base, stats = run(view, scene, extra, ["--frames", str(n)], outdir, f"rtgi_within_{n}")
+        base, stats = timed(view, scene, extra, ["--frames", str(n)], outdir, f"rtgi_within_{n}",
+                            runs)
         if stats["total_ms"] <= budget_ms or n == 1:
             return n, base, stats
         n = max(1, min(n - 1, int(n * budget_ms / stats["total_ms"])))
@@ -133,6 +151,10 @@ def main(argv=None):
                     help="rtgi at 1, 16 and 64 frames and pathtrace at 16 and 64 spp only")
     ap.add_argument("--against-mitsuba", action="store_true",
                     help="also Mitsuba 3 at 16 and 64 spp, and rtgi within each of its times")
+    ap.add_argument("--race-runs", type=int, default=3,
+                    help="with --against-mitsuba: each side's time in the race is the median "
+                    "of this many renders (default 3; a single render's time scatters by "
+                    "tens of percent here)")
     a = ap.parse_args(argv)
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
@@ -176,13 +198,17 @@ def main(argv=None):
             if kind == "rtgi" and setting == "16 frames":
                 frame_ms = stats["total_ms"] / 16
         if a.against_mitsuba:
-            for spp, ms, exr in mitsuba(view, scene, extra, [16, 64], a.out):
+            # The same seed gives the same image each time: the runs measure the time.
+            renders = [mitsuba(view, scene, extra, [16, 64], a.out) for _ in range(a.race_runs)]
+            for i, (spp, _, exr) in enumerate(renders[-1]):
+                ms = statistics.median(r[i][1] for r in renders)
                 png = exr[:-4] + ".png"
                 subprocess.run(["oiiotool", exr, "--ch", "R,G,B", "--colorconvert", "linear",
                                 "sRGB", "-d", "uint8", "-o", png], check=True, capture_output=True)
                 theirs = record(view, "Mitsuba 3", f"{spp} spp", ms, metrics.measure(exr[:-4], ref_exr,
                                                                                ref_png))
-                n, base, stats = frames_within(view, scene, extra, ms, frame_ms, a.out)
+                n, base, stats = frames_within(view, scene, extra, ms, frame_ms, a.out,
+                                               a.race_runs)
                 ours = record(view, "rtgi within Mitsuba's time", f"{n} frames",
                               stats["total_ms"], metrics.measure(base, ref_exr, ref_png))
                 closer = "rtgi" if ours["flip"] < theirs["flip"] else "Mitsuba"
@@ -193,7 +219,8 @@ def main(argv=None):
         lines.append(f"| {view} | reference | {ref_spp} spp, seed {refs.SEED} | | | | |")
     table = "\n".join(lines) + "\n"
     if a.against_mitsuba:
-        table += "\nThe race: rtgi within Mitsuba's time\n\n" + "\n".join(race) + "\n"
+        table += (f"\nThe race: rtgi within Mitsuba's time (each time the median of "
+                  f"{a.race_runs} renders)\n\n" + "\n".join(race) + "\n")
     with open(os.path.join(a.out, "table.md"), "w") as f:
         f.write(table)
     print(table)
