@@ -68,14 +68,14 @@ def compare(test, ref):
     return m
 
 
-def pathtraced(view, term, scene, extra, flags, spp, seed=refs.SEED):
+def pathtraced(view, term, scene, extra, flags, spp, seed=refs.SEED, variant=""):
     """The path tracer's image of `view` for `term` (its depth in `flags`), made once
-    into out/reference and made again where the one there has another depth. A scene
-    without mirrors (without_mirrors) and a seed other than the references' are
-    named in the file's name."""
+    into out/reference and made again where the one there has another depth. A
+    variant of the view's scene (`variant`, e.g. "mirrors_dark": without_mirrors) and
+    a seed other than the references' are named in the file's name."""
     tag = re.sub(r"[^a-z0-9]+", "_", term)
-    if os.path.basename(os.path.dirname(os.path.dirname(scene))) == "mirrors-dark":
-        tag += "_mirrors_dark"
+    if variant:
+        tag += "_" + variant
     if seed != refs.SEED:
         tag += f"_seed{seed}"
     base = os.path.join(refs.MADE, f"{view}_{tag}_{SIZE}_{spp}spp")
@@ -158,7 +158,8 @@ def main(argv=None):
                 base = os.path.join(runs, tag)
                 flags = extra + rtgi_flags + ["--frames", str(a.frames), "--denoise", "off"]
                 stats = render(shown, flags + ["--seed", str(SEED)], base)
-                ref = pathtraced(view, term, shown, extra, pt_flags, a.pt_spp)
+                variant = "mirrors_dark" if shown != scene else ""
+                ref = pathtraced(view, term, shown, extra, pt_flags, a.pt_spp, variant=variant)
                 m = compare(base, ref)
                 cells = [view, term, f"{stats['total_ms']:.0f}", f"{m['flip']:.4f}",
                          f"{m['mean_luminance_ratio']:.3f}",
@@ -167,7 +168,7 @@ def main(argv=None):
                 if a.seeds == 2:
                     render(shown, flags + ["--seed", str(SEED + 1)], base + "_seed2")
                     ref2 = pathtraced(view, term, shown, extra, pt_flags, a.pt_spp,
-                                      seed=refs.SEED + 1)
+                                      seed=refs.SEED + 1, variant=variant)
                     for x, y in ((base + "_seed2", base), (ref2, ref)):
                         off = metrics.compare(x + ".exr", y + ".exr", blocks=16)
                         cells.append(f"{100 * off['blocks_off_3_percent']:.0f}%")
