@@ -6,20 +6,23 @@
 // of n samples is the samples' variance over n. A pixel with kDenoiseTemporalSamples
 // samples or more takes its samples' variance from its own moments
 // (rtgi_accumulate.comp); one with fewer (just after a restart or a disocclusion)
-// from the 7x7 pixels around it on the same surface: with two samples or more, the
-// mean of their samples' variances; with one, the variance of their pooled moments
-// (Schied et al. 2017, sec. 4.2), which counts the light's change from pixel to
-// pixel as noise too. Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
+// from the 7x7 pixels around it: with two samples or more, the mean of their
+// samples' variances; with one, the variance of their pooled moments (Schied et al.
+// 2017, sec. 4.2), which counts the light's change from pixel to pixel as noise too.
+// Pixels the filter keeps as they are (denoiseKeeps) get alpha -1.
+//
+// The window is a box, not SVGF's bilateral one: the variance only sets how far the
+// a-trous passes' luminance stop lets light through, and their own edge stops
+// (normal, depth, material) keep it on its surface. Weighted by the edge stops the
+// estimate gave the same first frames (FLIP within 0.0003 on seven views of the
+// validation set, two seeds; the hall's gallery 0.0008-0.0012 better with the box)
+// and its 13 edge weights a pixel cost a third of the first frame's denoise stage.
 //
 // The 7x7 neighbourhood is read from shared memory: a group that has such a pixel
-// first loads its tile and a 3-pixel border once (what each neighbour's weight
-// needs: position, normal, material, sample count, moments), where each pixel
-// fetching its 48 neighbours' texels took half the first frame's denoise stage. The
-// 7x7 weighted sums are taken in two 7-tap passes, along the tile's rows and then
-// down its columns, each tap weighted against the pixel at the centre of its pass
-// (a separable bilateral filter, as Pham and van Vliet 2005 approximate the full
-// one): 13 edge weights a pixel where the full window took 48, which made the first
-// frame's prepare pass 3x slower than the five a-trous passes together.
+// first loads its tile and a 3-pixel border once (each pixel's sample count and
+// moments), where each pixel fetching its 48 neighbours' texels took half the first
+// frame's denoise stage. The 7x7 sums are taken in two 7-tap passes, along the
+// tile's rows and then down its columns.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -36,35 +39,17 @@ layout(binding = kDenoiseOutImage, rgba32ui) uniform writeonly uimage2D prepared
 layout(binding = kDenoiseKeyImage, rgba32ui) uniform writeonly uimage2D keys;
 
 const int kTile = int(kDenoisePrepareGroup) + 6;  // the group and its 3-pixel border
-// Per tile pixel: position and sample count (-1: not drawn, or outside the image),
-// normal and material, moments.
-shared vec4 tilePosition[kTile * kTile];
-shared vec4 tileNormal[kTile * kTile];
+// Per tile pixel: the sample count (-1: not drawn, or outside the image), and the
+// moments.
+shared float tileSamples[kTile * kTile];
 shared vec4 tileMoments[kTile * kTile];
 // The row pass's sums at each pixel of the tile's rows below the group's columns
 // (kTile rows of kDenoisePrepareGroup): the pooled moments in tileMoments' place,
 // once the row pass has read them, and here the samples' variances with the two
-// weights (rowSums).
+// counts (rowSums).
 const int kRows = kTile * int(kDenoisePrepareGroup);
 shared vec4 rowVariance[kRows];
 shared uint tileNeeded;
-
-DenoiseKey keyAt(ivec2 px) {
-  DenoiseKey k;
-  vec4 p = texelFetch(gPosition, px, 0);
-  k.position = p.xyz;
-  k.normal = denoiseNormal(px);
-  k.material = uint(p.w) & 1023u;
-  return k;
-}
-
-DenoiseKey tileKey(int i) {
-  DenoiseKey k;
-  k.position = tilePosition[i].xyz;
-  k.normal = tileNormal[i].xyz;
-  k.material = uint(tileNormal[i].w) & 1023u;
-  return k;
-}
 
 // The variance of the samples whose moments are m, n of them (n >= 2): unbiased.
 vec2 samplesVariance(vec4 m, float n) {
@@ -72,27 +57,22 @@ vec2 samplesVariance(vec4 m, float n) {
 }
 
 // The row pass at entry e of the tile's rows below the group's columns: the sums
-// over its row's 7 pixels centred on it, each weighted by its edge stops against the
-// centre (the centre by 1): the moments of those with a sample or more (pooled), then
-// the variances of those with two or more and each sum's weight (variance: xy the
-// variances, z the pooled moments' weight, w the variances').
+// over its row's 7 pixels centred on it: the moments of those with a sample or more
+// (pooled), then the variances of those with two or more and the two counts
+// (variance: xy the variances, z the pooled moments' count, w the variances').
 void rowSum(int e, out vec4 pooled, out vec4 variance) {
   pooled = vec4(0.0);
   variance = vec4(0.0);
   if (e >= kRows) return;
   int centre = (e / int(kDenoisePrepareGroup)) * kTile + e % int(kDenoisePrepareGroup) + 3;
-  if (!(tilePosition[centre].w >= 0.0)) return;  // nothing drawn there
-  DenoiseKey p = tileKey(centre);
-  float scale = rtgi.denoisePlane * length(p.position - rtgi.camera.xyz) + 1e-6;
   for (int dx = -3; dx <= 3; ++dx) {
     int i = centre + dx;
-    float nq = tilePosition[i].w;
+    float nq = tileSamples[i];
     if (!(nq >= 1.0)) continue;
-    float w = dx == 0 ? 1.0 : exp(logEdgeWeight(p, tileKey(i), scale));
     vec4 mq = tileMoments[i];
-    pooled += w * mq;
-    variance.z += w;
-    if (nq >= 2.0) variance += vec4(w * samplesVariance(mq, nq), 0.0, w);
+    pooled += mq;
+    variance.z += 1.0;
+    if (nq >= 2.0) variance += vec4(samplesVariance(mq, nq), 0.0, 1.0);
   }
 }
 
@@ -128,19 +108,14 @@ void loadTile(ivec2 size, bool needed) {
   uint threads = kDenoisePrepareGroup * kDenoisePrepareGroup;
   for (uint i = gl_LocalInvocationIndex; i < uint(kTile * kTile); i += threads) {
     ivec2 q = origin + ivec2(int(i) % kTile, int(i) / kTile);
-    vec4 position = vec4(0.0, 0.0, 0.0, -1.0);
-    vec4 normal = vec4(0.0);
+    float samples = -1.0;
     vec4 m = vec4(0.0);
-    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) {
-      vec4 p = texelFetch(gPosition, q, 0);
-      if (p.w >= 0.5) {
-        position = vec4(p.xyz, texelFetch(mean, q, 0).a);
-        normal = vec4(normalize(texelFetch(gNormal, q, 0).xyz), p.w);
-        m = texelFetch(moments, q, 0);
-      }
+    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)) &&
+        texelFetch(gPosition, q, 0).w >= 0.5) {
+      samples = texelFetch(mean, q, 0).a;
+      m = texelFetch(moments, q, 0);
     }
-    tilePosition[i] = position;
-    tileNormal[i] = normal;
+    tileSamples[i] = samples;
     tileMoments[i] = m;
   }
   barrier();
@@ -167,27 +142,20 @@ void main() {
   float n = c.a;
   vec4 m = texelFetch(moments, px, 0);
   if (n < kDenoiseTemporalSamples) {
-    // Too few samples of its own: the moments of the pixels around it on its surface
-    // that have samples.
-    DenoiseKey p = keyAt(px);
-    float scale = rtgi.denoisePlane * length(p.position - rtgi.camera.xyz) + 1e-6;
-    // With two samples or more, each pixel's own samples' variance, averaged: the
-    // light's change from pixel to pixel is not noise (the moments pooled over the
-    // pixels would count a hard shadow's edge as noise, and the filter would carry
-    // the light across it). With one, only the pooled moments tell anything. The
-    // column pass: the row sums above and below, each weighted by the edge stops of
-    // the pixel at its centre.
+    // Too few samples of its own: the moments of the pixels around it that have
+    // samples. With two samples or more, each pixel's own samples' variance,
+    // averaged: the light's change from pixel to pixel is not noise (the moments
+    // pooled over the pixels would count a hard shadow's edge as noise, and the
+    // filter would carry the light across it). With one, only the pooled moments tell
+    // anything. The column pass: the row sums above and below.
     bool own = n >= 2.0;
     vec4 pooled = vec4(0.0);
-    vec4 variance = vec4(0.0);  // xy: the samples' variances; z, w: the weights
+    vec4 variance = vec4(0.0);  // xy: the samples' variances; z, w: the counts
     ivec2 local = ivec2(gl_LocalInvocationID.xy);
     for (int dy = -3; dy <= 3; ++dy) {
-      int i = (local.y + 3 + dy) * kTile + local.x + 3;
-      if (!(tilePosition[i].w >= 0.0)) continue;
-      float w = dy == 0 ? 1.0 : exp(logEdgeWeight(p, tileKey(i), scale));
       int e = (local.y + 3 + dy) * int(kDenoisePrepareGroup) + local.x;
-      pooled += w * tileMoments[e];
-      variance += w * rowVariance[e];
+      pooled += tileMoments[e];
+      variance += rowVariance[e];
     }
     if (own && variance.w > 0.0) {
       vec2 v = variance.xy / variance.w / n;
