@@ -156,6 +156,8 @@ def main(argv=None):
                     "of this many renders (default 3; a single render's time scatters by "
                     "tens of percent here)")
     a = ap.parse_args(argv)
+    if a.race_runs < 1:
+        ap.error(f"--race-runs must be 1 or more, not {a.race_runs}")
     if not os.path.exists(voxgi()):
         raise SystemExit("bench-convergence: error: build/voxgi missing (tools/build)")
     if a.against_mitsuba and subprocess.run([sys.executable, "-c", "import mitsuba"],
