@@ -5,19 +5,11 @@ t = 0, as before the option existed. Checked on the glTF it writes, without GL."
 import base64
 import json
 import math
-import os
 import struct
-import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
+from tool_test import fail
 from voxgi_tools import bench_motion as motion  # noqa: E402
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 def keys(path):

@@ -4,17 +4,10 @@ become black and diffuse, every other material is kept as it was, the copy's fol
 reaches the scene's buffers, and a scene without mirrors is used as it is."""
 import json
 import os
-import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
+from tool_test import ROOT, fail
 from voxgi_tools import bench_terms  # noqa: E402
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 def materials(path):

@@ -5,18 +5,11 @@ the BSDF voxgi's path tracer gives it, every emitter and punctual light must car
 its power, the camera its field of view, and the meshes their normals and texture
 coordinates, with nothing left out. Run with the tools' .venv python (numpy)."""
 import os
-import sys
 import tempfile
 import types
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
+from tool_test import ROOT, fail
 from voxgi_tools import mitsuba_scene  # noqa: E402
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 class LookAt:

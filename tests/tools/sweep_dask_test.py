@@ -13,14 +13,10 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tool_test import ROOT, fail
+
 PY = os.path.join(ROOT, ".venv", "bin", "python")
 BAD = ["--frames", "2", "--bounces", "17"]
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 def main():

@@ -10,16 +10,11 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tool_test import ROOT, fail
 SWEEP = [sys.executable, "-m", "voxgi_tools", "sweep", "tables"]
 # The tables need no package from the venv: the system's python runs them.
 os.environ["PYTHONPATH"] = os.path.join(ROOT, "tools")
 DOCS = ["README.md", "docs/study.md", "docs/measurements.md"]
-
-
-def fail(msg):
-    print(f"FAIL: {msg}")
-    sys.exit(1)
 
 
 def main():
