@@ -8,7 +8,7 @@ import math
 import struct
 import tempfile
 
-from tool_test import fail
+from tool_support import fail
 from voxgi_tools import bench_motion as motion  # noqa: E402
 
 

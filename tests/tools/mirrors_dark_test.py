@@ -6,7 +6,7 @@ import json
 import os
 import tempfile
 
-from tool_test import ROOT, fail
+from tool_support import ROOT, fail
 from voxgi_tools import bench_terms  # noqa: E402
 
 

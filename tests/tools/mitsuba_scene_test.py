@@ -8,7 +8,7 @@ import os
 import tempfile
 import types
 
-from tool_test import ROOT, fail
+from tool_support import ROOT, fail
 from voxgi_tools import mitsuba_scene  # noqa: E402
 
 

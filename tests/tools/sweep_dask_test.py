@@ -13,7 +13,7 @@ import sys
 import tempfile
 import time
 
-from tool_test import ROOT, fail
+from tool_support import ROOT, fail
 
 PY = os.path.join(ROOT, ".venv", "bin", "python")
 BAD = ["--frames", "2", "--bounces", "17"]

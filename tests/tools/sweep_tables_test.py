@@ -10,7 +10,7 @@ import subprocess
 import sys
 import tempfile
 
-from tool_test import ROOT, fail
+from tool_support import ROOT, fail
 SWEEP = [sys.executable, "-m", "voxgi_tools", "sweep", "tables"]
 # The tables need no package from the venv: the system's python runs them.
 os.environ["PYTHONPATH"] = os.path.join(ROOT, "tools")
