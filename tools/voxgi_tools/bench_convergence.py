@@ -20,6 +20,10 @@ this machine one render's time scatters by tens of percent, and a heat decided b
 one of them was decided by that scatter (dark_plane's one frame took 452 ms in one
 heat and 299 ms in the same run's table).
 
+Each image is also measured on its mirrors and on its glossy surfaces alone (FLIP
+over those pixels: regions.py), the light rtgi's specular stage carries, which the
+whole image's FLIP averages away where they are small.
+
 Writes out/bench-convergence/table.md and convergence.png (FLIP against time per
 view, rtgi and the path tracer), and prints the table. References come from
 tests/data/reference/ (committed, 4096 spp) or out/reference/, the highest spp there;
@@ -33,7 +37,7 @@ import statistics
 import subprocess
 import sys
 
-from voxgi_tools import ROOT, metrics, validation_set, voxgi
+from voxgi_tools import ROOT, metrics, regions, validation_set, voxgi
 from voxgi_tools import reference as refs
 
 SIZE = "256x256"
@@ -167,23 +171,28 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     rows = []
     lines = ["| view | renderer | setting | time to the image (ms) | FLIP | RMSE | mean luminance "
-             "ratio |", "|---|---|---|---:|---:|---:|---:|"]
+             "ratio | FLIP on mirrors | FLIP on glossy |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|"]
     frames, spps = ([1, 16, 64], [16, 64]) if a.quick else (FRAMES, SPP)
     views = validation_set.views(a.view)
     race = ["| view | Mitsuba 3 | its time (ms) | its FLIP | rtgi within it | rtgi's time (ms) | "
-            "rtgi's FLIP | closer |", "|---|---|---:|---:|---|---:|---:|---|"]
+            "rtgi's FLIP | closer | on mirrors (Mitsuba, rtgi) | on glossy (Mitsuba, rtgi) |",
+            "|---|---|---:|---:|---|---:|---:|---|---:|---:|"]
 
     def record(view, kind, setting, ms, m):
         row = {"view": view, "kind": kind, "setting": setting, "ms": ms, **m}
         rows.append(row)
         line = (f"| {view} | {kind} | {setting} | {ms:.0f} | {m['flip']:.4f} | "
-                f"{m['rmse']:.4f} | {m['lum']:.3f} |")
+                f"{m['rmse']:.4f} | {m['lum']:.3f} | " +
+                " | ".join(f"{m[k]:.4f}" if k in m else "" for k in
+                           ("flip_" + c for c in regions.CLASSES)) + " |")
         lines.append(line)
         print(line, flush=True)
         return row
 
     for view, scene, extra in views:
         ref_exr, ref_png, ref_spp = refs.get(view, scene, extra, SIZE, a.ref_spp)
+        masks = regions.masks(view, scene, extra, SIZE, os.path.join(a.out, "regions"))
         jobs = [("rtgi", f"{f} frames", ["--frames", str(f)]) for f in frames]
         jobs += [("rtgi, not denoised", f"{f} frames, --denoise off",
                   ["--frames", str(f), "--denoise", "off"]) for f in frames]
@@ -196,7 +205,7 @@ def main(argv=None):
         for kind, setting, args in jobs:
             tag = re.sub(r"[^a-z0-9]+", "_", f"{kind}_{setting}")
             base, stats = run(view, scene, extra, args, a.out, tag)
-            record(view, kind, setting, stats["total_ms"], metrics.measure(base, ref_exr, ref_png))
+            record(view, kind, setting, stats["total_ms"], metrics.measure(base, ref_exr, ref_png, masks))
             if kind == "rtgi" and setting == "16 frames":
                 frame_ms = stats["total_ms"] / 16
         if a.against_mitsuba:
@@ -208,17 +217,21 @@ def main(argv=None):
                 subprocess.run(["oiiotool", exr, "--ch", "R,G,B", "--colorconvert", "linear",
                                 "sRGB", "-d", "uint8", "-o", png], check=True, capture_output=True)
                 theirs = record(view, "Mitsuba 3", f"{spp} spp", ms, metrics.measure(exr[:-4], ref_exr,
-                                                                               ref_png))
+                                                                               ref_png, masks))
                 n, base, stats = frames_within(view, scene, extra, ms, frame_ms, a.out,
                                                a.race_runs)
                 ours = record(view, "rtgi within Mitsuba's time", f"{n} frames",
-                              stats["total_ms"], metrics.measure(base, ref_exr, ref_png))
+                              stats["total_ms"], metrics.measure(base, ref_exr, ref_png, masks))
                 closer = "rtgi" if ours["flip"] < theirs["flip"] else "Mitsuba"
                 if ours["ms"] > ms:  # one frame alone takes longer
                     closer = "Mitsuba (rtgi's first frame comes later)"
                 race.append(f"| {view} | {spp} spp | {ms:.0f} | {theirs['flip']:.4f} | {n} frames "
-                            f"| {ours['ms']:.0f} | {ours['flip']:.4f} | {closer} |")
-        lines.append(f"| {view} | reference | {ref_spp} spp, seed {refs.SEED} | | | | |")
+                            f"| {ours['ms']:.0f} | {ours['flip']:.4f} | {closer} | " + " | ".join(
+                                f"{theirs[k]:.4f}, {ours[k]:.4f}" if k in ours else "" for k in
+                                ("flip_" + c for c in regions.CLASSES)) + " |")
+        lines.append(f"| {view} | reference | {ref_spp} spp, seed {refs.SEED} | | | | | "
+                     + " | ".join(f"{masks[c].sum()} px" if c in masks else "none"
+                                  for c in regions.CLASSES) + " |")
     table = "\n".join(lines) + "\n"
     if a.against_mitsuba:
         table += (f"\nThe race: rtgi within Mitsuba's time (each time the median of "

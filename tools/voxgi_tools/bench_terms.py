@@ -39,14 +39,14 @@ import re
 import subprocess
 import sys
 
-from voxgi_tools import ROOT, metrics, validation_set, voxgi
+from voxgi_tools import ROOT, metrics, regions, validation_set, voxgi
 from voxgi_tools import reference as refs
 
 SIZE = "256x256"
 SEED = 7
 # rtgi's kMirrorRoughness (rtgi_shared.h): smoother surfaces are mirrors, which only
-# its specular stage lights.
-MIRROR_ROUGHNESS = 0.05
+# its specular stage lights (regions.py).
+MIRROR_ROUGHNESS = regions.MIRROR_ROUGHNESS
 TERMS = [
     ("direct", ["--effects", "-indirect,-specular"], ["--max-depth", "2"]),
     ("direct + 1", ["--bounces", "1", "--effects", "-specular"], ["--max-depth", "3"]),
@@ -90,28 +90,7 @@ def without_mirrors(scene, out):
     """`scene`, or where it has mirrors (materials smoother than MIRROR_ROUGHNESS) a
     copy of it in out/mirrors-dark/ whose mirrors are black and diffuse; the copy's
     folder links the scene's other files (buffers, images)."""
-    with open(scene) as f:
-        gltf = json.load(f)
-    mirrors = [m for m in gltf.get("materials", [])
-               if m.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0) < MIRROR_ROUGHNESS]
-    if not mirrors:
-        return scene
-    for m in mirrors:
-        m["pbrMetallicRoughness"] = {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
-                                     "metallicFactor": 0.0, "roughnessFactor": 1.0}
-        for key in ("extensions", "normalTexture", "occlusionTexture"):
-            m.pop(key, None)
-    src = os.path.dirname(scene)
-    dst = os.path.join(out, "mirrors-dark", os.path.basename(src))
-    os.makedirs(dst, exist_ok=True)
-    for name in os.listdir(src):
-        link = os.path.join(dst, name)
-        if not name.endswith(".gltf") and not os.path.lexists(link):
-            os.symlink(os.path.join(src, name), link)
-    copy = os.path.join(dst, os.path.basename(scene))
-    with open(copy, "w") as f:
-        json.dump(gltf, f)
-    return copy
+    return regions.scene_copy(scene, out, ("mirrors",), tag="mirrors-dark")
 
 
 def row(cells):

@@ -36,7 +36,8 @@ def srgb8(path, tmp):
     return np.ascontiguousarray(img[..., :3], dtype=np.float32)
 
 
-def flip(test, ref, error_map=None):
+def flip_map(test, ref):
+    """FLIP's per-pixel error (HxW) of `test` against `ref`."""
     import flip_evaluator
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -45,12 +46,25 @@ def flip(test, ref, error_map=None):
         if t.shape != r.shape:
             raise SystemExit(f"flip: error: {test} vs {ref}: images differ in size: "
                              f"{t.shape[1]}x{t.shape[0]} vs {r.shape[1]}x{r.shape[0]}")
-        err, mean, _ = flip_evaluator.evaluate(r, t, "LDR", inputsRGB=True,
-                                               applyMagma=error_map is not None)
-        if error_map:
-            import matplotlib.image as mpimg
-            mpimg.imsave(error_map, np.clip(err, 0, 1))
-        return float(mean)
+        err, _, _ = flip_evaluator.evaluate(r, t, "LDR", inputsRGB=True, applyMagma=False)
+    return np.asarray(err, dtype=np.float64).reshape(r.shape[:2])
+
+
+def flip(test, ref, error_map=None, regions=None):
+    """Mean FLIP of `test` against `ref`; with `regions` ({name: HxW bool mask}),
+    (mean, {name: the mean over that region's pixels})."""
+    err = flip_map(test, ref)
+    if error_map:
+        import flip_evaluator
+        import matplotlib.image as mpimg
+
+        with tempfile.TemporaryDirectory() as tmp:
+            magma, _, _ = flip_evaluator.evaluate(srgb8(ref, tmp), srgb8(test, tmp), "LDR",
+                                                  inputsRGB=True, applyMagma=True)
+        mpimg.imsave(error_map, np.clip(magma, 0, 1))
+    if regions is None:
+        return float(err.mean())
+    return float(err.mean()), {k: float(err[m].mean()) for k, m in regions.items()}
 
 
 def compare(test_exr, ref_exr, blocks=None):
@@ -66,12 +80,15 @@ def compare(test_exr, ref_exr, blocks=None):
     return json.loads(p.stdout)
 
 
-def measure(base, ref_exr, ref_png):
+def measure(base, ref_exr, ref_png, regions=None):
     """The benchmarks' three figures of base.exr/base.png against a reference: FLIP,
-    RMSE and the mean luminance ratio."""
+    RMSE and the mean luminance ratio; with `regions` ({name: mask}, regions.py), FLIP
+    over each region too, as "flip_NAME"."""
     m = compare(base + ".exr", ref_exr)
-    return {"flip": flip(base + ".png", ref_png), "rmse": m["rmse"],
-            "lum": m["mean_luminance_ratio"]}
+    f = flip(base + ".png", ref_png, regions=regions or {})
+    out = {"flip": f[0], "rmse": m["rmse"], "lum": m["mean_luminance_ratio"]}
+    out.update({f"flip_{k}": v for k, v in f[1].items()})
+    return out
 
 
 def main(argv=None):
