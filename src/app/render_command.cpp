@@ -205,6 +205,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
   stats["emitter_sampling"] = rt.emitterSampling(gs);
   stats["punctual_sampling"] = rt.punctualSampling(gs);
   stats["leaf_draw_at_hits"] = rt.settings().leafDrawAtHits;
+  stats["first_lobe_rays"] = rt.firstLobeRays();
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;
   stats["rays"] = rt.raysHitTriangles() ? "triangles" : "voxels";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <string>
 
 #include "core/log.h"
 #include "interleave_shared.h"
@@ -44,6 +45,7 @@ void RtgiPass::buildOptionalStages() {
     indirect_ = &programs_.get({{"render/rtgi/rtgi_indirect.comp"}, {}});
   if (settings_.specular && !specular_ && !tracesTriangles()) {
     std::vector<std::string> defines = conesDefine();
+    defines.push_back(firstLobeRaysDefine());
     defines.emplace_back("RTGI_SPECULAR_LIST");
     specular_ = &programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
   }
@@ -180,6 +182,10 @@ std::vector<std::string> RtgiPass::lightDefines(const GpuScene& gs, bool atHits)
   return defines;
 }
 
+std::string RtgiPass::firstLobeRaysDefine() const {
+  return "RTGI_FIRST_LOBE_RAYS=" + std::to_string(firstLobeRays());
+}
+
 // With cones for indirect light, glossy reflections are cones too.
 std::vector<std::string> RtgiPass::conesDefine() const {
   if (settings_.indirectMethod == Settings::IndirectMethod::kCones) return {"RTGI_CONES"};
@@ -208,6 +214,7 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
   if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+  defines.push_back(firstLobeRaysDefine());
   defines.emplace_back("RTGI_SPECULAR_LIST");  // traceSpecular's list
   return programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
 }
@@ -547,6 +554,11 @@ void RtgiPass::traceSpecular(gl::FrameContext& ctx, const GpuScene& gs, const Fr
                   GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPixelListBinding, specularList_.id());
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, specularList_.id());
+  // The stage reads each pixel's count of samples so far (rtgi_specular.comp): after a
+  // camera move, in the reprojected mean.
+  if (plan.reprojecting)
+    glBindImageTexture(gpu::kReprojectedImage, history_.reprojectedMean(), 0, GL_FALSE, 0,
+                       GL_READ_ONLY, GL_RGBA32F);
   glUseProgram(specularProgram(gs).id());
   glDispatchComputeIndirect(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

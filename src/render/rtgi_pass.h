@@ -34,6 +34,7 @@
 #define VOXGI_RENDER_RTGI_PASS_H
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gl/handles.h"
@@ -74,6 +75,12 @@ class RtgiPass {
     // resampled). A bound per emitter at every hit cost dark_plane (96 emitters)
     // half its indirect stage.
     int leafDrawAtHits = 16;
+    // Rays a mirror or glossy pixel traces in a frame while its mean holds fewer
+    // than 4 samples (a restart, a disocclusion, a mirror while the camera moves); 1
+    // after (rtgi_specular.comp). Those pixels are few and, lit along one ray, were
+    // the noisiest of a first frame's. 0: kFirstLobeRays, but 1 under a frame budget
+    // (the Renderer decides), where the budget sets the work.
+    int firstLobeRays = 0;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
     // is resampled with its neighbours' (ReSTIR DI's spatial reuse,
     // rtgi_restir.glsl); false: each pixel draws from its own candidates only.
@@ -190,6 +197,11 @@ class RtgiPass {
   // Glossy surfaces (not mirrors) keep at most this many frames of history across a
   // camera move: their highlights move with the view.
   static constexpr int kGlossyHistory = 4;
+  static constexpr int kFirstLobeRays = 4;  // Settings::firstLobeRays' default
+  // The specular stage's rays in a pixel's first frames.
+  int firstLobeRays() const {
+    return settings_.firstLobeRays > 0 ? settings_.firstLobeRays : kFirstLobeRays;
+  }
   // Nor do pixels on an edge between surfaces.
   static constexpr int kEdgeHistory = 2;
   const Settings& settings() const { return settings_; }
@@ -315,6 +327,8 @@ class RtgiPass {
   const gl::Program& indirectProgram(const GpuScene& gs);
   // {"RTGI_CONES"} with cone-traced indirect light (glossy reflections are cones too).
   std::vector<std::string> conesDefine() const;
+  // The specular stage's rays in a pixel's first frames (Settings::firstLobeRays).
+  std::string firstLobeRaysDefine() const;
   // The direct light's variant for gs's lights, at the pixels or (atHits) at the
   // indirect rays' hits.
   std::vector<std::string> lightDefines(const GpuScene& gs, bool atHits = false) const;

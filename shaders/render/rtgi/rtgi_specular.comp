@@ -2,10 +2,19 @@
 // rtgi stage "specular": light along the reflection. Mirrors (roughness below
 // kMirrorRoughness) trace the reflected ray and see the light the voxel it hits
 // reflects, or an emitter's exact geometry where the ray meets one first (a light
-// the size of its voxels would look too big); glossy surfaces trace one ray per frame towards a GGX
-// micro-normal drawn from the visible normals (Heitz 2018) and see reflected light only (their
-// highlight from the lights comes from the shadows stage). Weighted by Schlick's
-// Fresnel. Dielectrics rougher than kGlossyRoughness are skipped.
+// the size of its voxels would look too big); glossy surfaces trace one ray per
+// frame towards a GGX micro-normal drawn from the visible normals (Heitz 2018) and
+// see reflected light only (their highlight from the lights comes from the shadows
+// stage). Weighted by Schlick's Fresnel. Dielectrics rougher than kGlossyRoughness
+// are skipped.
+//
+// A pixel whose mean holds fewer than kFewLobeSamples samples (the first frames
+// after a restart, a camera move or a disocclusion) traces RTGI_FIRST_LOBE_RAYS
+// rays in a frame (RtgiPass::Settings::firstLobeRays) and averages them. Mirrors
+// and glossy surfaces are a few percent of the pixels, so the first frame costs
+// little more, and their light, seen along one ray, was the noisiest of a first
+// frame's: the hall's bronze knot at 1 frame, FLIP 0.305 with one ray, 0.239 with
+// four (docs/measurements.md#2026-12-07-first-lobe-rays).
 //
 // RTGI_BVH (the effect plan has the specular effect and the Renderer built a BVH):
 // the reflected ray finds its hit on the exact triangles (rtgi_bvh.glsl) instead,
@@ -38,6 +47,20 @@ layout(local_size_x = kRtgiTraceGroup) in;
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
+layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
+layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
+
+#ifndef RTGI_FIRST_LOBE_RAYS
+#define RTGI_FIRST_LOBE_RAYS 4
+#endif
+const int kFirstLobeRays = RTGI_FIRST_LOBE_RAYS;
+const float kFewLobeSamples = 4.0;
+
+// Samples in the pixel's mean before this frame's (accumulate's count).
+float samplesSoFar(ivec2 px) {
+  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
+  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
+}
 
 #ifdef RTGI_CONES
 #include "rtgi_cones.glsl"
@@ -121,6 +144,56 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, bool share, Surface p
 }
 #endif
 
+// The light one ray brings along the pixel's reflection (a mirror) or drawn from its
+// GGX lobe, weighted by BSDF x cosine / pdf.
+vec3 lobeLight(Surface s, bool mirror) {
+  vec3 dir;
+  vec3 h = s.n;
+  if (mirror) {
+    dir = reflect(-s.v, s.n);
+  } else {
+    vec3 t, bt;
+    basis(s.n, t, bt);
+    vec3 ve = vec3(dot(s.v, t), dot(s.v, bt), dot(s.v, s.n));
+    vec3 m = sampleVndf(ve, max(s.alpha, 1e-3), vec2(rand01(), rand01()));
+    h = normalize(t * m.x + bt * m.y + s.n * m.z);
+    dir = reflect(-s.v, h);
+  }
+  if (dot(dir, s.n) > 0.0) {
+    vec3 f = schlickFresnel(s.f0, clamp(dot(s.v, h), 0.0, 1.0));
+    if (!mirror) {
+      // The lobe ray's weight, BSDF x cosine / pdf, is F G2 / G1 (Heitz 2018), G2
+      // the height-correlated masking-shadowing of the direct stage's highlights.
+      float nv = max(dot(s.n, s.v), 1e-4), nl = dot(s.n, dir);
+      float alpha = max(s.alpha, 1e-3);
+      f *= 4.0 * nl * nv * smithVisibility(nl, nv, alpha) / smithG1(nv, alpha);
+    }
+#ifdef RTGI_BVH
+    bool share = false;
+#ifdef RTGI_HIGHLIGHT_MIS
+    share = !mirror && (rtgi.flags & kRtgiHasDirect) != 0u;
+#endif
+    return f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror, share, s);
+#else
+    vec3 o = rayOrigin(s);
+    MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
+    uint word = hit.hit ? material[hit.node].y : 0u;
+    vec3 l = hit.hit && !seenFromBehind(word, dir)
+                 ? unpackRgb9e5(radiance[lightSlot(hit.node, word, -dir)])
+                 : vec3(0.0);
+    if (mirror) {
+      // Lights seen in a mirror: the exact emitters, unless a voxel closer than
+      // the emitter's own voxels (kSurfaceOffsetVoxels in front) hides them.
+      float tVoxel = hit.hit ? (hit.t + 2.0 * kSurfaceOffsetVoxels) * octreeVoxelSize() : 3.0e38;
+      vec3 e = emitterAlongRay(o, dir, tVoxel, int(rtgi.emitterCount));
+      if (any(greaterThan(e, vec3(0.0)))) l = e;
+    }
+    return f * l;
+#endif
+  }
+  return vec3(0.0);
+}
+
 void main() {
   ivec2 px;
   if (!tracePixel(px)) return;
@@ -140,51 +213,10 @@ void main() {
     }
 #endif
     seedPixel(px, 3u);
-    Surface s = p.s;
-    vec3 dir;
-    vec3 h = s.n;
-    if (mirror) {
-      dir = reflect(-s.v, s.n);
-    } else {
-      vec3 t, bt;
-      basis(s.n, t, bt);
-      vec3 ve = vec3(dot(s.v, t), dot(s.v, bt), dot(s.v, s.n));
-      vec3 m = sampleVndf(ve, max(s.alpha, 1e-3), vec2(rand01(), rand01()));
-      h = normalize(t * m.x + bt * m.y + s.n * m.z);
-      dir = reflect(-s.v, h);
-    }
-    if (dot(dir, s.n) > 0.0) {
-      vec3 f = schlickFresnel(s.f0, clamp(dot(s.v, h), 0.0, 1.0));
-      if (!mirror) {
-        // The lobe ray's weight, BSDF x cosine / pdf, is F G2 / G1 (Heitz 2018), G2
-        // the height-correlated masking-shadowing of the direct stage's highlights.
-        float nv = max(dot(s.n, s.v), 1e-4), nl = dot(s.n, dir);
-        float alpha = max(s.alpha, 1e-3);
-        f *= 4.0 * nl * nv * smithVisibility(nl, nv, alpha) / smithG1(nv, alpha);
-      }
-#ifdef RTGI_BVH
-      bool share = false;
-#ifdef RTGI_HIGHLIGHT_MIS
-      share = !mirror && (rtgi.flags & kRtgiHasDirect) != 0u;
-#endif
-      result = f * reflectedRadiance(s.p + s.n * bvhEpsilon(), dir, mirror, share, s);
-#else
-      vec3 o = rayOrigin(s);
-      MarchHit hit = octreeTrace(octreeWorldRay(o, dir, 3.0e38), 0.0, kRaySteps);
-      uint word = hit.hit ? material[hit.node].y : 0u;
-      vec3 l = hit.hit && !seenFromBehind(word, dir)
-                   ? unpackRgb9e5(radiance[lightSlot(hit.node, word, -dir)])
-                   : vec3(0.0);
-      if (mirror) {
-        // Lights seen in a mirror: the exact emitters, unless a voxel closer than
-        // the emitter's own voxels (kSurfaceOffsetVoxels in front) hides them.
-        float tVoxel = hit.hit ? (hit.t + 2.0 * kSurfaceOffsetVoxels) * octreeVoxelSize() : 3.0e38;
-        vec3 e = emitterAlongRay(o, dir, tVoxel, int(rtgi.emitterCount));
-        if (any(greaterThan(e, vec3(0.0)))) l = e;
-      }
-      result = f * l;
-#endif
-    }
+    // A pixel with few samples yet traces kFirstLobeRays (above).
+    int rays = samplesSoFar(px) < kFewLobeSamples ? kFirstLobeRays : 1;
+    for (int i = 0; i < rays; ++i) result += lobeLight(p.s, mirror);
+    result /= float(rays);
   }
   imageStore(specularOut, px, vec4(result, 1.0));
 }
