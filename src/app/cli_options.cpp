@@ -363,9 +363,9 @@ const std::vector<CliOption> kOptions = {
            "--leaf-draw-at-hits", v, 1, static_cast<int>(gpu::kLightTreeLeafDraw));
      }},
     {"--first-lobe-rays", nullptr, "N", kBothOptions, kRtgi,
-     "rays a mirror or glossy pixel traces in a frame while its\n"
-     "mean holds fewer than 4 samples (1-16; default 4, or 1 under\n"
-     "--target-fps); one after",
+     "rays a glossy pixel (not a mirror) traces in a frame while\n"
+     "its mean holds fewer than 4 samples (1-16; default 4, or 1\n"
+     "under --target-fps); one after",
      nullptr,
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.firstLobeRays = parseIntValue("--first-lobe-rays", v, 1, 16);

@@ -178,8 +178,8 @@ void Renderer::createPasses() {
       const double floor = 1.0 / rs.interleave;
       budget_ = std::make_unique<FrameBudget>(1000.0 / settings_.targetFps, floor, 1.0, floor,
                                               FrameBudget::Gains{});
-      // The budget sets the work: a mirror traces one ray a frame while the camera
-      // moves (its history is 0 then), unless asked for more.
+      // The budget sets the work: a glossy pixel traces one ray a frame, unless
+      // asked for more.
       if (rs.firstLobeRays == 0) rs.firstLobeRays = 1;
     }
     // Reflections of the exact triangles need a BVH (when the plan has mirrors or

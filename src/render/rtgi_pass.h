@@ -75,11 +75,11 @@ class RtgiPass {
     // resampled). A bound per emitter at every hit cost dark_plane (96 emitters)
     // half its indirect stage.
     int leafDrawAtHits = 16;
-    // Rays a mirror or glossy pixel traces in a frame while its mean holds fewer
-    // than 4 samples (a restart, a disocclusion, a mirror while the camera moves); 1
-    // after (rtgi_specular.comp). Those pixels are few and, lit along one ray, were
-    // the noisiest of a first frame's. 0: kFirstLobeRays, but 1 under a frame budget
-    // (the Renderer decides), where the budget sets the work.
+    // Rays a glossy pixel (not a mirror) traces in a frame while its mean holds
+    // fewer than 4 samples (a restart, a disocclusion); 1 after
+    // (rtgi_specular.comp). Those pixels are few and, lit along one ray drawn from
+    // their lobe, were the noisiest of a first frame's. 0: kFirstLobeRays, but 1
+    // under a frame budget (the Renderer decides), where the budget sets the work.
     int firstLobeRays = 0;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
     // is resampled with its neighbours' (ReSTIR DI's spatial reuse,

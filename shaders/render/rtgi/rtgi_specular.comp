@@ -8,13 +8,16 @@
 // stage). Weighted by Schlick's Fresnel. Dielectrics rougher than kGlossyRoughness
 // are skipped.
 //
-// A pixel whose mean holds fewer than kFewLobeSamples samples (the first frames
-// after a restart, a camera move or a disocclusion) traces RTGI_FIRST_LOBE_RAYS
-// rays in a frame (RtgiPass::Settings::firstLobeRays) and averages them. Mirrors
-// and glossy surfaces are a few percent of the pixels, so the first frame costs
-// little more, and their light, seen along one ray, was the noisiest of a first
-// frame's: the hall's bronze knot at 1 frame, FLIP 0.305 with one ray, 0.239 with
-// four (docs/measurements.md#2026-12-07-first-lobe-rays).
+// A glossy pixel whose mean holds fewer than kFewLobeSamples samples (the first
+// frames after a restart, a camera move or a disocclusion) traces
+// RTGI_FIRST_LOBE_RAYS rays in a frame (RtgiPass::Settings::firstLobeRays) and
+// averages them: glossy surfaces are a few percent of the pixels, so the first
+// frame costs little more, and their light, seen along one ray drawn from the lobe,
+// was the noisiest of a first frame's (the hall's bronze knot at 1 frame, FLIP
+// 0.305 with one ray, 0.239 with four). Mirrors keep one: their ray is the same
+// every time, and what a second one adds is another sample of the hit's light,
+// which cost dark_plane's mirror ball a quarter of a first frame for four
+// (docs/measurements.md#2026-12-07-first-lobe-rays).
 //
 // RTGI_BVH (the effect plan has the specular effect and the Renderer built a BVH):
 // the reflected ray finds its hit on the exact triangles (rtgi_bvh.glsl) instead,
@@ -213,8 +216,8 @@ void main() {
     }
 #endif
     seedPixel(px, 3u);
-    // A pixel with few samples yet traces kFirstLobeRays (above).
-    int rays = samplesSoFar(px) < kFewLobeSamples ? kFirstLobeRays : 1;
+    // A glossy pixel with few samples yet traces kFirstLobeRays (above).
+    int rays = !mirror && samplesSoFar(px) < kFewLobeSamples ? kFirstLobeRays : 1;
     for (int i = 0; i < rays; ++i) result += lobeLight(p.s, mirror);
     result /= float(rays);
   }
