@@ -105,17 +105,6 @@ layout(std430, binding = kPixelListBinding) readonly buffer PixelList {
 #ifdef RTGI_TRACED_IMAGE
 layout(binding = kTracedImage, r8ui) uniform readonly uimage2D tracedIn;
 #endif
-#ifdef RTGI_SAMPLES_SO_FAR
-layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
-layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
-
-// Samples in the pixel's mean before this frame's (accumulate's count): after a
-// camera move, in the reprojected mean, which the stage's caller binds.
-float samplesSoFar(ivec2 px) {
-  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
-  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
-}
-#endif
 
 bool selectedByList() { return rtgi.selectKind != kSelectPattern && rtgi.frameIndex != 0u; }
 

@@ -43,7 +43,6 @@
 #include "octree.glsl"
 #include "octree_light.glsl"
 #define RTGI_PIXEL_LIST
-#define RTGI_SAMPLES_SO_FAR
 #include "rtgi_common.glsl"
 
 layout(local_size_x = kRtgiTraceGroup) in;
@@ -51,12 +50,20 @@ layout(local_size_x = kRtgiTraceGroup) in;
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
+layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
+layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
 
 #ifndef RTGI_FIRST_LOBE_RAYS
 #define RTGI_FIRST_LOBE_RAYS 4
 #endif
 const int kFirstLobeRays = RTGI_FIRST_LOBE_RAYS;
 const float kFewLobeSamples = 4.0;
+
+// Samples in the pixel's mean before this frame's (accumulate's count).
+float samplesSoFar(ivec2 px) {
+  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
+  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
+}
 
 #ifdef RTGI_CONES
 #include "rtgi_cones.glsl"
