@@ -93,8 +93,10 @@ struct RtgiParams {
   // The denoiser's edge stops (RtgiPass::Settings::denoiseLuminance, denoisePlane).
   float denoiseLuminance;
   float denoisePlane;
+  // The angle between neighbouring pixels' rays, in radians at the image's centre:
+  // what a pixel spans at a distance of 1.
+  float pixelSpread;
   float pad1;
-  float pad2;
 };
 
 // The temporal upsampler (rtgi_upsample.comp, RenderSettings::renderScale < 1):

@@ -567,14 +567,14 @@ void Renderer::executeMode(gl::FrameContext& ctx, const scene::Camera& camera,
     case Mode::kRtgi: {
       if (budget_) rtgi_->setTraceFraction(budget_->fraction());
       if (!upsamples()) {
-        rtgi_->execute(ctx, gpuScene_, octree_.get(), camera.position, accumulated_, hdr_.id(),
+        rtgi_->execute(ctx, gpuScene_, octree_.get(), camera, accumulated_, hdr_.id(),
                        previousViewProj);
         break;
       }
       // At the internal size, then the output rebuilt from it.
       const glm::ivec2 low = internalSize();
       gl::FrameContext lowCtx{ctx.programs, ctx.timer, low.x, low.y, ctx.frameUniforms};
-      rtgi_->execute(lowCtx, gpuScene_, octree_.get(), camera.position, accumulated_, lowHdr_.id(),
+      rtgi_->execute(lowCtx, gpuScene_, octree_.get(), camera, accumulated_, lowHdr_.id(),
                      previousViewProj);
       // The output's history restarts with accumulation and after a move: the
       // internal image, which follows the move, carries what is shown meanwhile.

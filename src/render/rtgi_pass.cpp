@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <string>
 
 #include "core/log.h"
@@ -270,7 +271,7 @@ void RtgiPass::resize(int width, int height) {
 }
 
 void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::Octree* octree,
-                       const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
+                       const scene::Camera& camera, int frameIndex, GLuint accum,
                        const glm::mat4* previousViewProj) {
   if (ctx.width != width_ || ctx.height != height_) resize(ctx.width, ctx.height);
   if (settings_.denoise && !history_.hasMoments()) {
@@ -282,7 +283,7 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   current_ ^= 1;
   buildOptionalStages();
   const FramePlan plan = planFrame(ctx, gs, frameIndex, previousViewProj != nullptr);
-  gpu::RtgiParams p = frameParams(ctx, gs, cameraPosition, frameIndex, previousViewProj, plan);
+  gpu::RtgiParams p = frameParams(ctx, gs, camera, frameIndex, previousViewProj, plan);
   if (octree && octree->allBounces()) p.flags |= gpu::kRtgiAllBounces;
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
   drawGBuffer(ctx, gs);
@@ -350,7 +351,7 @@ RtgiPass::FramePlan RtgiPass::planFrame(const gl::FrameContext& ctx, const GpuSc
 }
 
 gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScene& gs,
-                                      const glm::vec3& cameraPosition, int frameIndex,
+                                      const scene::Camera& camera, int frameIndex,
                                       const glm::mat4* previousViewProj,
                                       const FramePlan& plan) const {
   gpu::RtgiParams p{};
@@ -364,7 +365,8 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
             (settings_.indirect ? gpu::kRtgiHasIndirect : 0u) |
             (settings_.specular ? gpu::kRtgiHasSpecular : 0u) |
             (plan.reprojecting ? gpu::kRtgiReprojecting : 0u);
-  p.camera = glm::vec4(cameraPosition, 1.0f);
+  p.camera = glm::vec4(camera.position, 1.0f);
+  p.pixelSpread = 2.0f * std::tan(0.5f * camera.yfov) / static_cast<float>(ctx.height);
   p.denoiseLuminance = settings_.denoiseLuminance;
   p.denoisePlane = settings_.denoisePlane;
   p.interleave = static_cast<uint32_t>(plan.interleave);

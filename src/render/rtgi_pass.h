@@ -165,11 +165,12 @@ class RtgiPass {
            std::shared_ptr<const GpuBvh> bvh = nullptr);
   // Renders frame `frameIndex` of the accumulation (0 restarts it) into `accum`.
   // `octree` may be null when the settings trace nothing (no shadows, indirect or
-  // specular light). `previousViewProj`, on a frame after the camera moved (not the
+  // specular light). `camera`: this frame's (its position and field of view).
+  // `previousViewProj`, on a frame after the camera moved (not the
   // first): the view-projection, without jitter, of the frame before, whose image
   // `accum` holds; the history is reprojected from it.
   void execute(gl::FrameContext& ctx, const GpuScene& scene, const voxel::Octree* octree,
-               const glm::vec3& cameraPosition, int frameIndex, GLuint accum,
+               const scene::Camera& camera, int frameIndex, GLuint accum,
                const glm::mat4* previousViewProj = nullptr);
   // A render scale below 1 (RenderSettings::renderScale): after execute() at the
   // internal size, upsample() adds this frame's fresh samples to the output's
@@ -287,7 +288,7 @@ class RtgiPass {
   FramePlan planFrame(const gl::FrameContext& ctx, const GpuScene& gs, int frameIndex,
                       bool moved) const;
   gpu::RtgiParams frameParams(const gl::FrameContext& ctx, const GpuScene& gs,
-                              const glm::vec3& cameraPosition, int frameIndex,
+                              const scene::Camera& camera, int frameIndex,
                               const glm::mat4* previousViewProj, const FramePlan& plan) const;
   // The gbuffer stage, into fbo_[current_].
   void drawGBuffer(gl::FrameContext& ctx, const GpuScene& gs);

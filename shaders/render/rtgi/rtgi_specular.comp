@@ -14,10 +14,19 @@
 // averages them: glossy surfaces are a few percent of the pixels, so the first
 // frame costs little more, and their light, seen along one ray drawn from the lobe,
 // was the noisiest of a first frame's (the hall's bronze knot at 1 frame, FLIP
-// 0.305 with one ray, 0.239 with four). Mirrors keep one: their ray is the same
-// every time, and what a second one adds is another sample of the hit's light,
-// which cost dark_plane's mirror ball a quarter of a first frame for four
-// (docs/measurements.md#2026-12-07-first-lobe-rays).
+// 0.305 with one ray, 0.239 with four). A mirror traces them only where its
+// reflection is strongly minified: where the directions it reflects across one
+// pixel spread kMinifiedMirror times as far as the camera's rays or more (the
+// reflected ray's differential, from the neighbours' G-buffer: Igehy 1999, "Tracing
+// ray differentials"), one ray shows one point of a patch of the scene the pixel
+// covers, and its rays are spread over the pixel's footprint. On a ball that spread
+// is about 2 / (its radius in pixels x the camera's spread), so this is a ball under
+// about 9 pixels in radius at 256 pixels and 60 degrees (the hall's mirror ball at
+// 1 frame, FLIP 0.294 with one ray, 0.205 with four) and the rims of larger ones: few
+// pixels. The bulk of a large ball (dark_plane's, 16-45 times) and flat mirrors keep
+// one ray: there the rays of every pixel cost dark_plane's first frame 85 ms (a
+// quarter) for a FLIP 3% lower over the image
+// (docs/measurements.md#2026-12-07-first-lobe-rays, #2026-12-07-mirror-footprint).
 //
 // RTGI_BVH (the effect plan has the specular effect and the Renderer built a BVH):
 // the reflected ray finds its hit on the exact triangles (rtgi_bvh.glsl) instead,
@@ -58,6 +67,7 @@ layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojecte
 #endif
 const int kFirstLobeRays = RTGI_FIRST_LOBE_RAYS;
 const float kFewLobeSamples = 4.0;
+const float kMinifiedMirror = 48.0;
 
 // Samples in the pixel's mean before this frame's (accumulate's count).
 float samplesSoFar(ivec2 px) {
@@ -147,13 +157,39 @@ vec3 reflectedRadiance(vec3 o, vec3 dir, bool seeEmitters, bool share, Surface p
 }
 #endif
 
-// The light one ray brings along the pixel's reflection (a mirror) or drawn from its
-// GGX lobe, weighted by BSDF x cosine / pdf.
-vec3 lobeLight(Surface s, bool mirror) {
+// The direction a mirror pixel q reflects the camera's ray into, or 0 where q is not
+// on a mirror facing the same way as `n` (another surface, an edge).
+vec3 mirrorDirection(ivec2 q, vec3 n) {
+  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(rtgi.width, rtgi.height))))
+    return vec3(0.0);
+  vec4 pos = texelFetch(gPosition, q, 0);
+  vec4 nr = texelFetch(gNormal, q, 0);
+  if (pos.w < 0.5 || nr.w >= kMirrorRoughness) return vec3(0.0);
+  vec3 nq = normalize(nr.xyz);
+  if (dot(nq, n) < 0.5) return vec3(0.0);
+  return reflect(normalize(pos.xyz - rtgi.camera.xyz), nq);
+}
+
+// How a mirror pixel's reflected direction r changes across the pixel along one
+// image axis e (a ray differential, Igehy 1999, "Tracing ray differentials", taken
+// from the neighbours' G-buffer): the central difference where both neighbours lie
+// on the mirror, else the one-sided one, else 0.
+vec3 mirrorDifferential(ivec2 px, ivec2 e, vec3 r, vec3 n) {
+  vec3 a = mirrorDirection(px + e, n), b = mirrorDirection(px - e, n);
+  if (a != vec3(0.0) && b != vec3(0.0)) return 0.5 * (a - b);
+  if (a != vec3(0.0)) return a - r;
+  if (b != vec3(0.0)) return r - b;
+  return vec3(0.0);
+}
+
+// The light one ray brings along the pixel's reflection (a mirror: `footprint` turns
+// it towards a point of the pixel, offsets in [-1/2, 1/2] along the differentials
+// dx, dy) or drawn from its GGX lobe, weighted by BSDF x cosine / pdf.
+vec3 lobeLight(Surface s, bool mirror, vec2 footprint, vec3 dx, vec3 dy) {
   vec3 dir;
   vec3 h = s.n;
   if (mirror) {
-    dir = reflect(-s.v, s.n);
+    dir = normalize(reflect(-s.v, s.n) + footprint.x * dx + footprint.y * dy);
   } else {
     vec3 t, bt;
     basis(s.n, t, bt);
@@ -216,9 +252,25 @@ void main() {
     }
 #endif
     seedPixel(px, 3u);
-    // A glossy pixel with few samples yet traces kFirstLobeRays (above).
-    int rays = !mirror && samplesSoFar(px) < kFewLobeSamples ? kFirstLobeRays : 1;
-    for (int i = 0; i < rays; ++i) result += lobeLight(p.s, mirror);
+    // A glossy pixel with few samples yet traces kFirstLobeRays (above), and so does
+    // a mirror whose reflection is strongly minified (the directions it reflects
+    // across one pixel spread kMinifiedMirror times as far as the camera's rays
+    // across it), its rays spread over the pixel's footprint.
+    int rays = 1;
+    vec3 dx = vec3(0.0), dy = vec3(0.0);
+    bool few = kFirstLobeRays > 1 && samplesSoFar(px) < kFewLobeSamples;
+    if (few && mirror) {
+      vec3 r = reflect(-p.s.v, p.s.n);
+      dx = mirrorDifferential(px, ivec2(1, 0), r, p.s.n);
+      dy = mirrorDifferential(px, ivec2(0, 1), r, p.s.n);
+      if (max(length(dx), length(dy)) > kMinifiedMirror * rtgi.pixelSpread) rays = kFirstLobeRays;
+    } else if (few) {
+      rays = kFirstLobeRays;
+    }
+    for (int i = 0; i < rays; ++i) {
+      vec2 footprint = mirror && rays > 1 ? vec2(rand01(), rand01()) - 0.5 : vec2(0.0);
+      result += lobeLight(p.s, mirror, footprint, dx, dy);
+    }
     result /= float(rays);
   }
   imageStore(specularOut, px, vec4(result, 1.0));
