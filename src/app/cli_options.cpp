@@ -363,7 +363,8 @@ const std::vector<CliOption> kOptions = {
            "--leaf-draw-at-hits", v, 1, static_cast<int>(gpu::kLightTreeLeafDraw));
      }},
     {"--first-lobe-rays", nullptr, "N", kBothOptions, kRtgi,
-     "rays a glossy pixel (not a mirror) traces in a frame while\n"
+     "rays a glossy pixel, or a mirror pixel whose reflection is\n"
+     "strongly minified (a small ball), traces in a frame while\n"
      "its mean holds fewer than 4 samples (1-16; default 4, or 1\n"
      "under --target-fps); one after",
      nullptr,

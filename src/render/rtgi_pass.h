@@ -75,10 +75,11 @@ class RtgiPass {
     // resampled). A bound per emitter at every hit cost dark_plane (96 emitters)
     // half its indirect stage.
     int leafDrawAtHits = 16;
-    // Rays a glossy pixel (not a mirror) traces in a frame while its mean holds
-    // fewer than 4 samples (a restart, a disocclusion); 1 after
-    // (rtgi_specular.comp). Those pixels are few and, lit along one ray drawn from
-    // their lobe, were the noisiest of a first frame's. 0: kFirstLobeRays, but 1
+    // Rays a glossy pixel, or a mirror pixel whose reflection is strongly minified
+    // (spread over its footprint), traces in a frame while its mean holds fewer than
+    // 4 samples (a restart, a disocclusion); 1 after (rtgi_specular.comp). Those
+    // pixels are few and, lit along one ray drawn from their lobe or showing one
+    // point of their patch, were the noisiest of a first frame's. 0: kFirstLobeRays, but 1
     // under a frame budget (the Renderer decides), where the budget sets the work.
     int firstLobeRays = 0;
     // Many emitters (where the light tree walks nodes): each pixel's emitter sample
