@@ -92,6 +92,19 @@ bool highlightMis = false;
 // where the representative point is not.
 bool highlightSampled = false;
 
+// The lobe ray's weight against the light sample's in that balance heuristic
+// (RtgiPass::Settings::lobeShareWeight), as Veach and Guibas weigh each technique's
+// pdf by its count of samples: the lobe traces kFirstLobeRays rays in a pixel's first
+// frames, and the light sample's pdf, taken as uniform over the triangle, is above
+// the draw's (which picks the triangle among others first). On the hall's bronze
+// knot, 1 left the skylight's highlight mostly to light samples, which land in the
+// lobe seldom and bright: the knot's variance at one frame 0.234 with 1, 0.112 with
+// 4 (measurements.md#2026-12-07-glossy-highlight-shares).
+#ifndef RTGI_LOBE_SHARE
+#define RTGI_LOBE_SHARE 4.0
+#endif
+const float kLobeShare = RTGI_LOBE_SHARE;
+
 // The light sample's share of the highlight along unit l, towards a triangle of
 // solid angle `omega` from s.p; the ray's share is 1 minus it.
 float highlightLightShare(Surface s, vec3 l, float omega) {
@@ -99,7 +112,7 @@ float highlightLightShare(Surface s, vec3 l, float omega) {
   float alpha = max(s.alpha, 1e-3);  // as the specular stage draws its lobe
   vec3 h = normalize(l + s.v);
   float lobePdf = smithG1(nv, alpha) * ggxD(max(dot(s.n, h), 0.0), alpha) / (4.0 * nv);
-  return 1.0 / (1.0 + omega * lobePdf);
+  return 1.0 / (1.0 + kLobeShare * omega * lobePdf);
 }
 
 // The solid angle of the triangle a, b, c seen from p.

@@ -74,7 +74,10 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   if (raysHitTriangles() && settings_.features.shadows)
     for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
-  if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+  if (sharesHighlights(gs)) {
+    defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+    defines.push_back(lobeShareDefine());
+  }
   // Without a specular stage that shares them (none, or one of cones or voxel
   // reflections, which do not see the emitters), the light sample carries the
   // highlights whole.
@@ -82,6 +85,7 @@ const gl::Program& RtgiPass::directProgram(const GpuScene& gs, const char* resti
   if (*restir != '\0') {
     defines.emplace_back(restir);
     defines.push_back("RTGI_RESTIR_CANDIDATES=" + std::to_string(settings_.restirCandidates));
+    defines.push_back("RTGI_GLOSSY_CANDIDATES=" + std::to_string(settings_.glossyCandidates));
     defines.push_back("RTGI_RESTIR_LEAF_DRAW=" + std::to_string(settings_.candidateLeafDraw) +
                       ".0");
   }
@@ -187,6 +191,10 @@ std::string RtgiPass::firstLobeRaysDefine() const {
   return "RTGI_FIRST_LOBE_RAYS=" + std::to_string(firstLobeRays());
 }
 
+std::string RtgiPass::lobeShareDefine() const {
+  return "RTGI_LOBE_SHARE=" + std::to_string(settings_.lobeShareWeight);
+}
+
 // With cones for indirect light, glossy reflections are cones too.
 std::vector<std::string> RtgiPass::conesDefine() const {
   if (settings_.indirectMethod == Settings::IndirectMethod::kCones) return {"RTGI_CONES"};
@@ -214,7 +222,10 @@ const gl::Program& RtgiPass::specularProgram(const GpuScene& gs) {
   for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : lightDefines(gs)) defines.push_back(std::move(d));
   for (std::string& d : conesDefine()) defines.push_back(std::move(d));
-  if (sharesHighlights(gs)) defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+  if (sharesHighlights(gs)) {
+    defines.emplace_back("RTGI_HIGHLIGHT_MIS");
+    defines.push_back(lobeShareDefine());
+  }
   defines.push_back(firstLobeRaysDefine());
   defines.emplace_back("RTGI_SPECULAR_LIST");  // traceSpecular's list
   return programs_.get({{"render/rtgi/rtgi_specular.comp"}, defines});
