@@ -46,14 +46,7 @@ float shadowRay(vec3 o, vec3 l, float dist, bool toEmitter, float slack) {
 #include "rtgi_direct_light.glsl"
 #include "rtgi_hit.glsl"
 layout(std430, binding = kOctreeBounceBinding) readonly buffer Bounce { vec4 bounce[]; };
-layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
-layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
-
-// Samples in the pixel's mean before this frame's (accumulate's count).
-float samplesSoFar(ivec2 px) {
-  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
-  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
-}
+#include "rtgi_sample_count.glsl"
 #endif
 
 layout(local_size_x = kRtgiTraceGroup) in;

@@ -23,7 +23,7 @@
 // is about 2 / (its radius in pixels x the camera's spread), so this is a ball under
 // about 9 pixels in radius at 256 pixels and 60 degrees (the hall's mirror ball at
 // 1 frame, FLIP 0.294 with one ray, 0.205 with four) and the rims of larger ones: few
-// pixels. The bulk of a large ball (dark_plane's, 16-45 times) and flat mirrors keep
+// pixels. The bulk of a large ball (dark_plane's, 16-49 times) and flat mirrors keep
 // one ray: there the rays of every pixel cost dark_plane's first frame 85 ms (a
 // quarter) for a FLIP 3% lower over the image
 // (docs/measurements.md#2026-12-07-first-lobe-rays, #2026-12-07-mirror-footprint).
@@ -59,8 +59,6 @@ layout(local_size_x = kRtgiTraceGroup) in;
 layout(std430, binding = kOctreeRadianceBinding) readonly buffer Radiance { uint radiance[]; };
 layout(std430, binding = kOctreeMaterialBinding) readonly buffer Material { uvec2 material[]; };
 layout(binding = kSpecularImage, rgba16f) uniform writeonly image2D specularOut;
-layout(binding = kAccumImage, rgba32f) uniform readonly image2D accumIn;
-layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojectedIn;
 
 #ifndef RTGI_FIRST_LOBE_RAYS
 #define RTGI_FIRST_LOBE_RAYS 4
@@ -69,11 +67,7 @@ const int kFirstLobeRays = RTGI_FIRST_LOBE_RAYS;
 const float kFewLobeSamples = 4.0;
 const float kMinifiedMirror = 48.0;
 
-// Samples in the pixel's mean before this frame's (accumulate's count).
-float samplesSoFar(ivec2 px) {
-  if ((rtgi.flags & kRtgiReprojecting) != 0u) return imageLoad(reprojectedIn, px).a;
-  return rtgi.frameIndex > 0u ? imageLoad(accumIn, px).a : 0.0;
-}
+#include "rtgi_sample_count.glsl"
 
 #ifdef RTGI_CONES
 #include "rtgi_cones.glsl"
