@@ -48,7 +48,7 @@ const int kRestirCandidates = RTGI_RESTIR_CANDIDATES;
 // kSampledHighlightAlpha: RtgiPass::Settings::glossyCandidates). Its target peaks at
 // the emitters its lobe sees, which the tree's bounds know nothing of, so a few
 // candidates seldom hold them, and the one that does is a firefly. Those pixels are
-// few (the hall's bronze knot, 4% of the image: the direct stage +10%).
+// few (the hall's bronze knot, 4% of the image: its `shadows` +14%).
 #ifndef RTGI_GLOSSY_CANDIDATES
 #define RTGI_GLOSSY_CANDIDATES 16
 #endif
