@@ -20,6 +20,13 @@ this machine one render's time scatters by tens of percent, and a heat decided b
 one of them was decided by that scatter (dark_plane's one frame took 452 ms in one
 heat and 299 ms in the same run's table).
 
+With --held-out N, N viewpoints drawn at random in the set's scenes (the
+"held_out" section of scenes/validation_set.json; validation_set.held_out) are
+rendered instead of the set's views (besides them with --view): views nobody has
+tuned rtgi to, new ones with each --held-out-seed (by default one from the clock,
+printed with the views so a run can be repeated). Their references are rendered
+at --ref-spp into out/reference/, by a name that holds a hash of the viewpoint.
+
 Each image is also measured on its mirrors and on its glossy surfaces alone (FLIP
 over those pixels: regions.py), the light rtgi's specular stage carries, which the
 whole image's FLIP averages away where they are small.
@@ -36,6 +43,7 @@ import re
 import statistics
 import subprocess
 import sys
+import time
 
 from voxgi_tools import ROOT, metrics, regions, validation_set, voxgi
 from voxgi_tools import reference as refs
@@ -159,7 +167,14 @@ def main(argv=None):
                     help="with --against-mitsuba: each side's time in the race is the median "
                     "of this many renders (default 3; a single render's time scatters by "
                     "tens of percent here)")
+    ap.add_argument("--held-out", type=int, default=0, metavar="N",
+                    help="N viewpoints drawn at random in the set's scenes instead of the set's "
+                    "views (besides those given with --view)")
+    ap.add_argument("--held-out-seed", type=int, metavar="S",
+                    help="the seed that draws them (default: from the clock; printed)")
     a = ap.parse_args(argv)
+    if a.held_out < 0:
+        ap.error(f"--held-out must be 0 or more, not {a.held_out}")
     if a.race_runs < 1:
         ap.error(f"--race-runs must be 1 or more, not {a.race_runs}")
     if not os.path.exists(voxgi()):
@@ -174,7 +189,15 @@ def main(argv=None):
              "ratio | FLIP on mirrors | FLIP on glossy |",
              "|---|---|---|---:|---:|---:|---:|---:|---:|"]
     frames, spps = ([1, 16, 64], [16, 64]) if a.quick else (FRAMES, SPP)
-    views = validation_set.views(a.view)
+    views = validation_set.views(a.view) if a.view or not a.held_out else []
+    held = []
+    if a.held_out:
+        seed = a.held_out_seed if a.held_out_seed is not None else int(time.time()) % 1000000
+        held = validation_set.held_out(a.held_out, seed)
+        print(f"bench-convergence: {a.held_out} held-out views, --held-out-seed {seed}:", flush=True)
+        for view, scene, extra in held:
+            print(f"  {view}: {os.path.relpath(scene, ROOT)} {' '.join(extra)}", flush=True)
+        views += held
     race = ["| view | Mitsuba 3 | its time (ms) | its FLIP | rtgi within it | rtgi's time (ms) | "
             "rtgi's FLIP | closer | on mirrors (Mitsuba, rtgi) | on glossy (Mitsuba, rtgi) |",
             "|---|---|---:|---:|---|---:|---:|---|---:|---:|"]
@@ -233,6 +256,10 @@ def main(argv=None):
                      + " | ".join(f"{masks[c].sum()} px" if c in masks else "none"
                                   for c in regions.CLASSES) + " |")
     table = "\n".join(lines) + "\n"
+    if held:
+        table += (f"\nHeld-out views (--held-out {a.held_out} --held-out-seed {seed}):\n\n" +
+                  "\n".join(f"- {view}: `{os.path.relpath(scene, ROOT)} {' '.join(extra)}`"
+                            for view, scene, extra in held) + "\n")
     if a.against_mitsuba:
         table += (f"\nThe race: rtgi within Mitsuba's time (each time the median of "
                   f"{a.race_runs} renders)\n\n" + "\n".join(race) + "\n")

@@ -1,8 +1,11 @@
 """The validation set (scenes/validation_set.json): the views every rtgi change is
 judged on, for the benchmarks to share. A view is (name, scene path, the flags that
 place its camera)."""
+import hashlib
 import json
+import math
 import os
+import random
 import subprocess
 import sys
 
@@ -46,6 +49,50 @@ def views(names=None, make=True):
             subprocess.run(e["make"].split(), cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
         out.append((e["view"], path, camera_flags(e)))
     return out
+
+
+def held_out(count, seed):
+    """[(view, absolute scene path, flags)] of `count` viewpoints drawn at random, with
+    `seed`, in the spaces of the set's "held_out" section: the scenes taken in turn,
+    each view's eye uniform over its space's eye boxes (a box by its volume) and out
+    of its avoid spheres, the point it looks at uniform over the target box and at
+    least min_distance away, and not straight up or down (the camera's up is +y).
+    Each name holds the scene and a hash of the viewpoint, so a reference rendered
+    for one (out/reference/, by name) is never taken for another's."""
+    section = load()["held_out"]
+    rng = random.Random(seed)
+    out = []
+    for i in range(count):
+        entry = section["scenes"][i % len(section["scenes"])]
+        space = section["spaces"][entry["space"]]
+        eye, target = draw_viewpoint(space, rng)
+        flags = ["--look-from", ",".join(f"{c:.2f}" for c in eye),
+                 "--look-at", ",".join(f"{c:.2f}" for c in target)]
+        stem = os.path.splitext(os.path.basename(entry["scene"]))[0]
+        tag = hashlib.sha1(" ".join(flags).encode()).hexdigest()[:6]
+        out.append((f"held_{stem}_{tag}", os.path.join(ROOT, entry["scene"]), flags))
+    return out
+
+
+def draw_viewpoint(space, rng, tries=10000):
+    """(eye, target) drawn in `space` (held_out's spaces), each rounded to 1 cm."""
+    def volume(box):
+        return math.prod(max(hi - lo, 0.0) for lo, hi in zip(*box))
+
+    def inside(box):
+        return [round(rng.uniform(lo, hi), 2) for lo, hi in zip(*box)]
+
+    boxes = space["eye"]
+    for _ in range(tries):
+        eye = inside(rng.choices(boxes, weights=[volume(b) for b in boxes])[0])
+        if any(math.dist(eye, c) < r for c, r in space["avoid"]):
+            continue
+        target = inside(space["target"])
+        d = math.dist(eye, target)
+        if d < space["min_distance"] or abs(target[1] - eye[1]) > 0.9 * d:
+            continue
+        return eye, target
+    raise SystemExit(f"validation set: no viewpoint drawn in {tries} tries ({space})")
 
 
 def names():
