@@ -5,9 +5,15 @@ avoid spheres, target in the target box, far enough, not straight up or down), a
 every eye box free of the scenes' triangles (but those of the objects the avoid
 spheres hold), so that no camera is drawn inside a wall or a column.
 
+With them, the names of --scene's files (validation_set.user_scenes): a new one
+once the file or its viewpoint changes, so that no reference of another is reused,
+and a clear exit for a file that is not there.
+
 Usage: held_out_test.py"""
 import math
 import os
+import shutil
+import tempfile
 
 import numpy as np
 
@@ -51,7 +57,33 @@ def overlap_box(tris, lo, hi):
     return hit
 
 
+def user_scenes():
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "my scene.gltf")
+        shutil.copy(os.path.join(ROOT, "scenes/box/Box.gltf"), path)
+        first = validation_set.user_scenes([path])
+        name = first[0][0]
+        if not name.startswith("scene_my_scene_") or first[0][2] != []:
+            fail(f"user scene: {first}")
+        if validation_set.user_scenes([path]) != first:
+            fail("user scene: two names for one file")
+        placed = validation_set.user_scenes([path], ["--look-from", "1,2,3", "--look-at", "0,0,0"])
+        if placed[0][0] == name or placed[0][2][1] != "1,2,3":
+            fail(f"user scene: another viewpoint kept the name {name}")
+        with open(path, "a") as f:
+            f.write("\n")
+        if validation_set.user_scenes([path])[0][0] == name:
+            fail(f"user scene: a changed file kept the name {name}")
+        try:
+            validation_set.user_scenes([os.path.join(tmp, "missing.gltf")])
+            fail("user scene: a missing file was taken")
+        except SystemExit as e:
+            if "missing.gltf: no such file" not in str(e):
+                fail(f"user scene: a missing file said {e}")
+
+
 def main():
+    user_scenes()
     section = validation_set.load()["held_out"]
     set_names = set(validation_set.names())
 

@@ -27,6 +27,10 @@ tuned rtgi to, new ones with each --held-out-seed (by default one from the clock
 printed with the views so a run can be repeated). Their references are rendered
 at --ref-spp into out/reference/, by a name that holds a hash of the viewpoint.
 
+With --scene FILE (repeatable), any glTF file is raced the same way, from its own
+camera or from --look-from/--look-at: a scene of your own against the path
+tracer's reference and Mitsuba.
+
 Each image is also measured on its mirrors and on its glossy surfaces alone (FLIP
 over those pixels: regions.py), the light rtgi's specular stage carries, which the
 whole image's FLIP averages away where they are small.
@@ -172,7 +176,17 @@ def main(argv=None):
                     "views (besides those given with --view)")
     ap.add_argument("--held-out-seed", type=int, metavar="S",
                     help="the seed that draws them (default: from the clock; printed)")
+    ap.add_argument("--scene", action="append", default=[], metavar="FILE",
+                    help="a glTF file outside the set, raced the same way (repeatable; instead "
+                    "of the set's views, besides those given with --view)")
+    ap.add_argument("--look-from", metavar="X,Y,Z",
+                    help="with --scene: the viewpoint, instead of the file's camera")
+    ap.add_argument("--look-at", metavar="X,Y,Z", help="with --scene: the point it looks at")
     a = ap.parse_args(argv)
+    if (a.look_from is None) != (a.look_at is None):
+        ap.error("--look-from and --look-at go together")
+    if a.look_from is not None and not a.scene:
+        ap.error("--look-from and --look-at place the camera of a --scene")
     if a.held_out < 0:
         ap.error(f"--held-out must be 0 or more, not {a.held_out}")
     if a.race_runs < 1:
@@ -189,7 +203,10 @@ def main(argv=None):
              "ratio | FLIP on mirrors | FLIP on glossy |",
              "|---|---|---|---:|---:|---:|---:|---:|---:|"]
     frames, spps = ([1, 16, 64], [16, 64]) if a.quick else (FRAMES, SPP)
-    views = validation_set.views(a.view) if a.view or not a.held_out else []
+    own = a.held_out or a.scene
+    views = validation_set.views(a.view) if a.view or not own else []
+    place = ["--look-from", a.look_from, "--look-at", a.look_at] if a.look_from else []
+    views += validation_set.user_scenes(a.scene, place)
     held = []
     if a.held_out:
         seed = a.held_out_seed if a.held_out_seed is not None else int(time.time()) % 1000000

@@ -95,6 +95,30 @@ def draw_viewpoint(space, rng, tries=10000):
     raise SystemExit(f"validation set: no viewpoint drawn in {tries} tries ({space})")
 
 
+def user_scenes(paths, flags=()):
+    """[(view, absolute scene path, flags)] of glTF files outside the set, each from its
+    own camera or the one `flags` place (--look-from, --look-at). Each name holds the
+    file's stem and a hash of its path, size, modification time and the flags, so a
+    reference rendered for it (out/reference/, by name) is made again once the file
+    or the viewpoint changes."""
+    out = []
+    for p in paths:
+        path = os.path.abspath(p)
+        if not os.path.isfile(path):
+            raise SystemExit(f"validation set: {p}: no such file")
+        if not path.lower().endswith(".gltf"):
+            # The tools' own readers (regions.py, mitsuba_scene.py) take JSON glTF.
+            raise SystemExit(f"validation set: {p}: not a .gltf file (a .glb can be "
+                             "unpacked into one with gltf-pipeline or Blender)")
+        st = os.stat(path)
+        key = f"{path} {st.st_size} {st.st_mtime_ns} {' '.join(flags)}"
+        stem = os.path.splitext(os.path.basename(path))[0]
+        stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in stem)
+        out.append((f"scene_{stem}_{hashlib.sha1(key.encode()).hexdigest()[:6]}", path,
+                    list(flags)))
+    return out
+
+
 def names():
     return [e["view"] for e in load()["views"]]
 
