@@ -72,12 +72,17 @@ def run(view, scene, extra, args, outdir, tag):
 
 
 def warm_up(view, scene, extra, outdir):
-    """One untimed frame with each rtgi setting the table times, so that llvmpipe's
+    """Two untimed frames with each rtgi setting the table times, so that llvmpipe's
     compiling of their shader variants (which Mesa's disk cache then keeps) falls in
     none of the timed runs: the first run after a shader change took 1.2-1.8 s for a
-    frame of 0.1-0.2 s. Mitsuba's kernels are compiled by a first run too."""
+    frame of 0.1-0.2 s. Two runs, each its own process: a variant new to the cache
+    was compiled again by the second run (EmissiveStrengthTest, one frame: 2,007 ms,
+    2,277 ms, then 286 ms; the specular stage 1,717, 2,097, then 140 ms), so one
+    warm-up left the compiling in the first timed row. Mitsuba's kernels are
+    compiled by a first run too."""
     for args in ([], ["--denoise", "off"], ANCHOR):
-        run(view, scene, extra, ["--frames", "1"] + args, outdir, "warm_up")
+        for _ in range(2):
+            run(view, scene, extra, ["--frames", "1"] + args, outdir, "warm_up")
 
 
 def mitsuba(view, scene, entry_flags, spps, outdir):
