@@ -7,7 +7,7 @@ spheres hold), so that no camera is drawn inside a wall or a column.
 
 With them, the names of --scene's files (validation_set.user_scenes): a new one
 once the file or its viewpoint changes, so that no reference of another is reused,
-and a clear exit for a file that is not there.
+and a clear exit for a file that is not there or is not a .gltf.
 
 Usage: held_out_test.py"""
 import math
@@ -74,12 +74,17 @@ def user_scenes():
             f.write("\n")
         if validation_set.user_scenes([path])[0][0] == name:
             fail(f"user scene: a changed file kept the name {name}")
-        try:
-            validation_set.user_scenes([os.path.join(tmp, "missing.gltf")])
-            fail("user scene: a missing file was taken")
-        except SystemExit as e:
-            if "missing.gltf: no such file" not in str(e):
-                fail(f"user scene: a missing file said {e}")
+        glb = os.path.join(tmp, "packed.glb")
+        open(glb, "wb").close()
+        for bad, says in ((os.path.join(tmp, "missing.gltf"), "missing.gltf: no such file"),
+                          (glb, "packed.glb: not a .gltf file")):
+            try:
+                validation_set.user_scenes([bad])
+            except SystemExit as e:
+                if says not in str(e):
+                    fail(f"user scene: {bad} said {e}")
+            else:
+                fail(f"user scene: {bad} was taken")
 
 
 def main():
