@@ -120,6 +120,12 @@ VOXGI_CONST uint kSpecularListBinding = 16u;
 // reservoirs are not reused, the same binding holds the light tiles
 // (rtgi_light_tiles.comp): the emitters drawn for each tile of pixels.
 VOXGI_CONST uint kRtgiReservoirBinding = 26u;
+// The caustics stage (rtgi_caustics.comp): its light per pixel (3 floats, written by
+// atomic additions, read by accumulate), and the mirrors' bounding spheres its
+// photons aim at (vec4). No octree_raycast or bounce pass runs beside them, so they
+// take those passes' numbers.
+VOXGI_CONST uint kRtgiCausticBinding = 13u;
+VOXGI_CONST uint kRtgiCausticTargetBinding = 14u;
 // The BVH's stages (RTGI_BVH; render/gpu_bvh.h): the scene's index buffer (uint
 // per triangle corner), which a triangle's record points into (GpuPtTriangle).
 VOXGI_CONST uint kRtgiBvhIndexBinding = 19u;

@@ -50,6 +50,11 @@ VOXGI_CONST uint kRtgiHasSpecular = 4u;
 VOXGI_CONST uint kRtgiAllBounces = 8u;
 // This frame starts from the reproject stage's mean (kReprojectedImage).
 VOXGI_CONST uint kRtgiReprojecting = 16u;
+// The caustics stage ran: accumulate adds its light (kRtgiCausticBinding).
+VOXGI_CONST uint kRtgiHasCaustics = 32u;
+// The caustics stage aims its photons at the bounding spheres of at most this many
+// runs of mirror triangles (RtgiPass::causticTargets; more are merged).
+VOXGI_CONST int kMaxCausticTargets = 16;
 // Vertices an indirect path visits on the triangles at most, the first hit included.
 VOXGI_CONST int kMaxIndirectVertices = 3;
 
@@ -69,11 +74,11 @@ struct RtgiParams {
   uint lightCount;
   uint emitterCount;
   uint flags;
-  uint pad0;
-  vec4 camera;         // xyz position
-  vec4 cameraRight;    // right * tan(fov/2) * aspect (dvr camera rays)
-  vec4 cameraUp;       // up * tan(fov/2)
-  vec4 cameraForward;  // w: opacity at which dvr stops
+  uint causticPhotons;  // the caustics stage's photons this frame
+  vec4 camera;          // xyz position
+  vec4 cameraRight;     // right * tan(fov/2) * aspect (dvr camera rays)
+  vec4 cameraUp;        // up * tan(fov/2)
+  vec4 cameraForward;   // xyz the view direction; w: opacity at which dvr stops
   // Which pixels trace: every interleave-th frame (1, 2, 4, 8, 16), and beyond that
   // pattern those selectKind (kSelect*) picks by selectLevel (the mask's threshold
   // or the uniform share, as float bits); workFlags: kRtgiSparseStart.
@@ -96,7 +101,7 @@ struct RtgiParams {
   // The angle between neighbouring pixels' rays, in radians at the image's centre:
   // what a pixel spans at a distance of 1.
   float pixelSpread;
-  float pad1;
+  uint causticTargets;  // the mirrors' bounding spheres the photons aim at
 };
 
 // The temporal upsampler (rtgi_upsample.comp, RenderSettings::renderScale < 1):

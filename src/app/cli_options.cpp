@@ -371,6 +371,22 @@ const std::vector<CliOption> kOptions = {
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.firstLobeRays = parseIntValue("--first-lobe-rays", v, 1, 16);
      }},
+    {"--caustics", nullptr, "on|off", kBothOptions, kRtgi,
+     "on (default): light that reaches a surface by way of\n"
+     "mirrors, by photons sent from the emissive surfaces\n"
+     "through the mirrors to the camera (scenes with mirrors\n"
+     "and emitters); off: none",
+     nullptr,
+     [](const Targets& to, const std::string& v) {
+       to.settings->rtgi.caustics = parseOnOff("--caustics", v);
+     }},
+    {"--caustic-photons", nullptr, "N", kBothOptions, kRtgi,
+     "photons the caustics stage sends a frame (1024-4194304;\n"
+     "default one for every 16 rendered pixels)",
+     nullptr,
+     [](const Targets& to, const std::string& v) {
+       to.settings->rtgi.causticPhotons = parseIntValue("--caustic-photons", v, 1024, 1 << 22);
+     }},
     {"--denoise", nullptr, "on|off", kBothOptions, kRtgi,
      "on (default): the image is each pixel's running mean\n"
      "filtered by a variance-guided, edge-avoiding wavelet (SVGF),\n"

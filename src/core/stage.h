@@ -24,6 +24,7 @@ enum class Stage {
   kDirect,
   kIndirect,
   kSpecular,
+  kCaustics,
   kAccumulate,
   kReproject,
   kDenoise,
@@ -41,21 +42,22 @@ enum class Stage {
   kWarmUp,   // render/renderer: the warm-up frame (the scene stages and first-use JIT)
 };
 
-inline constexpr std::array<Stage, 25> kStages = {
-    Stage::kVoxelize, Stage::kOctree,     Stage::kInject,    Stage::kRefine,  Stage::kBvh,
-    Stage::kGbuffer,  Stage::kSelect,     Stage::kShadows,   Stage::kDirect,  Stage::kIndirect,
-    Stage::kSpecular, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise, Stage::kMask,
-    Stage::kUpsample, Stage::kRaster,     Stage::kPoints,    Stage::kDvr,     Stage::kPathtrace,
-    Stage::kTonemap,  Stage::kContext,    Stage::kUpload,    Stage::kPasses,  Stage::kWarmUp};
+inline constexpr std::array<Stage, 26> kStages = {
+    Stage::kVoxelize,  Stage::kOctree,   Stage::kInject,     Stage::kRefine,    Stage::kBvh,
+    Stage::kGbuffer,   Stage::kSelect,   Stage::kShadows,    Stage::kDirect,    Stage::kIndirect,
+    Stage::kSpecular,  Stage::kCaustics, Stage::kAccumulate, Stage::kReproject, Stage::kDenoise,
+    Stage::kMask,      Stage::kUpsample, Stage::kRaster,     Stage::kPoints,    Stage::kDvr,
+    Stage::kPathtrace, Stage::kTonemap,  Stage::kContext,    Stage::kUpload,    Stage::kPasses,
+    Stage::kWarmUp};
 
 // The stage's name in stats, tables and debug groups ("gbuffer" for kGbuffer).
 inline const char* stageName(Stage s) {
   // Indexed by Stage.
   static constexpr std::array<const char*, kStages.size()> kNames = {
-      "voxelize", "octree",   "inject",   "refine",   "bvh",        "gbuffer",   "select",
-      "shadows",  "direct",   "indirect", "specular", "accumulate", "reproject", "denoise",
-      "mask",     "upsample", "raster",   "points",   "dvr",        "pathtrace", "tonemap",
-      "context",  "upload",   "passes",   "warmup"};
+      "voxelize", "octree",  "inject",   "refine",   "bvh",      "gbuffer",    "select",
+      "shadows",  "direct",  "indirect", "specular", "caustics", "accumulate", "reproject",
+      "denoise",  "mask",    "upsample", "raster",   "points",   "dvr",        "pathtrace",
+      "tonemap",  "context", "upload",   "passes",   "warmup"};
   return kNames[static_cast<std::size_t>(s)];
 }
 

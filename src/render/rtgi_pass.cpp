@@ -246,6 +246,8 @@ void RtgiPass::resize(int width, int height) {
   make(directImage_, GL_RGBA16F);
   make(indirectImage_, GL_RGBA16F);
   make(specularImage_, GL_RGBA16F);
+  caustic_ = gl::Buffer();  // made again at this size, and counted, by traceCaustics
+  causticBytes_ = 0;
   // The denoiser's images are made on the first frame that denoises
   // (RtgiHistory::makeMoments, RtgiDenoiser::execute).
   history_.resize(width, height);
@@ -296,6 +298,12 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   const FramePlan plan = planFrame(ctx, gs, frameIndex, previousViewProj != nullptr);
   gpu::RtgiParams p = frameParams(ctx, gs, camera, frameIndex, previousViewProj, plan);
   if (octree && octree->allBounces()) p.flags |= gpu::kRtgiAllBounces;
+  causticsThisFrame_ = octree != nullptr && tracesCaustics(gs);
+  if (causticsThisFrame_) {
+    p.flags |= gpu::kRtgiHasCaustics;
+    p.causticPhotons = static_cast<uint32_t>(causticPhotons());
+    p.causticTargets = static_cast<uint32_t>(causticTargets_);
+  }
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
   drawGBuffer(ctx, gs);
   bindFrameInputs(gs, octree, accum);
@@ -306,6 +314,7 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   lastTraced_ = plan.everyPixel ? 1.0 : 1.0 / plan.interleave;
   if (plan.listed) selectPixels(ctx, frameIndex, plan, &p);
   traceLight(ctx, gs, plan);
+  if (causticsThisFrame_) traceCaustics(ctx, gs);
   accumulateFrame(ctx, plan);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   denoised_ = settings_.denoise && shown_;
@@ -377,6 +386,7 @@ gpu::RtgiParams RtgiPass::frameParams(const gl::FrameContext& ctx, const GpuScen
             (settings_.specular ? gpu::kRtgiHasSpecular : 0u) |
             (plan.reprojecting ? gpu::kRtgiReprojecting : 0u);
   p.camera = glm::vec4(camera.position, 1.0f);
+  p.cameraForward = glm::vec4(glm::normalize(camera.forward), 0.0f);
   p.pixelSpread = 2.0f * std::tan(0.5f * camera.yfov) / static_cast<float>(ctx.height);
   p.denoiseLuminance = settings_.denoiseLuminance;
   p.denoisePlane = settings_.denoisePlane;
@@ -580,6 +590,120 @@ void RtgiPass::traceSpecular(gl::FrameContext& ctx, const GpuScene& gs, const Fr
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, plan.listed ? pixelList_.id() : 0);
 }
 
+int RtgiPass::causticPhotons() const {
+  if (settings_.causticPhotons > 0) return settings_.causticPhotons;
+  const double pixels = static_cast<double>(width_) * static_cast<double>(height_);
+  return std::clamp(static_cast<int>(pixels * kCausticPhotonsPerPixel), 1024, 1 << 22);
+}
+
+namespace {
+
+struct Sphere {
+  glm::vec3 centre{0.0f};
+  float radius = -1.0f;  // negative: empty
+};
+
+// The smallest sphere about the centre of points' box that holds them all.
+Sphere boundingSphere(const std::vector<glm::vec3>& points) {
+  if (points.empty()) return {};
+  glm::vec3 lo = points[0], hi = points[0];
+  for (const glm::vec3& q : points) {
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  Sphere s{0.5f * (lo + hi), 0.0f};
+  for (const glm::vec3& q : points) s.radius = std::max(s.radius, glm::length(q - s.centre));
+  s.radius *= 1.0001f;  // rounding: every point strictly inside
+  return s;
+}
+
+}  // namespace
+
+// The mirrors the caustics stage aims at: a sphere about each run of triangles
+// drawn with a mirror material (its roughness factor below kMirrorRoughness); beyond
+// kMaxCausticTargets, the runs sorted along the axis their centres spread most on
+// and cut into that many groups, a sphere about each group.
+bool RtgiPass::tracesCaustics(const GpuScene& gs) {
+  if (!settings_.caustics || !tracesTriangles() || !settings_.features.emission ||
+      gs.emitterCount() == 0 || gs.scene().meshesAnimated())
+    return false;
+  if (causticTargets_ < 0) {
+    const scene::Scene& sc = gs.scene();
+    std::vector<std::vector<glm::vec3>> runs;
+    std::vector<glm::vec3> centres;
+    for (const scene::Draw& d : sc.draws) {
+      if (d.material < 0 || d.material >= static_cast<int>(sc.materials.size())) continue;
+      if (!(sc.materials[static_cast<size_t>(d.material)].roughness < gpu::kMirrorRoughness))
+        continue;
+      std::vector<glm::vec3> points;
+      for (uint32_t i = 0; i < d.indexCount; ++i) {
+        const uint32_t v = sc.indices[d.firstIndex + i];
+        if (v < sc.vertices.size()) points.push_back(sc.vertices[v].position);
+      }
+      if (points.empty()) continue;
+      centres.push_back(boundingSphere(points).centre);
+      runs.push_back(std::move(points));
+    }
+    std::vector<Sphere> spheres;
+    const auto groups = static_cast<size_t>(gpu::kMaxCausticTargets);
+    if (runs.size() <= groups) {
+      for (const auto& r : runs) spheres.push_back(boundingSphere(r));
+    } else {
+      glm::vec3 lo = centres[0], hi = centres[0];
+      for (const glm::vec3& c : centres) {
+        lo = glm::min(lo, c);
+        hi = glm::max(hi, c);
+      }
+      const glm::vec3 extent = hi - lo;
+      const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
+                       : extent.y >= extent.z                       ? 1
+                                                                    : 2;
+      std::vector<size_t> order(runs.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::sort(order.begin(), order.end(),
+                [&](size_t a, size_t b) { return centres[a][axis] < centres[b][axis]; });
+      for (size_t g = 0; g < groups; ++g) {
+        std::vector<glm::vec3> points;
+        for (size_t i = g * order.size() / groups; i < (g + 1) * order.size() / groups; ++i)
+          points.insert(points.end(), runs[order[i]].begin(), runs[order[i]].end());
+        if (!points.empty()) spheres.push_back(boundingSphere(points));
+      }
+    }
+    std::vector<glm::vec4> packed;
+    for (const Sphere& s : spheres)
+      if (s.radius > 0.0f && std::isfinite(s.radius)) packed.emplace_back(s.centre, s.radius);
+    causticTargets_ = static_cast<int>(packed.size());
+    if (!packed.empty())
+      causticSpheres_ = gl::createBuffer(static_cast<GLsizeiptr>(packed.size() * sizeof(glm::vec4)),
+                                         packed.data());
+  }
+  return causticTargets_ > 0;
+}
+
+void RtgiPass::traceCaustics(gl::FrameContext& ctx, const GpuScene& gs) {
+  std::vector<std::string> defines = settings_.features.defines();
+  for (std::string& d : bvhDefines(gs)) defines.push_back(std::move(d));
+  const gl::Program& program = programs_.get({{"render/rtgi/rtgi_caustics.comp"}, defines});
+  gl::StageScope stage(ctx.timer, Stage::kCaustics);
+  const size_t bytes = 24 * static_cast<size_t>(width_) * static_cast<size_t>(height_);
+  if (!caustic_ || causticBytes_ != bytes) {
+    caustic_ = gl::createBuffer(static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    causticBytes_ = bytes;
+    targetBytes_ += bytes;
+  }
+  glClearNamedBufferData(caustic_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  bindBvh(gs);
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameBinding, ctx.frameUniforms);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiCausticBinding, caustic_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiCausticTargetBinding, causticSpheres_.id());
+  glUseProgram(program.id());
+  const auto photons = static_cast<GLuint>(causticPhotons());
+  glDispatchCompute((photons + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  unbindBvh();
+}
+
 void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kNonfiniteCountBinding, nonfinite_.id());
   if (settings_.denoise) {
@@ -593,8 +717,11 @@ void RtgiPass::accumulateFrame(gl::FrameContext& ctx, const FramePlan& plan) {
     glBindTextureUnit(gpu::kReprojectedMomentsUnit, history_.reprojectedMoments());
     glBindTextureUnit(gpu::kReprojectedDirectUnit, history_.reprojectedDirect());
   }
-  if (plan.lends || plan.reprojecting || settings_.denoise) {
+  if (causticsThisFrame_)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiCausticBinding, caustic_.id());
+  if (plan.lends || plan.reprojecting || settings_.denoise || causticsThisFrame_) {
     std::vector<std::string> defines = settings_.features.defines();
+    if (causticsThisFrame_) defines.emplace_back("RTGI_CAUSTICS");
     if (settings_.denoise) defines.emplace_back("RTGI_MOMENTS");
     if (plan.lends) defines.emplace_back("RTGI_SPARSE_START");
     if (plan.relight) defines.emplace_back("RTGI_RELIGHT");

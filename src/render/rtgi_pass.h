@@ -17,6 +17,10 @@
 //               against the exact triangles when given a BVH (render/gpu_bvh.h), the
 //               hit shaded with exact direct light (BVH shadow rays) plus voxel
 //               indirect light; without one, the light of the voxel the ray meets;
+//   caustics    with the specular effect, a BVH and emissive surfaces: light that
+//               reaches a surface by way of mirrors, by photons sent from the
+//               emitters through the mirrors and connected to the camera
+//               (rtgi_caustics.comp);
 //   reproject   after a camera move, first of all: each pixel's running mean follows
 //               the surface it shows from the previous frame's pixels, dropped where
 //               they showed another surface, its count capped (rtgi_reproject.comp,
@@ -33,6 +37,7 @@
 #ifndef VOXGI_RENDER_RTGI_PASS_H
 #define VOXGI_RENDER_RTGI_PASS_H
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -168,6 +173,11 @@ class RtgiPass {
     // pixel's tangent plane, relative to the pixel's distance from the camera.
     float denoiseLuminance = 4.0f;
     float denoisePlane = 0.01f;
+    // Light by way of mirrors (the caustics stage): photons from the emissive
+    // surfaces, aimed at the mirrors, connected to the camera; causticPhotons a
+    // frame, 0: kCausticPhotonsPerPixel of the internal image's pixels.
+    bool caustics = true;
+    int causticPhotons = 0;
     uint32_t seed = 1;
   };
 
@@ -212,6 +222,18 @@ class RtgiPass {
   // camera move: their highlights move with the view.
   static constexpr int kGlossyHistory = 4;
   static constexpr int kFirstLobeRays = 4;  // Settings::firstLobeRays' default
+  // Settings::causticPhotons' default, per pixel of the internal image.
+  static constexpr double kCausticPhotonsPerPixel = 1.0 / 16.0;
+  // Whether the caustics stage runs in scene gs: the settings ask for it, the
+  // specular stage traces the triangles, the scene has emissive surfaces and
+  // mirrors, and its meshes stay still (the mirrors' spheres are made once).
+  bool tracesCaustics(const GpuScene& gs);
+  // The photons a frame of the caustics stage sends at the internal size.
+  int causticPhotons() const;
+  // Whether the last frame ran the caustics stage, and the mirrors' spheres it aimed
+  // at (0 before a frame asked).
+  bool lastFrameCaustics() const { return causticsThisFrame_; }
+  int causticTargets() const { return std::max(causticTargets_, 0); }
   // The specular stage's rays in a pixel's first frames.
   int firstLobeRays() const {
     return settings_.firstLobeRays > 0 ? settings_.firstLobeRays : kFirstLobeRays;
@@ -316,6 +338,8 @@ class RtgiPass {
   // One timed compute stage over the pixels that trace (accumulate: every pixel).
   void runStage(gl::FrameContext& ctx, Stage stage, const gl::Program& program,
                 const FramePlan& plan);
+  // The caustics stage (rtgi_caustics.comp), into caustic_.
+  void traceCaustics(gl::FrameContext& ctx, const GpuScene& gs);
   // The shadows (or direct), indirect and specular stages.
   void traceLight(gl::FrameContext& ctx, const GpuScene& gs, const FramePlan& plan);
   // The specular stage: the specular pixels among those that trace listed, then
@@ -378,6 +402,13 @@ class RtgiPass {
   size_t lightTileBytes_ = 0;
   // The specular stage's pixels (kSpecularListBinding), made on first use.
   gl::Buffer specularList_;
+  // The caustics stage: its light per pixel, and the mirrors' bounding spheres
+  // (causticTargets_ of them; -1 before they are made).
+  gl::Buffer caustic_;
+  size_t causticBytes_ = 0;
+  gl::Buffer causticSpheres_;
+  int causticTargets_ = -1;
+  bool causticsThisFrame_ = false;
   size_t specularListBytes_ = 0;
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.

@@ -65,6 +65,8 @@ const std::map<std::string, Entry>& registry() {
       VOXGI_ENTRY(Ssbo, kLightTreeBinding),
       VOXGI_ENTRY(Ssbo, kNonfiniteCountBinding),
       VOXGI_ENTRY(Ssbo, kRtgiReservoirBinding),
+      VOXGI_ENTRY(Ssbo, kRtgiCausticBinding),
+      VOXGI_ENTRY(Ssbo, kRtgiCausticTargetBinding),
       VOXGI_ENTRY(Ssbo, kVoxelStatsBinding),
       VOXGI_ENTRY(Ssbo, kVoxelListBinding),
       VOXGI_ENTRY(Ssbo, kBrickMapBinding),

@@ -12,7 +12,8 @@
 // (the denoiser) keeps the mean of the direct term and the moments of each term's
 // samples beside the mean;
 // RTGI_RELIGHT, on a frame after meshes moved, drops the history of a pixel whose
-// light has changed (historyStale).
+// light has changed (historyStale). RTGI_CAUSTICS: the caustics stage ran
+// (rtgi_caustics.comp); its light joins the traced light.
 #include "scene_shared.h"
 #include "lighting.glsl"
 #include "sampling.glsl"
@@ -27,6 +28,15 @@ layout(binding = kDirectImage, rgba16f) uniform readonly image2D directIn;
 layout(binding = kIndirectImage, rgba16f) uniform readonly image2D indirectIn;
 layout(binding = kSpecularImage, rgba16f) uniform readonly image2D specularIn;
 layout(binding = kAccumImage, rgba32f) uniform image2D accum;
+#ifdef RTGI_CAUSTICS
+// Per pixel, rgb in 32.32 fixed point (low word, high word: rtgi_caustics.comp).
+layout(std430, binding = kRtgiCausticBinding) readonly buffer Caustic { uvec2 caustic[]; };
+
+float causticChannel(uint i) {
+  uvec2 v = caustic[i];
+  return float(v.y) + float(v.x) * (1.0 / 4294967296.0);
+}
+#endif
 #ifdef RTGI_REPROJECTED
 layout(binding = kReprojectedImage, rgba32f) uniform readonly image2D reprojected;
 #endif
@@ -84,6 +94,10 @@ vec3 tracedLight(ivec2 q, out vec3 direct) {
   direct = (flags & kRtgiHasDirect) != 0u ? finiteOrZero(imageLoad(directIn, q).rgb) : vec3(0.0);
   if ((flags & kRtgiHasIndirect) != 0u) c += finiteOrZero(imageLoad(indirectIn, q).rgb);
   if ((flags & kRtgiHasSpecular) != 0u) c += finiteOrZero(imageLoad(specularIn, q).rgb);
+#ifdef RTGI_CAUSTICS
+  uint i = 3u * (uint(q.y) * rtgi.width + uint(q.x));
+  c += vec3(causticChannel(i), causticChannel(i + 1u), causticChannel(i + 2u));
+#endif
   return direct + c;
 }
 
