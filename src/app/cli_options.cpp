@@ -382,7 +382,7 @@ const std::vector<CliOption> kOptions = {
      }},
     {"--caustic-photons", nullptr, "N", kBothOptions, kRtgi,
      "photons the caustics stage sends a frame (1024-4194304;\n"
-     "default one for every 16 rendered pixels)",
+     "default one for every 16 pixels that trace, 256 at least)",
      nullptr,
      [](const Targets& to, const std::string& v) {
        to.settings->rtgi.causticPhotons = parseIntValue("--caustic-photons", v, 1024, 1 << 22);

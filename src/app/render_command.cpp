@@ -206,7 +206,7 @@ void addRtgiStats(nlohmann::ordered_json& stats, const RenderOptions& o, const r
   stats["punctual_sampling"] = rt.punctualSampling(gs);
   stats["leaf_draw_at_hits"] = rt.settings().leafDrawAtHits;
   stats["first_lobe_rays"] = rt.firstLobeRays();
-  stats["caustic_photons"] = rt.lastFrameCaustics() ? rt.causticPhotons() : 0;
+  stats["caustic_photons"] = rt.lastCausticPhotons();
   stats["caustic_mirrors"] = rt.causticTargets();
   stats["history_cap"] = rt.settings().historyCap;
   stats["denoise"] = rt.settings().denoise;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/log.h"
@@ -300,8 +301,13 @@ void RtgiPass::execute(gl::FrameContext& ctx, const GpuScene& gs, const voxel::O
   if (octree && octree->allBounces()) p.flags |= gpu::kRtgiAllBounces;
   causticsThisFrame_ = octree != nullptr && tracesCaustics(gs);
   if (causticsThisFrame_) {
+    // Photons for the pixels that trace this frame: the others drop their light.
+    const double traced = plan.everyPixel ? 1.0
+                          : plan.listed   ? std::clamp(traceFraction_, 0.0, 1.0)
+                                          : 1.0 / plan.interleave;
+    lastCausticPhotons_ = causticPhotons(traced);
     p.flags |= gpu::kRtgiHasCaustics;
-    p.causticPhotons = static_cast<uint32_t>(causticPhotons());
+    p.causticPhotons = static_cast<uint32_t>(lastCausticPhotons_);
     p.causticTargets = static_cast<uint32_t>(causticTargets_);
   }
   glNamedBufferSubData(params_.id(), 0, sizeof(p), &p);
@@ -590,10 +596,11 @@ void RtgiPass::traceSpecular(gl::FrameContext& ctx, const GpuScene& gs, const Fr
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, plan.listed ? pixelList_.id() : 0);
 }
 
-int RtgiPass::causticPhotons() const {
+int RtgiPass::causticPhotons(double traced) const {
   if (settings_.causticPhotons > 0) return settings_.causticPhotons;
-  const double pixels = static_cast<double>(width_) * static_cast<double>(height_);
-  return std::clamp(static_cast<int>(pixels * kCausticPhotonsPerPixel), 1024, 1 << 22);
+  const double pixels = static_cast<double>(width_) * static_cast<double>(height_) * traced;
+  return std::clamp(static_cast<int>(pixels * kCausticPhotonsPerPixel), kMinCausticPhotons,
+                    1 << 22);
 }
 
 namespace {
@@ -603,17 +610,25 @@ struct Sphere {
   float radius = -1.0f;  // negative: empty
 };
 
-// The smallest sphere about the centre of points' box that holds them all.
-Sphere boundingSphere(const std::vector<glm::vec3>& points) {
-  if (points.empty()) return {};
-  glm::vec3 lo = points[0], hi = points[0];
-  for (const glm::vec3& q : points) {
+// The sphere about the centre of the box of the corners of `runs` of sc's indexed
+// triangles that holds them all (two passes: no copy of the corners).
+Sphere boundingSphere(const scene::Scene& sc, const std::vector<const scene::Draw*>& runs) {
+  auto each = [&](auto&& f) {
+    for (const scene::Draw* d : runs)
+      for (uint32_t i = 0; i < d->indexCount; ++i) {
+        const uint32_t v = sc.indices[d->firstIndex + i];
+        if (v < sc.vertices.size()) f(sc.vertices[v].position);
+      }
+  };
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  each([&](glm::vec3 q) {
     lo = glm::min(lo, q);
     hi = glm::max(hi, q);
-  }
+  });
+  if (!(lo.x <= hi.x)) return {};
   Sphere s{0.5f * (lo + hi), 0.0f};
-  for (const glm::vec3& q : points) s.radius = std::max(s.radius, glm::length(q - s.centre));
-  s.radius *= 1.0001f;  // rounding: every point strictly inside
+  each([&](glm::vec3 q) { s.radius = std::max(s.radius, glm::length(q - s.centre)); });
+  s.radius *= 1.0001f;  // rounding: every corner strictly inside
   return s;
 }
 
@@ -629,25 +644,21 @@ bool RtgiPass::tracesCaustics(const GpuScene& gs) {
     return false;
   if (causticTargets_ < 0) {
     const scene::Scene& sc = gs.scene();
-    std::vector<std::vector<glm::vec3>> runs;
+    std::vector<const scene::Draw*> runs;
     std::vector<glm::vec3> centres;
     for (const scene::Draw& d : sc.draws) {
       if (d.material < 0 || d.material >= static_cast<int>(sc.materials.size())) continue;
       if (!(sc.materials[static_cast<size_t>(d.material)].roughness < gpu::kMirrorRoughness))
         continue;
-      std::vector<glm::vec3> points;
-      for (uint32_t i = 0; i < d.indexCount; ++i) {
-        const uint32_t v = sc.indices[d.firstIndex + i];
-        if (v < sc.vertices.size()) points.push_back(sc.vertices[v].position);
-      }
-      if (points.empty()) continue;
-      centres.push_back(boundingSphere(points).centre);
-      runs.push_back(std::move(points));
+      const Sphere one = boundingSphere(sc, {&d});
+      if (one.radius < 0.0f) continue;
+      centres.push_back(one.centre);
+      runs.push_back(&d);
     }
     std::vector<Sphere> spheres;
     const auto groups = static_cast<size_t>(gpu::kMaxCausticTargets);
     if (runs.size() <= groups) {
-      for (const auto& r : runs) spheres.push_back(boundingSphere(r));
+      for (const scene::Draw* d : runs) spheres.push_back(boundingSphere(sc, {d}));
     } else {
       glm::vec3 lo = centres[0], hi = centres[0];
       for (const glm::vec3& c : centres) {
@@ -663,10 +674,10 @@ bool RtgiPass::tracesCaustics(const GpuScene& gs) {
       std::sort(order.begin(), order.end(),
                 [&](size_t a, size_t b) { return centres[a][axis] < centres[b][axis]; });
       for (size_t g = 0; g < groups; ++g) {
-        std::vector<glm::vec3> points;
+        std::vector<const scene::Draw*> group;
         for (size_t i = g * order.size() / groups; i < (g + 1) * order.size() / groups; ++i)
-          points.insert(points.end(), runs[order[i]].begin(), runs[order[i]].end());
-        if (!points.empty()) spheres.push_back(boundingSphere(points));
+          group.push_back(runs[order[i]]);
+        spheres.push_back(boundingSphere(sc, group));
       }
     }
     std::vector<glm::vec4> packed;
@@ -698,7 +709,7 @@ void RtgiPass::traceCaustics(gl::FrameContext& ctx, const GpuScene& gs) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiCausticBinding, caustic_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kRtgiCausticTargetBinding, causticSpheres_.id());
   glUseProgram(program.id());
-  const auto photons = static_cast<GLuint>(causticPhotons());
+  const auto photons = static_cast<GLuint>(lastCausticPhotons_);
   glDispatchCompute((photons + gpu::kRtgiTraceGroup - 1) / gpu::kRtgiTraceGroup, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   unbindBvh();

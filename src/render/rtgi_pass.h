@@ -228,10 +228,15 @@ class RtgiPass {
   // specular stage traces the triangles, the scene has emissive surfaces and
   // mirrors, and its meshes stay still (the mirrors' spheres are made once).
   bool tracesCaustics(const GpuScene& gs);
-  // The photons a frame of the caustics stage sends at the internal size.
-  int causticPhotons() const;
-  // Whether the last frame ran the caustics stage, and the mirrors' spheres it aimed
-  // at (0 before a frame asked).
+  // The photons a frame of the caustics stage sends at the internal size when a
+  // share `traced` of the pixels trace (their light is added only to those):
+  // Settings::causticPhotons, or kCausticPhotonsPerPixel of the pixels that trace,
+  // kMinCausticPhotons at least.
+  int causticPhotons(double traced = 1.0) const;
+  static constexpr int kMinCausticPhotons = 256;
+  // The photons the last frame's caustics stage sent (0: it did not run), and the
+  // mirrors' spheres they aimed at (0 before a frame asked).
+  int lastCausticPhotons() const { return causticsThisFrame_ ? lastCausticPhotons_ : 0; }
   bool lastFrameCaustics() const { return causticsThisFrame_; }
   int causticTargets() const { return std::max(causticTargets_, 0); }
   // The specular stage's rays in a pixel's first frames.
@@ -409,6 +414,7 @@ class RtgiPass {
   gl::Buffer causticSpheres_;
   int causticTargets_ = -1;
   bool causticsThisFrame_ = false;
+  int lastCausticPhotons_ = 0;
   size_t specularListBytes_ = 0;
   // Two G-buffers, this frame's ([current_]) and the previous one's, for reprojection:
   // they share all but position and normal.

@@ -66,8 +66,7 @@ class CausticsTest : public GlProgramsTest {
     render::Renderer r(*programs_, s, rs);
     const int frames = mode == render::Mode::kRtgi ? 64 : 1;
     for (int f = 0; f < frames; ++f) r.renderFrame();
-    if (photons && r.rtgi())
-      *photons = r.rtgi()->lastFrameCaustics() ? r.rtgi()->causticPhotons() : 0;
+    if (photons && r.rtgi()) *photons = r.rtgi()->lastCausticPhotons();
     const std::vector<float> rgba = r.readLinear();
     double sum = 0.0;
     for (int y = kSize / 2; y < kSize; ++y)
@@ -99,6 +98,24 @@ TEST_F(CausticsTest, AMirrorCarriesTheLampsLightToTheFloor) {
   const double off = floorMean(s, render::Mode::kRtgi, false, 1) / pt;
   std::printf("caustics off: rtgi / pathtrace %.4f\n", off);
   EXPECT_LT(off, 0.01);
+}
+
+// The photons follow the pixels that trace (only those add the frame's caustic
+// light): one for every 16 of them. 128x128 with --interleave 2: the first frame
+// traces every pixel (1,024 photons), the next half of them (512).
+TEST_F(CausticsTest, PhotonsFollowThePixelsThatTrace) {
+  const scene::Scene s = lampUnderMirror();
+  render::RenderSettings rs;
+  rs.width = rs.height = 128;
+  rs.voxels = 64;
+  rs.rtgi.interleave = 2;
+  render::Renderer r(*programs_, s, rs);
+  r.renderFrame();
+  ASSERT_NE(r.rtgi(), nullptr);
+  EXPECT_EQ(r.rtgi()->lastCausticPhotons(), 1024);
+  EXPECT_EQ(r.rtgi()->causticTargets(), 1);  // the mirror ceiling
+  r.renderFrame();
+  EXPECT_EQ(r.rtgi()->lastCausticPhotons(), 512);
 }
 
 }  // namespace

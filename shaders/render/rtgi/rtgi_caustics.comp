@@ -44,9 +44,7 @@ layout(local_size_x = kRtgiTraceGroup) in;
 
 layout(std140, binding = kFrameBinding) uniform FrameBlock { GpuFrame frame; };
 // Each mirror's bounding sphere: xyz its centre, w its radius.
-layout(std430, binding = kRtgiCausticTargetBinding) readonly buffer Targets {
-  vec4 targets[];
-};
+layout(std430, binding = kRtgiCausticTargetBinding) readonly buffer Targets { vec4 targets[]; };
 // Per pixel of the internal image, rgb in 32.32 fixed point (atomicAddFixed; RtgiPass
 // clears it each frame).
 layout(std430, binding = kRtgiCausticBinding) buffer Caustic { uint caustic[]; };
