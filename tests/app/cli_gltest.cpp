@@ -326,8 +326,11 @@ TEST(Cli, StatsSayHowTheLightsWereSampled) {
 
 TEST(Cli, RendersPngExrAndStats) {
   const std::string dir = scratchDir();
-  const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --out " + dir + "/a.png --out " +
-                                  dir + "/a.exr --stats " + dir + "/s.json"));
+  // Without caustics: at this size a pixel on the light's edge whose sample showed
+  // the light can take a photon that landed on the ceiling in its footprint, and
+  // stand a little above the light's own radiance for a frame.
+  const auto r = runCommand(voxgi("render --size 64x48 --frames 2 --caustics off --out " + dir +
+                                  "/a.png --out " + dir + "/a.exr --stats " + dir + "/s.json"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("rtgi"), std::string::npos);  // the default mode
   const image::Image png = image::readImage(dir + "/a.png");

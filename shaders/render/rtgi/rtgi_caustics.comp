@@ -8,10 +8,12 @@
 // invocation sends one photon from an emissive surface, aimed at a mirror, along its
 // reflections (up to kMaxMirrorChain mirrors) to the first other surface it meets,
 // and connects that point to the camera with a visibility ray through the BVH. The
-// photon's contribution lands in the pixel its point projects to, split among the
-// four nearest pixel centres by a tent (bilinear) filter; per pixel the sum over the
-// frame's photons, divided by their count, is an unbiased estimate of the caustic
-// light of that pixel (tent-filtered), which accumulate adds to the pixel's sample.
+// photon's contribution lands in the pixel its point projects to; per pixel the sum
+// over the frame's photons, divided by their count, is an unbiased estimate of the
+// caustic light averaged over the pixel (a box, as the jittered samples of the other
+// stages average it), which accumulate adds to the pixel's sample. A tent over the
+// four nearest pixels spread a caustic onto the surfaces beside it, an emitter's
+// pixels included.
 //
 // Photons are aimed (Jensen 1996, "Global illumination using photon maps": the
 // projection map): a mirror's direction is drawn uniformly inside the cone its
@@ -163,12 +165,7 @@ void main() {
     float pixelArea = rtgi.pixelSpread * rtgi.pixelSpread;
     vec3 c = beta * f / (pixelArea * cosCam * cosCam * cosCam * dist * dist * float(photons));
     if (!all(lessThan(c, vec3(1.0e9))) || !all(greaterThanEqual(c, vec3(0.0)))) return;
-    ivec2 q = ivec2(floor(at));
-    vec2 w = at - vec2(q);
-    splat(q, c * ((1.0 - w.x) * (1.0 - w.y)));
-    splat(q + ivec2(1, 0), c * (w.x * (1.0 - w.y)));
-    splat(q + ivec2(0, 1), c * ((1.0 - w.x) * w.y));
-    splat(q + ivec2(1, 1), c * (w.x * w.y));
+    splat(ivec2(floor(at + 0.5)), c);
     return;
   }
 }
