@@ -645,25 +645,25 @@ bool RtgiPass::tracesCaustics(const GpuScene& gs) {
   if (causticTargets_ < 0) {
     const scene::Scene& sc = gs.scene();
     std::vector<const scene::Draw*> runs;
-    std::vector<glm::vec3> centres;
+    std::vector<Sphere> single;  // each run's own sphere
     for (const scene::Draw& d : sc.draws) {
       if (d.material < 0 || d.material >= static_cast<int>(sc.materials.size())) continue;
       if (!(sc.materials[static_cast<size_t>(d.material)].roughness < gpu::kMirrorRoughness))
         continue;
       const Sphere one = boundingSphere(sc, {&d});
       if (one.radius < 0.0f) continue;
-      centres.push_back(one.centre);
+      single.push_back(one);
       runs.push_back(&d);
     }
     std::vector<Sphere> spheres;
     const auto groups = static_cast<size_t>(gpu::kMaxCausticTargets);
     if (runs.size() <= groups) {
-      for (const scene::Draw* d : runs) spheres.push_back(boundingSphere(sc, {d}));
+      spheres = single;
     } else {
-      glm::vec3 lo = centres[0], hi = centres[0];
-      for (const glm::vec3& c : centres) {
-        lo = glm::min(lo, c);
-        hi = glm::max(hi, c);
+      glm::vec3 lo = single[0].centre, hi = single[0].centre;
+      for (const Sphere& one : single) {
+        lo = glm::min(lo, one.centre);
+        hi = glm::max(hi, one.centre);
       }
       const glm::vec3 extent = hi - lo;
       const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
@@ -671,8 +671,9 @@ bool RtgiPass::tracesCaustics(const GpuScene& gs) {
                                                                     : 2;
       std::vector<size_t> order(runs.size());
       for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-      std::sort(order.begin(), order.end(),
-                [&](size_t a, size_t b) { return centres[a][axis] < centres[b][axis]; });
+      std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        return single[a].centre[axis] < single[b].centre[axis];
+      });
       for (size_t g = 0; g < groups; ++g) {
         std::vector<const scene::Draw*> group;
         for (size_t i = g * order.size() / groups; i < (g + 1) * order.size() / groups; ++i)
